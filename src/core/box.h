@@ -1,0 +1,76 @@
+// Axis-aligned boxes and the conservative ray/box slab test shared by both BVH levels.
+// The slab test follows Ize, "Robust BVH Ray Traversal" (JCGT 2013): with exact reciprocal
+// directions and tmax scaled by 1 + 2*gamma(3), a box the ray truly crosses is never culled.
+// Invariant 1 (conservative bounds) relies on this test being conservative too.
+#pragma once
+#include <limits>
+#include "core/vec.h"
+
+namespace rayes {
+
+struct Box3 {
+  Vec3 lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
+          std::numeric_limits<float>::infinity()};
+  Vec3 hi{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(),
+          -std::numeric_limits<float>::infinity()};
+
+  bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+  void extend(Vec3 p) { lo = vmin(lo, p); hi = vmax(hi, p); }
+  void extend(const Box3& b) { lo = vmin(lo, b.lo); hi = vmax(hi, b.hi); }
+  Vec3 extent() const { return hi - lo; }
+  Vec3 center() const { return (lo + hi) * 0.5f; }
+  float longestSide() const { return empty() ? 0.0f : maxComponent(extent()); }
+  bool contains(Vec3 p) const {
+    return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
+  }
+  bool contains(const Box3& b) const { return b.empty() || (contains(b.lo) && contains(b.hi)); }
+  // Grows the box by a relative margin of its size and position, so that later float
+  // arithmetic on points inside it (hit distances, offsets) cannot round them outside.
+  Box3 padded(float rel = 1e-5f) const {
+    if (empty()) return *this;
+    const Vec3 mag = vmax(vabs(lo), vabs(hi));
+    const float m = rel * (maxComponent(extent()) + maxComponent(mag)) + 1e-30f;
+    return {lo - Vec3{m, m, m}, hi + Vec3{m, m, m}};
+  }
+};
+
+inline Box3 unionOf(const Box3& a, const Box3& b) { Box3 r = a; r.extend(b); return r; }
+
+// gamma(n) of Higham / pbrt: bound on the relative error of n float operations.
+constexpr float gammaBound(int n) {
+  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
+  return (n * eps) / (1 - n * eps);
+}
+
+// A ray prepared for repeated box tests: reciprocal direction (IEEE gives +-inf for a zero
+// component, which the slab test handles), and the sign of each component.
+struct RayBoxQuery {
+  Vec3 org, invDir;
+  int sign[3];
+  explicit RayBoxQuery(Vec3 o, Vec3 d) : org(o) {
+    invDir = {1.0f / d.x, 1.0f / d.y, 1.0f / d.z};
+    sign[0] = invDir.x < 0; sign[1] = invDir.y < 0; sign[2] = invDir.z < 0;
+  }
+};
+
+// Conservative slab test. Returns true and the entry distance (clamped to tmin) when the ray
+// segment [tmin, tmax] crosses the box. Never NaN: a 0*inf slab (origin on a slab plane of a
+// zero direction component) yields NaN which the max/min ordering below discards.
+inline bool intersectBox(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, float tmin,
+                         float tmax, float& tEntry, float& tExit) {
+  const Vec3 b[2] = {lo, hi};
+  float t0 = tmin, t1 = tmax;
+  for (int a = 0; a < 3; ++a) {
+    float tn = (b[q.sign[a]][a] - q.org[a]) * q.invDir[a];
+    float tf = (b[1 - q.sign[a]][a] - q.org[a]) * q.invDir[a];
+    tf *= 1.0f + 2.0f * gammaBound(3);
+    // Written so that a NaN tn/tf leaves t0/t1 unchanged.
+    t0 = tn > t0 ? tn : t0;
+    t1 = tf < t1 ? tf : t1;
+  }
+  tEntry = t0;
+  tExit = t1;
+  return t0 <= t1;
+}
+
+}  // namespace rayes

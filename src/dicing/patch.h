@@ -1,0 +1,53 @@
+// START HERE for geometry. A Patch is one top-level leaf: a surface over the unit square
+// (u, v) in [0,1]^2 that can be diced on demand at any level m into a (2^m+1)^2 vertex grid.
+//
+// Contract (DESIGN invariant 1): bounds() contains every point that dice() can produce at any
+// level and any shutter time, displacement included. The top level, early ray termination and
+// crack-free level of detail all rest on this; tests/dicing checks it by sampling.
+//
+// Patches are immutable after construction and all methods are const and thread-safe: many
+// threads dice different patches (or the same one) at once, each into its own DiceBuffer.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include "core/box.h"
+#include "core/vec.h"
+
+namespace rayes {
+
+// A point on a patch: position and the (not necessarily unit) surface normal dP/du x dP/dv,
+// made finite at degenerate points (poles) by the patch.
+struct SurfacePoint {
+  Vec3 p;
+  Vec3 n;
+};
+
+class Patch {
+ public:
+  virtual ~Patch() = default;
+
+  // Conservative bound of every diced point (see the contract above).
+  virtual Box3 bounds() const = 0;
+
+  // An upper bound on the length of any iso-parameter curve of the patch. The side of a
+  // micro-quad at level m is then at most about sizeBound() / 2^m; level-of-detail selection
+  // uses this, and so does nothing else, so it only has to be a reasonable, stable estimate.
+  virtual float sizeBound() const = 0;
+
+  // The surface at (u, v). Must be deterministic: the same (u, v) gives the same bits, which is
+  // what makes the level-k subgrid of a level-m dicing identical to a level-k dicing.
+  virtual SurfacePoint evaluate(float u, float v) const = 0;
+
+  // Fills a (2^level+1)^2 grid, row-major with u along a row: p[j*(2^level+1)+i] is the point
+  // at (u, v) = (i/2^level, j/2^level). The default evaluates every vertex; kinds override it to
+  // evaluate boundary rows in a canonical orientation so that neighbouring patches that share
+  // a border produce bit-identical border vertices (watertight seams).
+  virtual void dice(int level, Vec3* positions, Vec3* normals) const;
+
+  // Short name of the kind, for stats ("bezier", "bilinear", ...).
+  virtual const char* kind() const = 0;
+};
+
+using PatchPtr = std::shared_ptr<const Patch>;
+
+}  // namespace rayes

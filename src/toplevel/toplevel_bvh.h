@@ -1,0 +1,63 @@
+// START HERE for the top level. A 4-wide BVH over the conservative boxes of all leaves (one
+// patch per leaf), built once per render with Embree's rtcBuildBVH (binned SAH) into our own
+// node layout, and a traversal that hands out a ray's candidate leaves front to back, a few at
+// a time, resuming where the previous call stopped.
+//
+// Order and resumption: candidates come in increasing (entry distance, leaf id) order. A call
+// returns those strictly after the resume point (resumeEntry, resumeLeaf) and no later than
+// tmax, at most maxCount of them, plus nextEntry: a lower bound on the entry distance of every
+// leaf not yet returned (+inf when none is left). So a ray whose best hit is nearer than
+// nextEntry is finished (conservative termination), and the result of a whole trace does not
+// depend on how many candidates each call returned.
+//
+// Threads: the BVH is immutable after build(); collect() is const and thread-safe, each thread
+// passing its own TraversalScratch. Memory: 128 bytes per inner node, nothing per leaf beyond
+// the leaf id; no geometry is stored here.
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+#include "core/box.h"
+
+namespace rayes {
+
+struct Candidate {
+  uint32_t leaf;
+  float entry;  // entry distance into the leaf's box, clamped to the ray's tmin
+};
+
+// Reusable per-thread heap storage for the best-first traversal (no allocation per ray once
+// warmed up).
+struct TraversalScratch {
+  struct Item { float entry; uint32_t ref; };
+  std::vector<Item> heap;
+};
+
+class TopLevelBvh {
+ public:
+  TopLevelBvh();
+  ~TopLevelBvh();
+  TopLevelBvh(const TopLevelBvh&) = delete;
+  TopLevelBvh& operator=(const TopLevelBvh&) = delete;
+
+  // Builds over leafBoxes[i] for leaf id i. Empty boxes are left out (never candidates).
+  void build(std::span<const Box3> leafBoxes);
+
+  // See the contract above. Start a trace with resumeEntry = -inf (any resumeLeaf).
+  // Returns the number of candidates written to out.
+  int collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resumeEntry, uint32_t resumeLeaf,
+              Candidate* out, int maxCount, float& nextEntry, TraversalScratch& scratch) const;
+
+  size_t leafCount() const { return leafCount_; }
+  size_t nodeCount() const;
+  size_t bytes() const;     // memory held by the nodes
+  Box3 bounds() const;      // scene bounds (union of all leaf boxes)
+
+ private:
+  struct Impl;
+  Impl* impl_ = nullptr;
+  size_t leafCount_ = 0;
+};
+
+}  // namespace rayes
