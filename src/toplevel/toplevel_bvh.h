@@ -6,13 +6,16 @@
 // Order and resumption: candidates come in increasing (entry distance, leaf id) order. A call
 // returns those strictly after the resume point (resumeEntry, resumeLeaf) and no later than
 // tmax, at most maxCount of them, plus nextEntry: a lower bound on the entry distance of every
-// leaf not yet returned (+inf when none is left). So a ray whose best hit is nearer than
-// nextEntry is finished (conservative termination), and the result of a whole trace does not
-// depend on how many candidates each call returned.
+// leaf not yet returned (+inf when none is left); this implementation returns the exact entry
+// of the next candidate. So a ray whose best hit is nearer than nextEntry is finished
+// (conservative termination), and the result of a whole trace does not depend on how many
+// candidates each call returned. Entry distances are bit-identical to intersectBox (core/box.h)
+// on the leaf's box, so callers and tests may compare them exactly.
 //
 // Threads: the BVH is immutable after build(); collect() is const and thread-safe, each thread
-// passing its own TraversalScratch. Memory: 128 bytes per inner node, nothing per leaf beyond
-// the leaf id; no geometry is stored here.
+// passing its own TraversalScratch. Memory: 128 bytes per inner node (about n/2 inner nodes
+// for n leaves: SAH leaves many 2- and 3-child nodes near the leaves), nothing per leaf beyond the leaf id in its parent; no geometry is stored here
+// and nothing of Embree is kept after build(). Node layout: toplevel_node.h.
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -21,6 +24,8 @@
 #include "core/box.h"
 
 namespace rayes {
+
+namespace toplevel { struct Inspector; }
 
 struct Candidate {
   uint32_t leaf;
@@ -41,20 +46,24 @@ class TopLevelBvh {
   TopLevelBvh(const TopLevelBvh&) = delete;
   TopLevelBvh& operator=(const TopLevelBvh&) = delete;
 
-  // Builds over leafBoxes[i] for leaf id i. Empty boxes are left out (never candidates).
+  // Builds over leafBoxes[i] for leaf id i (fewer than 2^31 of them). Empty boxes (and boxes
+  // with a NaN bound) are left out: never candidates. Boxes must otherwise be finite.
+  // Rebuilding replaces the previous tree.
   void build(std::span<const Box3> leafBoxes);
 
-  // See the contract above. Start a trace with resumeEntry = -inf (any resumeLeaf).
-  // Returns the number of candidates written to out.
+  // See the contract above. Start a trace with resumeEntry = -inf (any resumeLeaf); tmin must
+  // be finite (entries are clamped to it, so they then exceed -inf). Returns the number of
+  // candidates written to out; maxCount <= 0 only computes nextEntry.
   int collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resumeEntry, uint32_t resumeLeaf,
               Candidate* out, int maxCount, float& nextEntry, TraversalScratch& scratch) const;
 
-  size_t leafCount() const { return leafCount_; }
+  size_t leafCount() const { return leafCount_; }  // leaf ids, empty boxes included
   size_t nodeCount() const;
   size_t bytes() const;     // memory held by the nodes
   Box3 bounds() const;      // scene bounds (union of all leaf boxes)
 
  private:
+  friend struct toplevel::Inspector;  // tests and statistics read the nodes (toplevel_node.h)
   struct Impl;
   Impl* impl_ = nullptr;
   size_t leafCount_ = 0;
