@@ -111,14 +111,37 @@ uint32_t flatten(const BuildItem* item, std::span<const Box3> boxes, std::vector
   return index;
 }
 
-// Min-heap order of the traversal: by entry, then by ref (inner nodes before leaves, leaves
-// by id; see the kLeafFlag comment in toplevel_node.h).
-bool keyLess(const TraversalScratch::Item& a, const TraversalScratch::Item& b) {
-  return a.entry < b.entry || (a.entry == b.entry && a.ref < b.ref);
+constexpr bool candidateLess(const Candidate& a, const Candidate& b) {
+  return a.entry < b.entry || (a.entry == b.entry && a.leaf < b.leaf);
 }
-bool heapOrder(const TraversalScratch::Item& a, const TraversalScratch::Item& b) {
-  return keyLess(b, a);
-}
+
+// The best maxCount + 1 candidates found so far, sorted: the first maxCount live in the
+// caller's buffer, the one after them (which becomes nextEntry) in `extra`. Leaves arrive
+// roughly front to back, so insertion from the end rarely moves anything.
+class BestList {
+ public:
+  BestList(Candidate* out, int maxCount) : out_(out), maxCount_(std::max(maxCount, 0)) {}
+  bool full() const { return size_ > maxCount_; }
+  const Candidate& last() const { return at(size_ - 1); }
+  // Only called with c before last() when full.
+  void insert(const Candidate& c) {
+    int pos = size_;
+    while (pos > 0 && candidateLess(c, at(pos - 1))) --pos;
+    size_ = std::min(size_ + 1, maxCount_ + 1);
+    for (int i = size_ - 1; i > pos; --i) at(i) = at(i - 1);
+    at(pos) = c;
+  }
+  int returned() const { return std::min(size_, maxCount_); }
+  float nextEntry() const { return full() ? extra_.entry : std::numeric_limits<float>::infinity(); }
+
+ private:
+  Candidate& at(int i) { return i < maxCount_ ? out_[i] : extra_; }
+  const Candidate& at(int i) const { return i < maxCount_ ? out_[i] : extra_; }
+  Candidate* out_;
+  int maxCount_;
+  int size_ = 0;
+  Candidate extra_{};
+};
 
 }  // namespace
 
@@ -178,63 +201,70 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
                          TraversalScratch& scratch) const {
   using toplevel::isLeafRef;
   using toplevel::refLeafId;
+  // Depth first, nearest child first, keeping the best maxCount + 1 leaves after the resume
+  // point (a k-nearest search along the ray); the (maxCount + 1)-th gives the exact nextEntry.
+  // Why nothing is missed: a child's box lies inside its parent's, and the rounded slab
+  // distances are monotonic in the plane positions (NaN slabs are ignored on both sides), so
+  // a leaf the ray crosses is crossed by all its ancestors, each with entry <= the leaf's entry
+  // and exit >= the leaf's exit >= its entry. Hence a node is dropped safely when
+  //  - its entry is beyond the (maxCount + 1)-th best leaf found so far: every leaf below it
+  //    would come later (equal entries are kept: a smaller leaf id may lie below), or
+  //  - its exit is before resumeEntry: every leaf below it was returned by an earlier call.
+  // (A best-first heap keyed by (entry, ref) was measured too: about as many node visits,
+  // equal speed at N = 8 and about 1.3x slower at N = 1, so the simpler stack stays.)
   nextEntry = std::numeric_limits<float>::infinity();
-  auto& heap = scratch.heap;
-  heap.clear();
   const Impl& m = *impl_;
   if (m.root == toplevel::kNoRoot) return 0;
-
-  // Why the pops come out in (entry, leaf) order: a child's box lies inside its parent's, and
-  // the rounded slab distances are monotonic in the plane positions (NaN slabs are ignored on
-  // both sides), so a descendant's entry is >= its ancestor's and its exit <=. When a leaf is
-  // at the top of the heap, every other item has a larger key; inner items with an equal entry
-  // would have a smaller key (their ref orders first), so each remaining inner item has a
-  // strictly larger entry and so have all leaves below it. The popped leaf is therefore the
-  // next one in (entry, leaf) order, and the heap's minimum entry bounds every leaf not yet
-  // returned.
-  // Skipping: a leaf at or before the resume point is dropped when found; an inner node whose
-  // exit is before resumeEntry holds only such leaves (a leaf's entry <= its exit <= the
-  // node's exit), so it is dropped too.
-  auto afterResume = [&](float entry, uint32_t leaf) {
-    return entry > resumeEntry || (entry == resumeEntry && leaf > resumeLeaf);
+  BestList best(out, maxCount);
+  auto offerLeaf = [&](uint32_t ref, float entry) {
+    const Candidate c{refLeafId(ref), entry};
+    const bool afterResume = entry > resumeEntry || (entry == resumeEntry && c.leaf > resumeLeaf);
+    if (afterResume && (!best.full() || candidateLess(c, best.last()))) best.insert(c);
   };
-  auto keep = [&](uint32_t ref, float entry, float exit) {
-    return isLeafRef(ref) ? afterResume(entry, refLeafId(ref)) : exit >= resumeEntry;
-  };
-  auto push = [&](float entry, uint32_t ref) {
-    heap.push_back({entry, ref});
-    std::push_heap(heap.begin(), heap.end(), heapOrder);
+  auto nodeWanted = [&](float entry, float exit) {
+    return exit >= resumeEntry && (!best.full() || entry <= best.last().entry);
   };
 
   const RayBoxQuery q(org, dir);
   float entry, exit;
   if (!intersectBox(q, m.bounds.lo, m.bounds.hi, tmin, tmax, entry, exit)) return 0;
-  if (!keep(m.root, entry, exit)) return 0;
-  push(entry, m.root);
-
-  int count = 0;
-  while (!heap.empty()) {
-    const TraversalScratch::Item top = heap.front();
-    // Once full, inner nodes are still opened until a leaf is on top, so that nextEntry is the
-    // exact entry of the next candidate: a tighter bound terminates more rays, and a needless
-    // extra generation (re-dicing a patch) costs far more than these few node visits.
-    if (isLeafRef(top.ref) && count >= maxCount) break;
-    std::pop_heap(heap.begin(), heap.end(), heapOrder);
-    heap.pop_back();
-    if (isLeafRef(top.ref)) {
-      out[count++] = {refLeafId(top.ref), top.entry};
-      continue;
-    }
-    const Node4& node = m.nodes[top.ref];
-    float childEntry[4], childExit[4];
-    for (unsigned hit = toplevel::intersectChildren(node, q, tmin, tmax, childEntry, childExit);
-         hit != 0; hit &= hit - 1) {
-      const int i = std::countr_zero(hit);
-      if (keep(node.child[i], childEntry[i], childExit[i])) push(childEntry[i], node.child[i]);
+  if (isLeafRef(m.root)) {
+    offerLeaf(m.root, entry);
+  } else if (nodeWanted(entry, exit)) {
+    auto& stack = scratch.heap;
+    stack.clear();
+    stack.push_back({entry, m.root});
+    while (!stack.empty()) {
+      const TraversalScratch::Item item = stack.back();
+      stack.pop_back();
+      if (best.full() && item.entry > best.last().entry) continue;  // the bound has tightened
+      const Node4& node = m.nodes[item.ref];
+      float childEntry[4], childExit[4];
+      unsigned hit = toplevel::intersectChildren(node, q, tmin, tmax, childEntry, childExit);
+      // Inner children go on the stack farthest first, so the nearest is visited next.
+      TraversalScratch::Item inner[4];
+      int innerCount = 0;
+      for (; hit != 0; hit &= hit - 1) {
+        const int i = std::countr_zero(hit);
+        const uint32_t ref = node.child[i];
+        if (isLeafRef(ref)) {
+          offerLeaf(ref, childEntry[i]);
+        } else if (nodeWanted(childEntry[i], childExit[i])) {
+          int pos = innerCount++;
+          for (; pos > 0 && inner[pos - 1].entry < childEntry[i]; --pos) inner[pos] = inner[pos - 1];
+          inner[pos] = {childEntry[i], ref};
+        }
+      }
+      for (int i = 0; i < innerCount; ++i) {
+        // Fetched now, used a few iterations later: hides part of the cache miss.
+        __builtin_prefetch(&m.nodes[inner[i].ref].lo);
+        __builtin_prefetch(&m.nodes[inner[i].ref].hi[1]);
+        stack.push_back(inner[i]);
+      }
     }
   }
-  if (!heap.empty()) nextEntry = heap.front().entry;
-  return count;
+  nextEntry = best.nextEntry();
+  return best.returned();
 }
 
 size_t TopLevelBvh::nodeCount() const { return impl_->nodes.size(); }

@@ -32,8 +32,8 @@ struct Candidate {
   float entry;  // entry distance into the leaf's box, clamped to the ray's tmin
 };
 
-// Reusable per-thread heap storage for the best-first traversal (no allocation per ray once
-// warmed up).
+// Reusable per-thread storage for the traversal: its node stack (the member keeps the name
+// `heap` from an earlier best-first design). No allocation per ray once warmed up.
 struct TraversalScratch {
   struct Item { float entry; uint32_t ref; };
   std::vector<Item> heap;

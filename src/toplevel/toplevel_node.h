@@ -1,6 +1,8 @@
 // Private to the top level (and its tests): the node layout of TopLevelBvh and the 4-wide
 // slab test. Not part of the contract in toplevel_bvh.h.
 #pragma once
+#include <immintrin.h>
+
 #include <cstdint>
 #include <span>
 #include "core/box.h"
@@ -11,9 +13,7 @@ class TopLevelBvh;
 
 namespace rayes::toplevel {
 
-// A child reference. The leaf flag is the top bit so that, compared as unsigned integers,
-// every inner-node ref orders before every leaf ref and leaf refs order by leaf id; the
-// traversal heap relies on exactly this (see collect()).
+// A child reference: a node index, or a leaf id with the top bit set (so 31-bit leaf ids).
 constexpr uint32_t kLeafFlag = 0x80000000u;
 constexpr uint32_t kMaxLeafId = 0x7ffffffeu;      // kEmptyRef's id is never a real leaf
 constexpr uint32_t kEmptyRef = 0xffffffffu;       // unused child slot (inverted bounds)
@@ -36,35 +36,29 @@ struct alignas(64) Node4 {
 };
 static_assert(sizeof(Node4) == 128);
 
-// intersectBox (core/box.h) for the four children of a node, operation for operation in the
-// same order, so that a leaf's entry distance here is bit-identical to intersectBox on that
-// leaf's box: the traversal order and the brute-force reference order then agree exactly,
-// and the monotonicity argument in collect() holds for the rounded values.
+// intersectBox (core/box.h) for the four children of a node, in SSE: the same IEEE operations
+// in the same order (no FMA, _mm_max_ps(tn, t0) is exactly `tn > t0 ? tn : t0`, NaN-safe the
+// same way), so a leaf's entry distance here is bit-identical to intersectBox on its box: the
+// traversal order and the brute-force reference agree exactly, and the monotonicity argument
+// in collect() holds for the rounded values. Written with intrinsics because the compiler
+// kept the plain loop scalar, which made node visits compute bound.
 // Returns a bit mask of the children whose box the segment [tmin, tmax] crosses.
 inline unsigned intersectChildren(const Node4& n, const RayBoxQuery& q, float tmin, float tmax,
                                   float tEntry[4], float tExit[4]) {
-  constexpr float kFarScale = 1.0f + 2.0f * gammaBound(3);
-  float t0[4] = {tmin, tmin, tmin, tmin};
-  float t1[4] = {tmax, tmax, tmax, tmax};
+  const __m128 farScale = _mm_set1_ps(1.0f + 2.0f * gammaBound(3));
+  __m128 t0 = _mm_set1_ps(tmin), t1 = _mm_set1_ps(tmax);
   for (int a = 0; a < 3; ++a) {
-    const float* nearPlane = q.sign[a] ? n.hi[a] : n.lo[a];
-    const float* farPlane = q.sign[a] ? n.lo[a] : n.hi[a];
-    const float o = q.org[a], inv = q.invDir[a];
-    for (int i = 0; i < 4; ++i) {
-      const float tn = (nearPlane[i] - o) * inv;
-      float tf = (farPlane[i] - o) * inv;
-      tf *= kFarScale;
-      t0[i] = tn > t0[i] ? tn : t0[i];
-      t1[i] = tf < t1[i] ? tf : t1[i];
-    }
+    const __m128 o = _mm_set1_ps(q.org[a]), inv = _mm_set1_ps(q.invDir[a]);
+    const __m128 tLo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[a]), o), inv);
+    const __m128 tHi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[a]), o), inv);
+    const __m128 tn = q.sign[a] ? tHi : tLo;
+    const __m128 tf = _mm_mul_ps(q.sign[a] ? tLo : tHi, farScale);
+    t0 = _mm_max_ps(tn, t0);
+    t1 = _mm_min_ps(tf, t1);
   }
-  unsigned mask = 0;
-  for (int i = 0; i < 4; ++i) {
-    tEntry[i] = t0[i];
-    tExit[i] = t1[i];
-    mask |= unsigned(t0[i] <= t1[i]) << i;
-  }
-  return mask;
+  _mm_storeu_ps(tEntry, t0);
+  _mm_storeu_ps(tExit, t1);
+  return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
 }
 
 // Read access to a built tree, for tests and statistics (a friend of TopLevelBvh).

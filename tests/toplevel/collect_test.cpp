@@ -183,7 +183,7 @@ TEST(Collect, ThreadsAgreeAndScratchStopsGrowing) {
   std::vector<std::vector<Candidate>> serial(s.rays.size());
   TraversalScratch scratch;
   for (size_t r = 0; r < s.rays.size(); ++r) serial[r] = collectOnce(s.bvh, s.rays[r], 8, scratch).list;
-  // A second pass over the same rays must not reallocate the heap.
+  // A second pass over the same rays must not reallocate the traversal stack.
   const auto* heapData = scratch.heap.data();
   for (const TestRay& r : s.rays) collectOnce(s.bvh, r, 8, scratch);
   EXPECT_EQ(scratch.heap.data(), heapData);
