@@ -44,6 +44,13 @@ class Patch {
   // a border produce bit-identical border vertices (watertight seams).
   virtual void dice(int level, Vec3* positions, Vec3* normals) const;
 
+  // A bound on the distance between the level-m dicing (micro-quads split into triangles) and
+  // the true surface, as a coefficient C: the bound is C / 4^m. Zero for planar patches. Used
+  // to offset secondary rays just enough (shading), instead of the thesis's l / 2^m, which
+  // at coarse levels pushes origins across the scene. The default derives C from the box
+  // (C = longest side: the thesis's rule at m = 0, and safe for any patch inside its box).
+  virtual float dicingErrorCoefficient() const { return bounds().longestSide(); }
+
   // Short name of the kind, for stats ("bezier", "bilinear", ...).
   virtual const char* kind() const = 0;
 };

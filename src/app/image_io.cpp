@@ -1,0 +1,132 @@
+#include "app/image_io.h"
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <unistd.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <png.h>
+#include "core/error.h"
+
+namespace rayes {
+namespace {
+
+std::string temporaryName(const std::string& path) {
+  return path + ".tmp-" + std::to_string(::getpid());
+}
+
+void commit(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, "", "cannot write output: " + ec.message());
+  }
+}
+
+uint8_t toSrgb8(float v) {
+  if (!(v > 0)) return 0;
+  if (v >= 1) return 255;
+  const float s = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+  return static_cast<uint8_t>(std::lround(s * 255.0f));
+}
+
+}  // namespace
+
+void writeExr(const std::string& path, const Film& film) {
+  const int w = film.width(), h = film.height();
+  const std::vector<float> rgba = film.beautyRgba(), depth = film.depth(), normal = film.normal(), lod = film.lod();
+  const std::string tmp = temporaryName(path);
+  try {
+    Imf::Header header(w, h);
+    const char* names[] = {"R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "lod.Y"};
+    for (const char* c : names) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    Imf::FrameBuffer fb;
+    const size_t f = sizeof(float);
+    auto slice = [&](const float* base, size_t stride) {
+      return Imf::Slice(Imf::FLOAT, (char*)base, f * stride, f * stride * size_t(w));
+    };
+    fb.insert("R", slice(rgba.data() + 0, 4));
+    fb.insert("G", slice(rgba.data() + 1, 4));
+    fb.insert("B", slice(rgba.data() + 2, 4));
+    fb.insert("A", slice(rgba.data() + 3, 4));
+    fb.insert("depth.Z", slice(depth.data(), 1));
+    fb.insert("normal.X", slice(normal.data() + 0, 3));
+    fb.insert("normal.Y", slice(normal.data() + 1, 3));
+    fb.insert("normal.Z", slice(normal.data() + 2, 3));
+    fb.insert("lod.Y", slice(lod.data(), 1));
+    Imf::OutputFile file(tmp.c_str(), header);
+    file.setFrameBuffer(fb);
+    file.writePixels(h);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, "", std::string("cannot write EXR: ") + e.what());
+  }
+  commit(tmp, path);
+}
+
+void writePngPreview(const std::string& path, const Film& film) {
+  const int w = film.width(), h = film.height();
+  const std::vector<float> rgba = film.beautyRgba();
+  std::vector<uint8_t> rgb(size_t(w) * h * 3);
+  for (size_t p = 0; p < size_t(w) * h; ++p)
+    for (int c = 0; c < 3; ++c) rgb[3 * p + c] = toSrgb8(rgba[4 * p + c]);
+  const std::string tmp = temporaryName(path);
+  FILE* fp = std::fopen(tmp.c_str(), "wb");
+  if (!fp) throw InputError(path, "", "cannot open for writing");
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  bool ok = png && info;
+  if (ok && setjmp(png_jmpbuf(png))) ok = false;
+  else if (ok) {
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_write_info(png, info);
+    for (int y = 0; y < h; ++y) png_write_row(png, rgb.data() + size_t(y) * w * 3);
+    png_write_end(png, nullptr);
+  }
+  if (png) png_destroy_write_struct(&png, info ? &info : nullptr);
+  const bool closed = std::fclose(fp) == 0;
+  if (!ok || !closed) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, "", "cannot write PNG");
+  }
+  commit(tmp, path);
+}
+
+std::vector<float> readExrRgb(const std::string& path, int& width, int& height) {
+  if (!std::filesystem::exists(path)) throw InputError(path, "", "cannot open reference image");
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    width = dw.max.x - dw.min.x + 1;
+    height = dw.max.y - dw.min.y + 1;
+    std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
+    Imf::FrameBuffer fb;
+    const size_t f = sizeof(float);
+    char* base = (char*)(rgb.data()) - (size_t(dw.min.x) + size_t(dw.min.y) * width) * 3 * f;
+    for (int c = 0; c < 3; ++c) {
+      const char* name = c == 0 ? "R" : (c == 1 ? "G" : "B");
+      if (!file.header().channels().findChannel(name))
+        throw InputError(path, "", std::string("reference image has no channel ") + name);
+      fb.insert(name, Imf::Slice(Imf::FLOAT, base + c * f, 3 * f, 3 * f * size_t(width)));
+    }
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return rgb;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path, "", std::string("cannot read EXR: ") + e.what());
+  }
+}
+
+}  // namespace rayes

@@ -1,0 +1,104 @@
+#include "app/stats_json.h"
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+#include "core/error.h"
+#include "core/memory.h"
+
+namespace rayes {
+
+nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, const RenderStats& s,
+                           const RunInfo& run) {
+  using json = nlohmann::json;
+  json j;
+  j["scene"] = {{"file", run.scenePath}, {"leaves", scene.patches.size()}, {"resolution", {run.width, run.height}},
+                {"spp", run.spp}};
+  json kinds = json::object();
+  for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
+  j["scene"]["leaf_kinds"] = kinds;
+  j["settings"] = {{"threads", run.threads}, {"max_lod", options.maxLod},
+                   {"lod", options.lod == LodRule::PerRay ? "per-ray" : "density"},
+                   {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
+                   {"ray_memory_bytes", options.rayMemoryBytes}};
+
+  json gens = json::array();
+  uint64_t diced = 0, created = 0, rays = 0, shadow = 0;
+  for (const auto& g : s.generations) {
+    json its = json::array();
+    for (const auto& it : g.stats.iterations)
+      its.push_back({{"active_rays", it.activeRays}, {"candidates_per_ray", it.candidatesPerRay},
+                     {"candidates", it.candidates}});
+    gens.push_back({{"pass", g.pass}, {"batch", g.batch}, {"depth", g.depth}, {"rays", g.stats.rays},
+                    {"shadow_rays", g.stats.shadowRays}, {"iterations", its},
+                    {"leaves_diced", g.stats.leavesDiced}, {"micropolygons_created", g.stats.micropolygonsCreated}});
+    diced += g.stats.leavesDiced;
+    created += g.stats.micropolygonsCreated;
+    rays += g.stats.rays;
+    shadow += g.stats.shadowRays;
+  }
+  j["generations"] = gens;
+
+  j["totals"] = {
+      {"rays", rays},
+      {"shadow_rays", shadow},
+      {"leaves_diced", diced},
+      {"micropolygons_created", created},
+      {"micropolygons_potential", s.micropolygonsPotential},
+      {"batches", s.batches},
+      {"nonfinite_samples_dropped", s.shade.nonFinite.load()},
+      {"peak_rss_bytes", peakRssBytes()},
+      {"time_s",
+       {{"load", run.loadSeconds},
+        {"setup", s.timeSetup},
+        {"toplevel", s.trace.toplevel.seconds()},
+        {"sort", s.trace.sort.seconds()},
+        {"dice", s.trace.dice.seconds()},
+        {"bottom", s.trace.bottom.seconds()},
+        {"shade", s.shade.shade.seconds()},
+        {"shade_sort", s.shade.sort.seconds()},
+        {"film", s.timeFilm},
+        {"total", s.timeTotal},
+        {"wall", run.wallSeconds}}},
+      {"mrays_per_s", s.timeTotal > 0 ? double(rays) / s.timeTotal * 1e-6 : 0.0},
+  };
+  j["memory"] = {{"ray_budget_bytes", options.rayMemoryBytes},
+                 {"bytes_per_path", s.bytesPerPath},
+                 {"paths_per_batch", s.pathsPerBatch},
+                 {"candidate_capacity", s.candidateCapacity},
+                 {"toplevel_bytes", s.topLevelBytes},
+                 {"dice_buffer_bytes", s.diceBufferBytes}};
+  // DESIGN invariant 4: say what this scene did not need and was therefore not done.
+  j["skipped"] = {
+      {"motion_blur", "no moving shapes: one time sample stored and diced"},
+      {"displacement", "no displaced shapes: no interval evaluation"},
+      {"beams", "light beam tracing not enabled: no beams traced"},
+      {"volumes", "no volumes: OpenVDB not used"},
+  };
+  if (!s.errorCurve.empty()) {
+    json curve = json::array();
+    for (const auto& e : s.errorCurve) curve.push_back({{"spp", e.spp}, {"time_s", e.seconds}, {"rmse", e.rmse}});
+    j["error_vs_time"] = curve;
+  }
+  return j;
+}
+
+void writeTextAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    if (!out.flush()) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw InputError(path, "", "cannot write file");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(path, "", "cannot write file: " + ec.message());
+  }
+}
+
+}  // namespace rayes

@@ -1,0 +1,23 @@
+// The stats file (--stats FILE.json): what the render did, where time and memory went, and
+// what was left out because the scene did not need it. Field names are documented in
+// docs/stats.md; the file is written atomically like every output.
+#pragma once
+#include <string>
+#include <nlohmann/json.hpp>
+#include "app/renderer.h"
+
+namespace rayes {
+
+struct RunInfo {
+  std::string scenePath;
+  int threads = 0;
+  int width = 0, height = 0, spp = 0;
+  double loadSeconds = 0;
+  double wallSeconds = 0;  // whole program run, load to outputs
+};
+
+nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, const RenderStats& stats,
+                           const RunInfo& run);
+void writeTextAtomically(const std::string& path, const std::string& text);
+
+}  // namespace rayes

@@ -1,0 +1,75 @@
+// The rays of one generation and their hits, as a structure of arrays. Data only: shading
+// writes rays into a RayBatch and reads the hits back; src/rays traces it. Keeping the type
+// here lets both sides use it without knowing each other (DESIGN: shading knows nothing of
+// how rays are sorted).
+//
+// Ownership: the batch owns its arrays; resize() keeps capacity, so a render reuses one batch
+// per generation slot and allocates nothing once warmed up. Not thread-safe as a whole, but
+// distinct indices may be written from distinct threads.
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <vector>
+#include "core/vec.h"
+
+namespace rayes {
+
+constexpr uint32_t kNoLeaf = 0xffffffffu;
+
+enum class RayKind : uint8_t {
+  Inactive = 0,  // an empty slot: not traced
+  Closest = 1,   // nearest hit wanted (camera and continuation rays)
+  Shadow = 2,    // any hit wanted (next-event rays)
+};
+
+struct RayHit {
+  float t = std::numeric_limits<float>::infinity();
+  float u = 0, v = 0;       // patch parameters
+  uint32_t leaf = kNoLeaf;  // kNoLeaf: no hit (for a shadow ray: not occluded)
+  uint32_t quad = 0;        // micro-quad index at the ray's level
+  uint8_t level = 0;        // level of detail the ray was intersected at
+  Vec3 ng;                  // unit geometric normal of the micro-triangle hit
+  Vec3 ns;                  // unit shading normal
+  bool valid() const { return leaf != kNoLeaf; }
+};
+
+struct RayBatch {
+  // What to trace.
+  std::vector<Vec3> org, dir;         // dir need not be unit; t is in units of |dir|
+  std::vector<float> tmin, tmax;
+  std::vector<float> coneWidth;       // footprint width at the origin
+  std::vector<float> coneSpread;      // footprint growth per unit t (2 tan(half angle) * |dir|)
+  std::vector<float> time;            // shutter time in [0, 1]
+  std::vector<uint32_t> ignoreLeaf;   // a leaf this ray must not hit (a shadow ray's light)
+  // The leaf the ray leaves from and the level it was hit at: the ray sees that leaf at exactly
+  // that level, the same micro-grid it left, so a coarser footprint cannot make it hit its own
+  // patch again (kNoLeaf for camera rays).
+  std::vector<uint32_t> originLeaf;
+  std::vector<uint8_t> originLevel;
+  std::vector<uint32_t> payload;      // opaque to the tracer: the path the ray belongs to
+  std::vector<RayKind> kind;
+  // What was found.
+  std::vector<RayHit> hit;
+
+  size_t size() const { return kind.size(); }
+  void resize(size_t n) {
+    org.resize(n); dir.resize(n); tmin.resize(n); tmax.resize(n); coneWidth.resize(n);
+    coneSpread.resize(n); time.resize(n); ignoreLeaf.resize(n); originLeaf.resize(n); originLevel.resize(n);
+    payload.resize(n); kind.resize(n);
+    hit.resize(n);
+  }
+  void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t0, float t1, float width, float spread,
+           uint32_t path, uint32_t ignore = kNoLeaf, uint32_t fromLeaf = kNoLeaf, uint8_t fromLevel = 0,
+           float shutterTime = 0.0f) {
+    kind[i] = k; org[i] = o; dir[i] = d; tmin[i] = t0; tmax[i] = t1; coneWidth[i] = width;
+    coneSpread[i] = spread; payload[i] = path; ignoreLeaf[i] = ignore; time[i] = shutterTime;
+    originLeaf[i] = fromLeaf; originLevel[i] = fromLevel;
+    hit[i] = RayHit{};
+  }
+  static constexpr size_t bytesPerRay() {
+    return 2 * sizeof(Vec3) + 5 * sizeof(float) + 3 * sizeof(uint32_t) + sizeof(uint8_t) +
+           sizeof(RayKind) + sizeof(RayHit);
+  }
+};
+
+}  // namespace rayes

@@ -1,0 +1,44 @@
+// Settings and statistics of the bottom-level / top-level tracing of one generation.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+#include "core/timer.h"
+
+namespace rayes {
+
+enum class LodRule {
+  PerRay,   // default: each ray's level from its own footprint (order independent)
+  Density,  // thesis §6.1.2: smallest m with 4^m >= R/spp; ties the image to batching
+};
+
+struct TraceSettings {
+  int maxLod = 10;
+  LodRule lod = LodRule::PerRay;
+  int samplesPerPixel = 1;          // only for LodRule::Density
+  size_t candidateCapacity = 1 << 20;
+  int maxCandidatesPerRay = 100;    // Table 6.3 clips N at 100
+  bool sortByLeaf = true;           // false: debug mode, every ray traced alone, unsorted
+};
+
+struct IterationStats {
+  uint64_t activeRays = 0;
+  double candidatesPerRay = 0;  // N chosen for this iteration
+  uint64_t candidates = 0;      // candidates actually recorded
+};
+
+struct GenerationStats {
+  uint64_t rays = 0;
+  uint64_t shadowRays = 0;
+  std::vector<IterationStats> iterations;
+  uint64_t leavesDiced = 0;
+  uint64_t micropolygonsCreated = 0;
+};
+
+// Times of the tracing stages. toplevel and sort are wall clock; dice and bottom are summed
+// over threads (as in the thesis's Table 6.1).
+struct TraceTimes {
+  TimeAccumulator toplevel, sort, dice, bottom;
+};
+
+}  // namespace rayes

@@ -1,0 +1,257 @@
+#include "rays/tracer.h"
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include "core/octahedral.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// The farthest t a closest-hit ray still has to look at: its best hit so far, inclusive, so
+// that a leaf with an equal-distance hit and a smaller id is still found in a later iteration
+// (the tie order must not depend on which iteration a leaf came in).
+float searchLimit(const RayBatch& b, uint32_t i) {
+  if (b.kind[i] == RayKind::Shadow) return b.tmax[i];
+  const float best = b.hit[i].t;
+  return std::min(b.tmax[i], std::nextafter(best, kInf));
+}
+}  // namespace
+
+Tracer::Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& s)
+    : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)) {
+  leafSize_.resize(leaves.size());
+  for (size_t i = 0; i < leaves.size(); ++i) leafSize_[i] = leaves[i]->sizeBound();
+}
+
+size_t Tracer::diceBufferBytes() const {
+  size_t b = 0;
+  for (const auto& d : dice_) if (d) b += d->bytesAllocated();
+  return b;
+}
+
+DiceBuffer& Tracer::localDiceBuffer() {
+  auto& d = dice_.local();
+  if (!d) d = std::make_unique<DiceBuffer>(settings_.maxLod);
+  return *d;
+}
+
+int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
+  if (leaf == b.originLeaf[ray]) return std::min<int>(b.originLevel[ray], settings_.maxLod);
+  const float width = b.coneWidth[ray] + std::max(entry, 0.0f) * b.coneSpread[ray];
+  return levelForFootprint(leafSize_[leaf], width, settings_.maxLod);
+}
+
+void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
+  const size_t n = batch.size();
+  resumeEntry_.assign(n, -kInf);
+  resumeLeaf_.assign(n, 0);
+  nextEntry_.assign(n, kInf);
+  count_.assign(n, 0);
+  active_.clear();
+  for (uint32_t i = 0; i < n; ++i) {
+    if (batch.kind[i] == RayKind::Inactive) continue;
+    batch.hit[i] = RayHit{};
+    active_.push_back(i);
+    ++stats.rays;
+    if (batch.kind[i] == RayKind::Shadow) ++stats.shadowRays;
+  }
+  if (settings_.sortByLeaf) traceSorted(batch, stats, times);
+  else traceAlone(batch, stats, times);
+}
+
+void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+  const size_t capacity = cand_.capacity();
+  while (!active_.empty()) {
+    const size_t nActive = active_.size();
+    const int N = static_cast<int>(std::clamp<size_t>(capacity / nActive, 1,
+                                                      size_t(settings_.maxCandidatesPerRay)));
+    // Rays beyond capacity (only when capacity < active rays) wait for the next iteration.
+    const size_t nNow = std::min(nActive, capacity / size_t(N));
+    IterationStats it;
+    it.activeRays = nActive;
+    it.candidatesPerRay = N;
+
+    // 1. Top level: up to N candidates per ray into its own slots.
+    {
+      ScopedTimer timer(times.toplevel);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 256), [&](const auto& r) {
+        auto& scratch = scratch_.local();
+        Candidate local[128];
+        for (size_t a = r.begin(); a != r.end(); ++a) {
+          const uint32_t i = active_[a];
+          float next = kInf;
+          const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i),
+                                       resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
+          const size_t base = a * size_t(N);
+          for (int j = 0; j < got; ++j) {
+            cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
+            cand_.entry[base + j] = local[j].entry;
+            cand_.t[base + j] = kInf;
+          }
+          if (got > 0) {
+            resumeEntry_[i] = local[got - 1].entry;
+            resumeLeaf_[i] = local[got - 1].leaf;
+          }
+          count_[i] = static_cast<uint32_t>(got);
+          nextEntry_[i] = next;
+        }
+      });
+    }
+
+    // 2. Sort the filled slots by leaf.
+    {
+      ScopedTimer timer(times.sort);
+      filled_.clear();
+      slotRay_.resize(nNow * size_t(N));
+      for (size_t a = 0; a < nNow; ++a) {
+        const uint32_t i = active_[a];
+        const size_t base = a * size_t(N);
+        for (uint32_t j = 0; j < count_[i]; ++j) {
+          slotRay_[base + j] = i;
+          if (cand_.leaf[base + j] != kNoLeaf) filled_.push_back(static_cast<uint32_t>(base + j));
+        }
+      }
+      it.candidates = filled_.size();
+      sort_.sort(filled_, cand_.leaf);
+    }
+
+    // 3+4. One task per leaf: dice once, intersect all of its rays.
+    const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
+    std::atomic<uint64_t> micropolygons{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
+      DiceBuffer& dice = localDiceBuffer();
+      for (size_t run = r.begin(); run != r.end(); ++run) {
+        const uint32_t* slots = sort_.order.data() + sort_.runs[run];
+        const size_t count = sort_.runs[run + 1] - sort_.runs[run];
+        const uint32_t leaf = cand_.leaf[slots[0]];
+        int m = 0;
+        if (settings_.lod == LodRule::Density) {
+          m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
+        } else {
+          for (size_t k = 0; k < count; ++k)
+            m = std::max(m, levelFor(b, slotRay_[slots[k]], leaf, cand_.entry[slots[k]]));
+        }
+        {
+          ScopedTimer timer(times.dice);
+          dice.dice(*leaves_[leaf], m);
+        }
+        micropolygons.fetch_add(uint64_t(1) << (2 * m), std::memory_order_relaxed);
+        ScopedTimer timer(times.bottom);
+        for (size_t k = 0; k < count; ++k) {
+          const uint32_t s = slots[k];
+          const uint32_t i = slotRay_[s];
+          const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, cand_.entry[s]);
+          const float limit = searchLimit(b, i);
+          if (b.kind[i] == RayKind::Shadow) {
+            if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level)) {
+              cand_.t[s] = 0;
+              cand_.quadLevel[s] = uint32_t(level) << 24;
+            }
+            continue;
+          }
+          GridHit h;
+          if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h)) {
+            cand_.t[s] = h.t; cand_.u[s] = h.u; cand_.v[s] = h.v;
+            cand_.quadLevel[s] = h.quad | (uint32_t(level) << 24);
+            cand_.ng[s] = encodeOctahedral(h.ng);
+            cand_.ns[s] = encodeOctahedral(h.ns);
+          }
+        }
+      }
+    });
+    stats.leavesDiced += nRuns;
+    stats.micropolygonsCreated += micropolygons.load();
+
+    // 5. Reduce each ray's own slots in slot order, then decide termination.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 1024), [&](const auto& r) {
+      for (size_t a = r.begin(); a != r.end(); ++a) {
+        const uint32_t i = active_[a];
+        RayHit& best = b.hit[i];
+        const size_t base = a * size_t(N);
+        for (uint32_t j = 0; j < count_[i]; ++j) {
+          const size_t s = base + j;
+          if (cand_.leaf[s] == kNoLeaf || !(cand_.t[s] < kInf)) continue;
+          const uint32_t quad = cand_.quadLevel[s] & 0xffffffu;
+          if (!nearerHit(cand_.t[s], cand_.leaf[s], quad, best)) continue;
+          best.t = cand_.t[s]; best.u = cand_.u[s]; best.v = cand_.v[s];
+          best.leaf = cand_.leaf[s]; best.quad = quad;
+          best.level = static_cast<uint8_t>(cand_.quadLevel[s] >> 24);
+          best.ng = decodeOctahedral(cand_.ng[s]);
+          best.ns = decodeOctahedral(cand_.ns[s]);
+        }
+      }
+    });
+    nextActive_.clear();
+    for (size_t a = 0; a < nActive; ++a) {
+      const uint32_t i = active_[a];
+      if (a >= nNow) { nextActive_.push_back(i); continue; }
+      const bool exhausted = !(nextEntry_[i] < kInf);
+      const bool done = b.kind[i] == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
+                                                     : (exhausted || b.hit[i].t < nextEntry_[i]);
+      if (!done) nextActive_.push_back(i);
+    }
+    active_.swap(nextActive_);
+    stats.iterations.push_back(it);
+  }
+}
+
+// Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at
+// that ray's level. No sorting, no sharing: the reference the sorted pipeline must match.
+void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+  std::atomic<uint64_t> diced{0}, micropolygons{0};
+  ScopedTimer timer(times.bottom);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
+    auto& scratch = scratch_.local();
+    DiceBuffer& dice = localDiceBuffer();
+    Candidate local[16];
+    for (size_t a = r.begin(); a != r.end(); ++a) {
+      const uint32_t i = active_[a];
+      RayHit& best = b.hit[i];
+      float resumeEntry = -kInf;
+      uint32_t resumeLeaf = 0;
+      for (;;) {
+        float next = kInf;
+        const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i), resumeEntry,
+                                     resumeLeaf, local, 16, next, scratch);
+        for (int j = 0; j < got; ++j) {
+          const uint32_t leaf = local[j].leaf;
+          if (leaf == b.ignoreLeaf[i]) continue;
+          const int level = levelFor(b, i, leaf, local[j].entry);
+          dice.dice(*leaves_[leaf], level);
+          diced.fetch_add(1, std::memory_order_relaxed);
+          micropolygons.fetch_add(uint64_t(1) << (2 * level), std::memory_order_relaxed);
+          const float limit = searchLimit(b, i);
+          if (b.kind[i] == RayKind::Shadow) {
+            if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level)) {
+              best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
+              break;
+            }
+            continue;
+          }
+          GridHit h;
+          if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h) &&
+              nearerHit(h.t, leaf, h.quad, best)) {
+            best.t = h.t; best.u = h.u; best.v = h.v; best.leaf = leaf; best.quad = h.quad;
+            best.level = static_cast<uint8_t>(level);
+            // Same quantisation as the sorted path, so both modes give identical images.
+            best.ng = decodeOctahedral(encodeOctahedral(h.ng));
+            best.ns = decodeOctahedral(encodeOctahedral(h.ns));
+          }
+        }
+        if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
+        const bool exhausted = !(next < kInf);
+        if (b.kind[i] == RayKind::Shadow ? (best.valid() || exhausted) : (exhausted || best.t < next))
+          break;
+      }
+    }
+  });
+  stats.leavesDiced += diced.load();
+  stats.micropolygonsCreated += micropolygons.load();
+  stats.iterations.push_back({active_.size(), 16.0, 0});
+}
+
+}  // namespace rayes

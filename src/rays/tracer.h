@@ -1,0 +1,75 @@
+// START HERE for the pipeline. The Tracer traces one generation of rays (a RayBatch) through
+// both levels, in iterations (thesis §6.2):
+//
+//   1. toplevel   every active ray collects up to N candidate leaves, front to back, resuming
+//                 after the last leaf it got in the previous iteration; N = capacity / active.
+//   2. sort       the candidate slots are grouped by leaf (CandidateSort).
+//   3. dice       one oneTBB task per leaf dices the patch at the finest level its rays need
+//                 into this thread's DiceBuffer and
+//   4. bottom     intersects every ray at its own level, writing only its own slots.
+//   5. reduce     each ray takes the nearest of its slots (ties by leaf, then micro-quad) and
+//                 is finished once that hit is nearer than its next candidate's entry
+//                 distance; the others stay active with more candidates each.
+//
+// Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
+// default per-ray LOD: independent of thread count, sort order, N and batch size. Shadow rays
+// stop at their first occluder. Memory: the candidate buffer (fixed capacity), per-ray state
+// (bytesPerRayState() per ray of the largest batch) and one DiceBuffer per thread, allocated
+// on first use and kept. Not thread-safe: one trace() at a time; trace() itself is parallel.
+#pragma once
+#include <memory>
+#include <vector>
+#include <tbb/enumerable_thread_specific.h>
+#include "core/ray_batch.h"
+#include "dicing/dice_buffer.h"
+#include "dicing/patch.h"
+#include "rays/candidate_buffer.h"
+#include "rays/candidate_sort.h"
+#include "rays/trace_settings.h"
+#include "toplevel/toplevel_bvh.h"
+
+namespace rayes {
+
+class Tracer {
+ public:
+  Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& settings);
+
+  // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
+  void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+
+  const TraceSettings& settings() const { return settings_; }
+  static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
+  // Bytes held by dice buffers (all threads so far) and the candidate buffer.
+  size_t diceBufferBytes() const;
+  size_t candidateBufferBytes() const { return cand_.capacity() * CandidateBuffer::bytesPerSlot(); }
+
+ private:
+  struct RayState;
+  void traceSorted(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+  void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+  int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
+  DiceBuffer& localDiceBuffer();
+
+  const TopLevelBvh& top_;
+  const std::vector<PatchPtr>& leaves_;
+  TraceSettings settings_;
+  std::vector<float> leafSize_;  // Patch::sizeBound per leaf, for LOD
+
+  CandidateBuffer cand_;
+  CandidateSort sort_;
+  std::vector<uint32_t> active_, nextActive_, filled_, slotRay_;
+  std::vector<float> resumeEntry_, nextEntry_;
+  std::vector<uint32_t> resumeLeaf_, count_;
+  tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_;
+  tbb::enumerable_thread_specific<TraversalScratch> scratch_;
+};
+
+// True when hit (t, leaf, quad) is nearer than `best` under the total order used everywhere:
+// distance, then leaf id, then micro-quad index.
+inline bool nearerHit(float t, uint32_t leaf, uint32_t quad, const RayHit& best) {
+  if (t != best.t) return t < best.t;
+  if (leaf != best.leaf) return leaf < best.leaf;
+  return quad < best.quad;
+}
+
+}  // namespace rayes

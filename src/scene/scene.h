@@ -1,0 +1,32 @@
+// START HERE for scenes. A Scene is everything a render needs, already resolved: patches are
+// built (one per top-level leaf, transforms applied), materials are indexed, rectangle lights
+// have become emissive bilinear patches (so they are seen by camera rays and sampled by NEE
+// through one code path). Produced by loadScene() (scene_loader.h) from the JSON format of
+// docs/scene-format.md; immutable afterwards.
+#pragma once
+#include <string>
+#include <vector>
+#include "dicing/patch.h"
+#include "shading/light.h"
+#include "shading/material.h"
+#include "shading/path_tracer.h"
+
+namespace rayes {
+
+struct CameraDesc {
+  Vec3 position{0, 0, 5}, lookAt{0, 0, 0}, up{0, 1, 0};
+  float fovYDegrees = 40;
+};
+
+struct Scene {
+  std::string path;  // the scene file, for messages
+  CameraDesc camera;
+  int width = 640, height = 480, samplesPerPixel = 16;
+  IntegratorSettings integrator;
+  std::vector<Material> materials;
+  std::vector<PatchPtr> patches;          // leaf id = index
+  std::vector<uint32_t> patchMaterial;    // per patch
+  std::vector<PointLight> pointLights;
+};
+
+}  // namespace rayes

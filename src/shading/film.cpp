@@ -1,0 +1,48 @@
+#include "shading/film.h"
+
+namespace rayes {
+
+Film::Film(int width, int height) : width_(width), height_(height) {
+  const size_t n = size_t(width) * size_t(height);
+  rgb_.assign(3 * n, 0.0); alpha_.assign(n, 0.0); depth_.assign(n, 0.0); normal_.assign(3 * n, 0.0);
+  lod_.assign(n, 0.0); count_.assign(n, 0); hits_.assign(n, 0);
+}
+
+void Film::add(uint32_t p, const PixelSample& s) {
+  rgb_[3 * p] += s.radiance.x; rgb_[3 * p + 1] += s.radiance.y; rgb_[3 * p + 2] += s.radiance.z;
+  ++count_[p];
+  if (!s.hitSurface) return;
+  alpha_[p] += 1.0;
+  depth_[p] += s.depth;
+  normal_[3 * p] += s.normal.x; normal_[3 * p + 1] += s.normal.y; normal_[3 * p + 2] += s.normal.z;
+  lod_[p] += s.lod;
+  ++hits_[p];
+}
+
+std::vector<float> Film::beautyRgba() const {
+  const size_t n = count_.size();
+  std::vector<float> out(4 * n, 0.0f);
+  for (size_t p = 0; p < n; ++p) {
+    if (!count_[p]) continue;
+    const double inv = 1.0 / count_[p];
+    for (int c = 0; c < 3; ++c) out[4 * p + c] = float(rgb_[3 * p + c] * inv);
+    out[4 * p + 3] = float(alpha_[p] * inv);
+  }
+  return out;
+}
+
+namespace {
+std::vector<float> meanOverHits(const std::vector<double>& sum, const std::vector<uint32_t>& hits, int comps) {
+  std::vector<float> out(sum.size(), 0.0f);
+  for (size_t p = 0; p < hits.size(); ++p)
+    if (hits[p])
+      for (int c = 0; c < comps; ++c) out[comps * p + c] = float(sum[comps * p + c] / hits[p]);
+  return out;
+}
+}  // namespace
+
+std::vector<float> Film::depth() const { return meanOverHits(depth_, hits_, 1); }
+std::vector<float> Film::normal() const { return meanOverHits(normal_, hits_, 3); }
+std::vector<float> Film::lod() const { return meanOverHits(lod_, hits_, 1); }
+
+}  // namespace rayes

@@ -1,0 +1,97 @@
+// START HERE for shading. The path tracer as per-generation kernels (thesis §6.2.2, "group
+// rays by generation"): start() writes the camera rays of a batch of paths; after the tracer
+// has traced a generation, shade() consumes its hits and writes the next generation into the
+// same RayBatch; finish() adds the batch's samples to the film in a fixed order.
+//
+// Slots: path k of a batch owns ray slots 2k (camera / continuation ray, closest hit) and
+// 2k+1 (next-event shadow ray, any hit). shade() reads and rewrites only a path's own slots,
+// so paths are shaded in parallel without locks. Before shading, hits are sorted by
+// (material, leaf) so each material's data is touched in one block (the thesis's second
+// sorting step); the result does not depend on that order.
+//
+// Estimator: next-event estimation at every diffuse vertex (emission found by continuation
+// rays is counted only for camera rays, which NEE cannot reach), cosine-weighted continuation,
+// Russian roulette on the throughput. Random numbers are keyed by (pixel, sample, bounce,
+// dimension). Non-finite contributions are dropped and counted (DESIGN invariant 5).
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <vector>
+#include "core/ray_batch.h"
+#include "core/timer.h"
+#include "shading/camera.h"
+#include "shading/film.h"
+#include "shading/light.h"
+#include "shading/material.h"
+
+namespace rayes {
+
+struct IntegratorSettings {
+  int maxDepth = 8;          // path vertices after the camera; 1 = direct lighting only
+  int rouletteDepth = 1;     // first bounce at which Russian roulette may end a path
+  uint64_t seed = 0;
+};
+
+// Everything shading needs to know of the scene, indexed by leaf where per patch.
+struct ShadingScene {
+  PerspectiveCamera camera;
+  int width = 1, height = 1, samplesPerPixel = 1;
+  IntegratorSettings integrator;
+  std::vector<Material> materials;
+  std::vector<uint32_t> leafMaterial;
+  std::vector<float> leafSide;         // longest side l of the leaf's box
+  std::vector<float> leafDicingError;  // C of Patch::dicingErrorCoefficient (bound C / 4^level)
+  LightSampler lights;
+};
+
+// The state of a batch of paths, structure of arrays; path k has global id first + k, which is
+// sample * pixels + pixel (sample-major: a batch covers whole samples of the image).
+struct PathBatch {
+  uint64_t first = 0;
+  std::vector<Rgb> throughput, radiance, shadowContribution;
+  std::vector<uint8_t> alive;
+  std::vector<PixelSample> aov;
+  size_t size() const { return alive.size(); }
+  void resize(size_t n) {
+    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
+  }
+  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 1 + sizeof(PixelSample); }
+};
+
+struct ShadeStats {
+  std::atomic<uint64_t> shadedHits{0}, shadowRays{0}, continuationRays{0}, nonFinite{0},
+      rouletteKills{0};
+  TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
+};
+
+class PathTracer {
+ public:
+  explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
+
+  // Starts paths [first, first + count): resets their state, writes camera rays.
+  void start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const;
+  // Shades generation `bounce` (0 = camera rays) and writes the next generation in place.
+  // Returns the number of rays written.
+  size_t shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats);
+  // Adds the batch's samples to the film, pixel by pixel in sample order.
+  void finish(const PathBatch& paths, Film& film) const;
+
+  // Cone spread given to rays leaving a diffuse surface (radians per unit distance). A
+  // Lambertian lobe spreads rays over the hemisphere, so its rays want coarse geometry; the
+  // constant is the footprint of one of ~64 directions covering the cosine lobe (pi / 64 sr).
+  static constexpr float kDiffuseSpread = 0.22f;
+
+  // How far a secondary ray's origin is pushed off a hit at `level` on a leaf (along the
+  // geometric normal, to the side the ray leaves). The thesis's l / 2^m, but never more than
+  // twice the dicing-error bound of that level (zero for planar patches: at coarse levels
+  // l / 2^m would move origins across the scene), and never less than a floor relative to the
+  // leaf's size and position, so rounding cannot put the origin back under the surface.
+  static float originOffset(float side, float errorCoefficient, int level, Vec3 p);
+
+ private:
+  const ShadingScene& scene_;
+  struct SortItem { uint64_t key; uint32_t path; };
+  std::vector<SortItem> order_;
+};
+
+}  // namespace rayes

@@ -1,0 +1,26 @@
+// Warping functions from [0,1)^2 to directions. Each returns a finite result for every input
+// in [0,1)^2 (tests/shading checks the edges u = 0 and u -> 1).
+#pragma once
+#include <cmath>
+#include <numbers>
+#include "core/vec.h"
+
+namespace rayes {
+
+// Cosine-weighted direction about +z (Malley's method); pdf = cos(theta) / pi.
+inline Vec3 sampleCosineHemisphere(float u1, float u2) {
+  const float r = std::sqrt(std::max(0.0f, u1));
+  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+inline Vec3 toWorld(Vec3 local, Vec3 n) {
+  Vec3 t, b;
+  orthonormalBasis(n, t, b);
+  return t * local.x + b * local.y + n * local.z;
+}
+
+inline float luminance(Rgb c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+}  // namespace rayes

@@ -1,0 +1,137 @@
+// The `rayes render` command: outputs on success; on bad input one message naming the file
+// and place, exit code 2, and nothing at the output paths.
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+#include <gtest/gtest.h>
+#include <gmock/gmock.h>
+#include <nlohmann/json.hpp>
+#include "app/command_line.h"
+
+namespace rayes {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct RunResult { int code; std::string err; };
+
+RunResult run(std::vector<std::string> args) {
+  args.insert(args.begin(), "rayes");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  ::testing::internal::CaptureStderr();
+  const int code = runCommandLine(int(argv.size()), argv.data());
+  return {code, ::testing::internal::GetCapturedStderr()};
+}
+
+class CommandLine : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("rayes-cli-" + std::to_string(::getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  bool dirHasOnly(std::initializer_list<std::string> names) const {
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(dir_)) {
+      (void)e;
+      ++n;
+    }
+    return n == names.size();
+  }
+  fs::path dir_;
+};
+
+const std::string kScene = std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.json";
+
+TEST_F(CommandLine, RenderWritesExrPngAndStats) {
+  const RunResult r = run({"render", kScene, "--spp", "1", "--res", "32x24", "-o", path("t.exr"), "--stats",
+                     path("s.json"), "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(path("t.exr")));
+  EXPECT_TRUE(fs::exists(path("t.png")));
+  std::ifstream in(path("s.json"));
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_TRUE(j["generations"].is_array());
+  ASSERT_FALSE(j["generations"].empty());
+  const auto& g = j["generations"][0];
+  EXPECT_GT(g["rays"].get<int>(), 0);
+  EXPECT_GT(g["leaves_diced"].get<int>(), 0);
+  EXPECT_GT(g["micropolygons_created"].get<int>(), 0);
+  ASSERT_FALSE(g["iterations"].empty());
+  EXPECT_TRUE(g["iterations"][0].contains("active_rays"));
+  EXPECT_TRUE(g["iterations"][0].contains("candidates_per_ray"));
+  const auto& t = j["totals"];
+  for (const char* k : {"leaves_diced", "micropolygons_created", "micropolygons_potential", "peak_rss_bytes"})
+    EXPECT_TRUE(t.contains(k)) << k;
+  for (const char* k : {"toplevel", "sort", "dice", "bottom", "shade", "total"})
+    EXPECT_TRUE(t["time_s"].contains(k)) << k;
+  EXPECT_EQ(t["micropolygons_potential"].get<uint64_t>(), 39ull << 20);  // 39 leaves at 4^10
+  EXPECT_LT(t["micropolygons_created"].get<uint64_t>(), t["micropolygons_potential"].get<uint64_t>());
+  EXPECT_TRUE(j["skipped"].contains("volumes"));
+}
+
+TEST_F(CommandLine, ReferenceGivesErrorAgainstTime) {
+  ASSERT_EQ(run({"render", kScene, "--spp", "4", "--res", "16x12", "-o", path("ref.exr"), "-q"}).code, 0);
+  const RunResult r = run({"render", kScene, "--spp", "4", "--seed", "3", "--res", "16x12", "-o", path("x.exr"),
+                     "--reference", path("ref.exr"), "--stats", path("s.json"), "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(path("s.json"));
+  const auto curve = nlohmann::json::parse(in)["error_vs_time"];
+  ASSERT_EQ(curve.size(), 3u);  // passes end at 1, 2, 4 spp
+  EXPECT_EQ(curve[2]["spp"].get<int>(), 4);
+  EXPECT_GT(curve[0]["rmse"].get<double>(), 0.0);
+}
+
+TEST_F(CommandLine, MissingSceneIsExit2WithNothingWritten) {
+  const RunResult r = run({"render", path("nope.json"), "-o", path("o.exr"), "-q"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("nope.json"));
+  EXPECT_FALSE(fs::exists(path("o.exr")));
+  EXPECT_FALSE(fs::exists(path("o.png")));
+}
+
+TEST_F(CommandLine, SyntaxErrorIsExit2WithLineAndColumn) {
+  const std::string scene = write("bad.json", "{\n  \"camera\": {\"position\": [0,0,1],,}\n}\n");
+  const RunResult r = run({"render", scene, "-o", path("o.exr"), "-q"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("bad.json:2:"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one message: " << r.err;
+  EXPECT_TRUE(dirHasOnly({"bad.json"}));
+}
+
+TEST_F(CommandLine, ImpossibleArgumentsAreExit2) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--spp", "-3"}, {"--res", "0x5"}, {"--res", "abc"}, {"--ray-memory", "12Q"},
+           {"--ray-memory", "10"}, {"--max-lod", "40"}, {"--lod", "random"}, {"--threads"}}) {
+    std::vector<std::string> full = {"render", kScene, "-o", path("o.exr"), "-q"};
+    full.insert(full.end(), args.begin(), args.end());
+    const RunResult r = run(full);
+    EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
+    EXPECT_FALSE(fs::exists(path("o.exr"))) << args[0];
+  }
+}
+
+TEST_F(CommandLine, HelpDocumentsEveryOption) {
+  const auto args = std::vector<std::string>{"rayes", "render", "--help"};
+  std::vector<char*> argv;
+  for (auto a : args) argv.push_back(strdup(a.c_str()));
+  ::testing::internal::CaptureStdout();
+  const int code = runCommandLine(int(argv.size()), argv.data());
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  for (char* a : argv) free(a);
+  EXPECT_EQ(code, 0);
+  for (const char* opt : {"--output", "--spp", "--res", "--threads", "--stats", "--max-lod", "--ray-memory",
+                          "--lod", "--trace-mode", "--reference"})
+    EXPECT_THAT(out, HasSubstr(opt));
+}
+
+}  // namespace
+}  // namespace rayes

@@ -1,0 +1,139 @@
+// The two-level pipeline (sort by leaf, dice once per leaf, iterate with resumable candidate
+// lists) finds exactly the hit a brute-force loop over every leaf finds, for any candidate
+// capacity: the nearest hit under the order (distance, leaf, micro-quad); shadow rays are
+// occluded exactly when some leaf has a hit before tmax.
+#include <limits>
+#include <gtest/gtest.h>
+#include "core/rng.h"
+#include "dicing/bezier_patch.h"
+#include "dicing/bilinear_patch.h"
+#include "rays/tracer.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr int kLod = 4;
+
+struct World {
+  std::vector<PatchPtr> leaves;
+  std::vector<Box3> boxes;
+  TopLevelBvh top;
+  World() {
+    for (const auto& cp : loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt"))
+      leaves.push_back(std::make_shared<BezierPatch>(cp));
+    // A floor under the teapot made of four quads sharing edges, and a wall behind.
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) {
+        const float x0 = -5 + 5 * i, y0 = -5 + 5 * j;
+        leaves.push_back(std::make_shared<BilinearPatch>(Vec3{x0, y0, 0}, Vec3{x0 + 5, y0, 0}, Vec3{x0, y0 + 5, 0},
+                                                         Vec3{x0 + 5, y0 + 5, 0}));
+      }
+    leaves.push_back(std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 6}, Vec3{5, 5, 6}));
+    for (const auto& l : leaves) boxes.push_back(l->bounds());
+    top.build(boxes);
+  }
+};
+
+// Random rays from around the teapot toward it; zero footprint, so every ray uses kLod.
+RayBatch randomRays(int n, bool shadow) {
+  RayBatch b;
+  b.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const RngKey k{uint32_t(i), shadow ? 1u : 0u, 0, 11};
+    const float a = 6.2831853f * sampleUniform(k, 0);
+    const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
+    const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
+    const Vec3 d = normalize(target - o);
+    b.set(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, 0.0f, shadow ? 8.0f : kInf, 0.0f, 0.0f, i);
+  }
+  return b;
+}
+
+RayHit bruteForce(const World& w, const RayBatch& b, int i, DiceBuffer& dice) {
+  RayHit best;
+  for (uint32_t leaf = 0; leaf < w.leaves.size(); ++leaf) {
+    dice.dice(*w.leaves[leaf], kLod);
+    GridHit h;
+    if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], b.tmax[i], kLod, h) && nearerHit(h.t, leaf, h.quad, best)) {
+      best.t = h.t;
+      best.leaf = leaf;
+      best.quad = h.quad;
+    }
+  }
+  return best;
+}
+
+void expectMatchesBruteForce(size_t capacity, bool sorted) {
+  World w;
+  TraceSettings s;
+  s.maxLod = kLod;
+  s.candidateCapacity = capacity;
+  s.sortByLeaf = sorted;
+  Tracer tracer(w.top, w.leaves, s);
+  RayBatch b = randomRays(3000, false);
+  GenerationStats stats;
+  TraceTimes times;
+  tracer.trace(b, stats, times);
+  DiceBuffer dice(kLod);
+  int hits = 0;
+  for (int i = 0; i < int(b.size()); ++i) {
+    const RayHit ref = bruteForce(w, b, i, dice);
+    ASSERT_EQ(b.hit[i].leaf, ref.leaf) << "ray " << i;
+    if (!ref.valid()) continue;
+    ++hits;
+    ASSERT_EQ(b.hit[i].t, ref.t) << "ray " << i;
+    ASSERT_EQ(b.hit[i].quad, ref.quad) << "ray " << i;
+    ASSERT_EQ(b.hit[i].level, kLod);
+  }
+  EXPECT_GT(hits, 1500);  // most rays hit the teapot, the floor or the wall
+  EXPECT_EQ(stats.rays, 3000u);
+  if (sorted && capacity < 3000) EXPECT_GT(stats.iterations.size(), 1u);
+}
+
+TEST(Tracer, SortedPipelineEqualsBruteForce) { expectMatchesBruteForce(1 << 16, true); }
+TEST(Tracer, OneCandidateSlotPerRayStillEqualsBruteForce) { expectMatchesBruteForce(3000, true); }
+TEST(Tracer, FewerSlotsThanRaysStillEqualsBruteForce) { expectMatchesBruteForce(700, true); }
+TEST(Tracer, RaysTracedAloneEqualBruteForce) { expectMatchesBruteForce(1, false); }
+
+TEST(Tracer, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
+  World w;
+  TraceSettings s;
+  s.maxLod = kLod;
+  s.candidateCapacity = 5000;
+  Tracer tracer(w.top, w.leaves, s);
+  RayBatch b = randomRays(2000, true);
+  GenerationStats stats;
+  TraceTimes times;
+  tracer.trace(b, stats, times);
+  DiceBuffer dice(kLod);
+  int occluded = 0;
+  for (int i = 0; i < int(b.size()); ++i) {
+    const bool ref = bruteForce(w, b, i, dice).valid();
+    ASSERT_EQ(b.hit[i].valid(), ref) << "ray " << i;
+    occluded += ref;
+  }
+  EXPECT_GT(occluded, 200);
+  EXPECT_LT(occluded, 1900);
+  EXPECT_EQ(stats.shadowRays, 2000u);
+}
+
+TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
+  World w;
+  TraceSettings s;
+  s.maxLod = kLod;
+  Tracer tracer(w.top, w.leaves, s);
+  RayBatch b;
+  b.resize(2);
+  const uint32_t wall = uint32_t(w.leaves.size() - 1);
+  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, 0, kInf, 0, 0, 0, wall);  // above the teapot, at the wall
+  b.kind[1] = RayKind::Inactive;
+  GenerationStats stats;
+  TraceTimes times;
+  tracer.trace(b, stats, times);
+  EXPECT_FALSE(b.hit[0].valid());
+  EXPECT_FALSE(b.hit[1].valid());
+  EXPECT_EQ(stats.rays, 1u);
+}
+
+}  // namespace
+}  // namespace rayes
