@@ -1,0 +1,86 @@
+#include "dicing/bezier_patch.h"
+#include "dicing/patch_math.h"
+
+namespace rayes {
+
+using detail::canonicalCubic;
+using detail::cubicBasis;
+
+BezierPatch::BezierPatch(const std::array<Vec3, 16>& controlPoints) : cp_(controlPoints) {
+  Box3 box;
+  for (const Vec3& p : cp_) box.extend(p);
+  bounds_ = box.padded();
+  float longest = 0;
+  for (int r = 0; r < 4; ++r) {
+    float row = 0, col = 0;
+    for (int k = 0; k < 3; ++k) {
+      row += length(cp_[r * 4 + k + 1] - cp_[r * 4 + k]);
+      col += length(cp_[(k + 1) * 4 + r] - cp_[k * 4 + r]);
+    }
+    longest = std::max(longest, std::max(row, col));
+  }
+  sizeBound_ = longest;
+  tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
+}
+
+BezierPatch::RowAtV BezierPatch::rowAt(float v) const {
+  float b[4];
+  cubicBasis(v, b);
+  RowAtV row;
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 column[4] = {cp_[i], cp_[4 + i], cp_[8 + i], cp_[12 + i]};
+    row.q[i] = column[0] * b[0] + column[1] * b[1] + column[2] * b[2] + column[3] * b[3];
+    row.dq[i] = detail::cubicDerivative(column, v);
+  }
+  return row;
+}
+
+Vec3 BezierPatch::rawNormal(const RowAtV& row, const float b[4], float u) {
+  const Vec3 du = detail::cubicDerivative(row.q, u);
+  const Vec3 dv = row.dq[0] * b[0] + row.dq[1] * b[1] + row.dq[2] * b[2] + row.dq[3] * b[3];
+  return cross(du, dv);
+}
+
+Vec3 BezierPatch::normalAt(float u, float v) const {
+  float b[4];
+  cubicBasis(u, b);
+  return rawNormal(rowAt(v), b, u);
+}
+
+Vec3 BezierPatch::borderPoint(float u, float v) const {
+  if (v == 0.0f) return canonicalCubic(cp_[0], cp_[1], cp_[2], cp_[3], u);
+  if (v == 1.0f) return canonicalCubic(cp_[12], cp_[13], cp_[14], cp_[15], u);
+  if (u == 0.0f) return canonicalCubic(cp_[0], cp_[4], cp_[8], cp_[12], v);
+  return canonicalCubic(cp_[3], cp_[7], cp_[11], cp_[15], v);
+}
+
+SurfacePoint BezierPatch::pointOnRow(const RowAtV& row, float u, float v) const {
+  float b[4];
+  cubicBasis(u, b);
+  SurfacePoint sp;
+  const bool border = u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f;
+  sp.p = border ? borderPoint(u, v)
+                : row.q[0] * b[0] + row.q[1] * b[1] + row.q[2] * b[2] + row.q[3] * b[3];
+  sp.n = detail::nonDegenerateNormal([this](float uu, float vv) { return normalAt(uu, vv); },
+                                     rawNormal(row, b, u), u, v, tinyNormal_);
+  return sp;
+}
+
+SurfacePoint BezierPatch::evaluate(float u, float v) const { return pointOnRow(rowAt(v), u, v); }
+
+// Same operations as evaluate() per vertex, with the v-reduction hoisted out of each row.
+void BezierPatch::dice(int level, Vec3* positions, Vec3* normals) const {
+  const int n = 1 << level;
+  const float fn = float(n);
+  for (int j = 0; j <= n; ++j) {
+    const float v = float(j) / fn;
+    const RowAtV row = rowAt(v);
+    for (int i = 0; i <= n; ++i) {
+      const SurfacePoint sp = pointOnRow(row, float(i) / fn, v);
+      positions[size_t(j) * (n + 1) + i] = sp.p;
+      normals[size_t(j) * (n + 1) + i] = sp.n;
+    }
+  }
+}
+
+}  // namespace rayes

@@ -1,0 +1,60 @@
+// Bicubic Bézier patches (the Utah teapot's kind) and the .bpt file loader.
+//
+// Control points are 4x4, row-major: cp[j*4+i] has u-index i and v-index j. Immutable and
+// thread-safe like every Patch. Evaluation is O(1) (16 control points); dice() is O(4^level).
+//
+// Watertight seams: a border (u or v exactly 0 or 1) is evaluated as the cubic Bézier curve of
+// its 4 border control points in canonical orientation (dicing/patch_math.h), both in dice()
+// and in evaluate(), so neighbours sharing a border row of control points produce identical
+// border vertices at the same level, and dice() equals evaluate() bit for bit everywhere.
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+#include "dicing/patch.h"
+
+namespace rayes {
+
+class BezierPatch final : public Patch {
+ public:
+  explicit BezierPatch(const std::array<Vec3, 16>& controlPoints);
+
+  // Box of the 16 control points (convex hull property), padded for float rounding.
+  Box3 bounds() const override { return bounds_; }
+  // Longest of the 8 iso control polylines (4 rows, 4 columns). A true bound: an iso curve's
+  // control polygon is a convex blend of the rows (or columns), and a Bézier curve is no
+  // longer than its control polygon.
+  float sizeBound() const override { return sizeBound_; }
+  // P and N = dP/du x dP/dv; at poles N is taken from a nudged parameter (patch_math.h).
+  SurfacePoint evaluate(float u, float v) const override;
+  void dice(int level, Vec3* positions, Vec3* normals) const override;
+  const char* kind() const override { return "bezier"; }
+
+  const std::array<Vec3, 16>& controlPoints() const { return cp_; }
+
+ private:
+  // The u-direction curve at a fixed v: its control points and their v-derivatives. dice()
+  // computes it once per row; evaluate() once per call, with identical arithmetic.
+  struct RowAtV {
+    Vec3 q[4];
+    Vec3 dq[4];
+  };
+  static Vec3 rawNormal(const RowAtV& row, const float bu[4], float u);  // dP/du x dP/dv
+  RowAtV rowAt(float v) const;
+  SurfacePoint pointOnRow(const RowAtV& row, float u, float v) const;
+  Vec3 normalAt(float u, float v) const;
+  Vec3 borderPoint(float u, float v) const;  // precondition: u or v is exactly 0 or 1
+
+  std::array<Vec3, 16> cp_;
+  Box3 bounds_;
+  float sizeBound_ = 0;
+  float tinyNormal_ = 0;
+};
+
+// Reads a .bpt file: the patch count; per patch one line of 16 one-based comma-separated
+// control-point indices (row by row); the point count; one "x,y,z" line per point. Blank lines
+// are skipped. Throws InputError(path, "line N", message) for a missing file, a malformed or
+// non-finite number, an index out of range, or a count that does not match the content.
+std::vector<std::array<Vec3, 16>> loadBezierPatchFile(const std::string& path);
+
+}  // namespace rayes

@@ -1,0 +1,31 @@
+// Bilinear patches: the simplest kind, for quads of meshes, ground planes and tests.
+//
+// u runs along p00 -> p10, v along p00 -> p01. Immutable and thread-safe like every Patch.
+// Each border is the straight segment between two corners, evaluated in canonical orientation
+// (dicing/patch_math.h), so bilinear patches sharing two corners -- in either order -- produce
+// bit-identical border vertices at the same level. The default Patch::dice() is used: it calls
+// evaluate(), which already routes borders through the canonical segment.
+#pragma once
+#include "dicing/patch.h"
+
+namespace rayes {
+
+class BilinearPatch final : public Patch {
+ public:
+  BilinearPatch(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11);
+
+  Box3 bounds() const override { return bounds_; }    // box of the corners, padded
+  float sizeBound() const override { return sizeBound_; }  // longest of the 4 border edges
+  SurfacePoint evaluate(float u, float v) const override;
+  const char* kind() const override { return "bilinear"; }
+
+ private:
+  Vec3 normalAt(float u, float v) const;
+
+  Vec3 p00_, p10_, p01_, p11_;
+  Box3 bounds_;
+  float sizeBound_ = 0;
+  float tinyNormal_ = 0;
+};
+
+}  // namespace rayes
