@@ -33,16 +33,19 @@ struct GridHit {
 
 class DiceBuffer {
  public:
-  // Allocates for levels up to maxLevel (0..12).
+  // Allocates for levels up to maxLevel (0..12; std::invalid_argument otherwise).
   explicit DiceBuffer(int maxLevel);
 
-  // Dices `patch` at `level` (<= maxLevel) and builds the implicit BVH.
+  // Dices `patch` at `level` (<= maxLevel, else std::invalid_argument) and builds the
+  // implicit BVH. Vertex normals are stored unit length.
   void dice(const Patch& patch, int level);
 
   int level() const { return level_; }
   int maxLevel() const { return maxLevel_; }
 
-  // Nearest hit with t in (tmin, tmax) at the ray's own level (0 <= rayLevel <= level()).
+  // Nearest hit with t in (tmin, tmax) at the ray's own level (0 <= rayLevel <= level(); a
+  // rayLevel outside is clamped). A non-finite origin, a zero/non-finite direction or an empty
+  // (tmin, tmax) gives no hit.
   // Ties in t are broken by the smaller micro-quad index, so the result does not depend on
   // traversal order. Watertight: a ray through a shared edge or vertex hits at least one of
   // the micro-quads that share it.
@@ -61,18 +64,26 @@ class DiceBuffer {
   size_t bytesAllocated() const;
 
  private:
+  void buildTree();
+  template <bool AnyHit>
+  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit* hit) const;
+
   int maxLevel_ = 0;
   int level_ = 0;
   std::vector<Vec3> positions_;
-  std::vector<Vec3> normals_;
-  std::vector<Box3> nodes_;  // all levels, level i at offset (4^i - 1) / 3
+  std::vector<Vec3> normals_;  // unit (or zero where the patch is degenerate as a whole)
+  std::vector<Box3> nodes_;  // all levels, level i at offset (4^i - 1) / 3, Z-order within
+  Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
 };
 
 // Level of detail, per ray: the smallest m with patchSize / 2^m <= footprintWidth, clamped to
 // [0, maxLevel]. footprintWidth <= 0 or non-finite gives maxLevel; patchSize <= 0 gives 0.
+// (Precedence: maxLevel <= 0 gives 0, then patchSize <= 0 gives 0; a NaN or infinite
+// patchSize gives maxLevel, the safe choice for an unknown size.)
 int levelForFootprint(float patchSize, float footprintWidth, int maxLevel);
 
-// The thesis's batch-density rule (--lod density): the smallest m with 4^m >= rays / spp.
+// The thesis's batch-density rule (--lod density): the smallest m with 4^m >= rays / spp,
+// clamped to [0, maxLevel]. spp <= 0 counts as 1; rays == 0 gives 0.
 int levelForDensity(uint64_t rays, int spp, int maxLevel);
 
 }  // namespace rayes

@@ -1,0 +1,105 @@
+// The one ray / micro-quad test, used by both DiceBuffer::intersect and ::occluded.
+//
+// A micro-quad (p00, p10, p01, p11) is two triangles split along the fixed diagonal p00-p11:
+// (p00, p10, p11) and (p00, p11, p01), both counter-clockwise in (u, v), so every edge shared
+// inside a grid is walked in opposite directions by its two triangles.
+//
+// Triangle test: the watertight test of Woop, Benthin and Wald (JCGT 2013). Vertices are
+// translated to the ray origin and sheared so the ray becomes the +z axis (per-ray constants
+// computed once); the 2D edge function of an edge P->Q is Q.x*P.y - Q.y*P.x, which the two
+// triangles sharing the edge compute from the same operands, so the values are exact
+// negations (or equal, for a neighbour patch of opposite orientation). Rounding is monotone,
+// so a float edge value is either of the right sign or exactly 0; only then is it recomputed
+// in double, where the products are exact. Hence a ray through a shared edge or vertex is
+// claimed by at least one triangle. Both faces count (no culling). Requires -ffp-contract=off.
+//
+// Every division happens only after the sign tests pass and is guarded: no NaN or Inf leaves
+// this file. Stateless, thread-safe.
+#pragma once
+#include "core/vec.h"
+
+namespace rayes {
+
+// Per-ray constants of the watertight test.
+struct WatertightRay {
+  Vec3 org;
+  int kx = 0, ky = 1, kz = 2;  // axis permutation: kz is the dominant direction axis
+  float sx = 0, sy = 0, sz = 1;  // shear
+};
+
+// False (no hit possible) for a non-finite origin or a zero, non-finite or denormal direction.
+bool makeWatertightRay(Vec3 org, Vec3 dir, WatertightRay& ray);
+
+struct MicroQuadHit {
+  float t = 0;
+  float s = 0, r = 0;  // local quad coordinates in [0,1]^2 (s along p00->p10, r along p00->p01)
+  Vec3 ng;             // unit geometric normal (zero: both triangles degenerate, see below)
+};
+
+namespace detail {
+
+// A vertex in the ray's sheared frame.
+struct Projected {
+  float x, y, z;
+};
+
+inline Projected project(const WatertightRay& ray, Vec3 p) {
+  const Vec3 a = p - ray.org;
+  const float az = a[ray.kz];
+  return {a[ray.kx] - ray.sx * az, a[ray.ky] - ray.sy * az, ray.sz * az};
+}
+
+inline float edgeFunction(const Projected& p, const Projected& q) { return q.x * p.y - q.y * p.x; }
+
+// The rare path: some edge value rounded to exactly 0.
+bool hitTriangleDouble(const Projected& a, const Projected& b, const Projected& c, float tmin,
+                       float tmax, float& t, float& wb, float& wc);
+
+// Unit normal of (a, b, c) computed in double; false for a degenerate triangle.
+bool unitTriangleNormal(Vec3 a, Vec3 b, Vec3 c, Vec3& n);
+
+// Hit with t in (tmin, tmax); wb, wc are the barycentric weights of b and c.
+inline bool hitTriangle(const Projected& a, const Projected& b, const Projected& c, float tmin,
+                        float tmax, float& t, float& wb, float& wc) {
+  const float U = edgeFunction(b, c), V = edgeFunction(c, a), W = edgeFunction(a, b);
+  if (U == 0.0f || V == 0.0f || W == 0.0f) return hitTriangleDouble(a, b, c, tmin, tmax, t, wb, wc);
+  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+  const float det = U + V + W;
+  if (det == 0.0f) return false;
+  // U, V, W share det's sign, so t is a convex blend of the vertex depths and V/det, W/det lie
+  // in [0,1]: the divisions stay finite even for a denormal det. A NaN fails the range test.
+  t = (U * a.z + V * b.z + W * c.z) / det;
+  if (!(t > tmin && t < tmax)) return false;
+  wb = V / det;
+  wc = W / det;
+  return true;
+}
+
+}  // namespace detail
+
+// Nearest hit with t in (tmin, tmax) on the two triangles of the micro-quad; on a tie in t the
+// first triangle (p00, p10, p11) wins. ng is the unit normal of the triangle hit. A zero-area
+// triangle whose vertices are distinct but collinear can still be claimed: rounding in the
+// sheared frame gives it a sliver of projected area, and its neighbours leave that sliver to
+// it, so rejecting it would open a hole. Its ng is then the other triangle's normal, or zero
+// when both are degenerate (the caller falls back to the vertex normals). Coincident vertices
+// (poles) project to identical points and never claim anything.
+inline bool intersectMicroQuad(const WatertightRay& ray, Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11,
+                               float tmin, float tmax, MicroQuadHit& hit) {
+  using namespace detail;
+  const Projected a = project(ray, p00), b = project(ray, p10), c = project(ray, p01),
+                  d = project(ray, p11);
+  float t1, b1, c1, t2, b2, c2;
+  const bool h1 = hitTriangle(a, b, d, tmin, tmax, t1, b1, c1);
+  const bool h2 = hitTriangle(a, d, c, tmin, tmax, t2, b2, c2);
+  if (!h1 && !h2) return false;
+  const bool first = h1 && (!h2 || t1 <= t2);
+  if (first) hit = {t1, std::min(1.0f, b1 + c1), c1, Vec3{}};
+  else hit = {t2, b2, std::min(1.0f, b2 + c2), Vec3{}};
+  if (!unitTriangleNormal(p00, first ? p10 : p11, first ? p11 : p01, hit.ng) &&
+      !unitTriangleNormal(p00, first ? p11 : p10, first ? p01 : p11, hit.ng))
+    hit.ng = Vec3{0, 0, 0};
+  return true;
+}
+
+}  // namespace rayes
