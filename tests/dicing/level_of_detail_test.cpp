@@ -1,0 +1,111 @@
+// Specification of per-ray level of detail: a ray traced at level k on a finer dicing gets
+// exactly the hit of a level-k dicing (DESIGN invariant 2), and the level rules.
+#include <gtest/gtest.h>
+#include <limits>
+#include "dicing/bezier_patch.h"
+#include "dicing/dice_buffer.h"
+#include "dicing_test_util.h"
+
+namespace rayes {
+namespace {
+
+using test::sameBits;
+
+TEST(LevelOfDetail, CoarseLevelOfFineDicingEqualsCoarseDicingBitwise) {
+  const auto patches = test::loadTeapot();
+  test::Random rng(21);
+  DiceBuffer fine(7), coarse(7);
+  int hits = 0, rays = 0;
+  for (int p : {0, 10, 17, 21, 28}) {
+    const BezierPatch bp(patches[p]);
+    const Box3 b = bp.bounds();
+    const Vec3 c = b.center();
+    const float r = length(b.extent());
+    for (auto [m, k] : {std::pair{7, 0}, {7, 3}, {6, 2}, {6, 5}, {5, 5}, {4, 1}}) {
+      fine.dice(bp, m);
+      coarse.dice(bp, k);
+      for (int s = 0; s < 600; ++s, ++rays) {
+        const Vec3 org = c + rng.unitVector() * (r * rng.uniform(0.6f, 2.0f));
+        // Aim at the surface (or, one ray in 4, anywhere in the box) so that most rays hit.
+        const Vec3 target = s % 4 ? bp.evaluate(rng.uniform(), rng.uniform()).p
+                                  : b.lo + b.extent() * Vec3{rng.uniform(), rng.uniform(), rng.uniform()};
+        const Vec3 dir = target - org;
+        const float tmax = s % 5 ? std::numeric_limits<float>::infinity() : rng.uniform(0.5f, 1.5f);
+        GridHit hf, hc;
+        const bool f = fine.intersect(org, dir, 0.0f, tmax, k, hf);
+        const bool g = coarse.intersect(org, dir, 0.0f, tmax, k, hc);
+        ASSERT_EQ(f, g) << "patch " << p << " m " << m << " k " << k << " ray " << s;
+        EXPECT_EQ(fine.occluded(org, dir, 0.0f, tmax, k), f);
+        EXPECT_EQ(coarse.occluded(org, dir, 0.0f, tmax, k), f);
+        if (!f) continue;
+        ++hits;
+        ASSERT_TRUE(sameBits(hf.t, hc.t));
+        ASSERT_TRUE(sameBits(hf.u, hc.u));
+        ASSERT_TRUE(sameBits(hf.v, hc.v));
+        ASSERT_EQ(hf.quad, hc.quad);
+        ASSERT_TRUE(sameBits(hf.ng, hc.ng));
+        ASSERT_TRUE(sameBits(hf.ns, hc.ns));
+        ASSERT_LT(hf.quad, 1u << (2 * k));
+      }
+    }
+  }
+  EXPECT_GT(hits, rays / 2);
+}
+
+TEST(LevelOfDetail, RayLevelAboveDicedLevelIsClamped) {
+  const BezierPatch bp(test::loadTeapot()[0]);
+  DiceBuffer buffer(4);
+  buffer.dice(bp, 3);
+  const Vec3 target = bp.evaluate(0.3f, 0.6f).p;
+  const Vec3 org = target + Vec3{3, 1, 0.5f};
+  GridHit a, b;
+  ASSERT_TRUE(buffer.intersect(org, target - org, 0, 10, 3, a));
+  ASSERT_TRUE(buffer.intersect(org, target - org, 0, 10, 9, b));
+  EXPECT_TRUE(sameBits(a.t, b.t));
+  EXPECT_EQ(a.quad, b.quad);
+}
+
+TEST(LevelOfDetail, FootprintRule) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(levelForFootprint(1, 1, 8), 0);
+  EXPECT_EQ(levelForFootprint(1, 2, 8), 0);
+  EXPECT_EQ(levelForFootprint(1, 0.5f, 8), 1);
+  EXPECT_EQ(levelForFootprint(1, 0.25f, 8), 2);      // exactly on the boundary
+  EXPECT_EQ(levelForFootprint(1, 0.2499999f, 8), 3);
+  EXPECT_EQ(levelForFootprint(1, 1e-30f, 8), 8);     // clamped
+  EXPECT_EQ(levelForFootprint(1, 1e-45f, 300), 149); // denormal width: 2^-149 * 2^149 = 1
+  // Documented edge cases.
+  EXPECT_EQ(levelForFootprint(1, 0, 8), 8);
+  EXPECT_EQ(levelForFootprint(1, -1, 8), 8);
+  EXPECT_EQ(levelForFootprint(1, inf, 8), 8);
+  EXPECT_EQ(levelForFootprint(1, nan, 8), 8);
+  EXPECT_EQ(levelForFootprint(0, 1, 8), 0);
+  EXPECT_EQ(levelForFootprint(-1, 1, 8), 0);
+  EXPECT_EQ(levelForFootprint(0, 0, 8), 0);
+  EXPECT_EQ(levelForFootprint(nan, 1, 8), 8);
+  EXPECT_EQ(levelForFootprint(inf, 1, 8), 8);
+  EXPECT_EQ(levelForFootprint(1, 0.1f, 0), 0);
+  EXPECT_EQ(levelForFootprint(1, 0.1f, -3), 0);
+  EXPECT_EQ(levelForFootprint(3e38f, 1e-38f, 1000), 255);  // 2^255 * 1e-38 overflows to inf: still >=
+}
+
+TEST(LevelOfDetail, DensityRule) {
+  EXPECT_EQ(levelForDensity(0, 1, 8), 0);
+  EXPECT_EQ(levelForDensity(1, 1, 8), 0);
+  EXPECT_EQ(levelForDensity(4, 1, 8), 1);
+  EXPECT_EQ(levelForDensity(5, 1, 8), 2);
+  EXPECT_EQ(levelForDensity(16, 1, 8), 2);
+  EXPECT_EQ(levelForDensity(17, 1, 8), 3);
+  EXPECT_EQ(levelForDensity(100, 4, 8), 3);   // 25 rays per sample: 4^3 = 64 >= 25 > 16
+  EXPECT_EQ(levelForDensity(65, 4, 8), 3);    // 16.25 -> 4^3
+  EXPECT_EQ(levelForDensity(64, 4, 8), 2);
+  EXPECT_EQ(levelForDensity(1000, 0, 8), 5);  // spp <= 0 counts as 1
+  EXPECT_EQ(levelForDensity(1000, -7, 8), 5);
+  EXPECT_EQ(levelForDensity(UINT64_MAX, 1, 12), 12);
+  EXPECT_EQ(levelForDensity(UINT64_MAX, 1, 40), 32);  // 4^32 > any uint64
+  EXPECT_EQ(levelForDensity(1000, 1, 0), 0);
+  EXPECT_EQ(levelForDensity(1000, 1, -1), 0);
+}
+
+}  // namespace
+}  // namespace rayes
