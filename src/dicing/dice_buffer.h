@@ -27,7 +27,9 @@ struct GridHit {
   float t = 0;          // ray parameter
   float u = 0, v = 0;   // patch parameters of the hit point
   uint32_t quad = 0;    // micro-quad index at the ray's level: y * 2^k + x
-  Vec3 ng;              // geometric normal of the micro-triangle hit (unit, facing unspecified)
+  Vec3 ng;              // geometric normal of the micro-triangle hit (unit, facing unspecified);
+                        // for a zero-area triangle the watertight test still claims (rounding
+                        // gives it a sliver), the other triangle's, else the blended vertex normal
   Vec3 ns;              // shading normal: bilinear blend of the quad's vertex normals (unit)
 };
 
