@@ -20,6 +20,16 @@ BezierPatch::BezierPatch(const std::array<Vec3, 16>& controlPoints) : cp_(contro
     longest = std::max(longest, std::max(row, col));
   }
   sizeBound_ = longest;
+  float d2u = 0, d2v = 0, duv = 0;
+  for (int a = 0; a < 4; ++a)
+    for (int k = 0; k < 2; ++k) {
+      d2u = std::max(d2u, length(cp_[a * 4 + k] - 2.0f * cp_[a * 4 + k + 1] + cp_[a * 4 + k + 2]));
+      d2v = std::max(d2v, length(cp_[k * 4 + a] - 2.0f * cp_[(k + 1) * 4 + a] + cp_[(k + 2) * 4 + a]));
+    }
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i)
+      duv = std::max(duv, length(cp_[(j + 1) * 4 + i + 1] - cp_[(j + 1) * 4 + i] - cp_[j * 4 + i + 1] + cp_[j * 4 + i]));
+  errorCoefficient_ = (6.0f * d2u + 6.0f * d2v) / 8.0f + 9.0f * duv / 4.0f;
   tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
 }
 

@@ -29,6 +29,11 @@ class BezierPatch final : public Patch {
   SurfacePoint evaluate(float u, float v) const override;
   void dice(int level, Vec3* positions, Vec3* normals) const override;
   const char* kind() const override { return "bezier"; }
+  // From bounds on the second derivatives by control-point differences: |P_uu| <= 6 max|D2u|,
+  // |P_vv| <= 6 max|D2v|, |P_uv| <= 9 max|DuDv|. Over a micro-quad of side h = 2^-m the
+  // bilinear interpolant errs by at most h^2 (|P_uu| + |P_vv|) / 8, and splitting it into two
+  // triangles by at most h^2 |P_uv| / 4 more.
+  float dicingErrorCoefficient() const override { return errorCoefficient_; }
 
   const std::array<Vec3, 16>& controlPoints() const { return cp_; }
 
@@ -48,6 +53,7 @@ class BezierPatch final : public Patch {
   std::array<Vec3, 16> cp_;
   Box3 bounds_;
   float sizeBound_ = 0;
+  float errorCoefficient_ = 0;
   float tinyNormal_ = 0;
 };
 

@@ -18,6 +18,9 @@ class BilinearPatch final : public Patch {
   float sizeBound() const override { return sizeBound_; }  // longest of the 4 border edges
   SurfacePoint evaluate(float u, float v) const override;
   const char* kind() const override { return "bilinear"; }
+  // Each micro-quad is itself bilinear with twist h^2 w, w = p00 - p10 - p01 + p11; its two
+  // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Zero for planar quads.
+  float dicingErrorCoefficient() const override { return 0.25f * length(p00_ - p10_ - p01_ + p11_); }
 
  private:
   Vec3 normalAt(float u, float v) const;

@@ -1,0 +1,57 @@
+// Patch::dicingErrorCoefficient C bounds how far the level-m dicing (micro-quads split into
+// two triangles) strays from the true surface: C / 4^m. Secondary-ray offsets rely on it.
+// Checked where the error peaks for smooth patches: the micro-quad centre (bilinear blend of
+// the corners) and the midpoints of both diagonals (the triangles' shared edge, whichever
+// diagonal the split uses).
+#include <cmath>
+#include <gtest/gtest.h>
+#include "core/rng.h"
+#include "dicing/bezier_patch.h"
+#include "dicing/bilinear_patch.h"
+
+namespace rayes {
+namespace {
+
+void expectBound(const Patch& patch, int level, int samples) {
+  const float c = patch.dicingErrorCoefficient();
+  const float bound = c * std::ldexp(1.0f, -2 * level);
+  const int n = 1 << level;
+  const float h = 1.0f / float(n);
+  float worst = 0;
+  for (int s = 0; s < samples; ++s) {
+    const RngKey k{uint32_t(s), uint32_t(level), 0, 77};
+    const int i = std::min(n - 1, int(sampleUniform(k, 0) * n)), j = std::min(n - 1, int(sampleUniform(k, 1) * n));
+    const Vec3 p00 = patch.evaluate(i * h, j * h).p, p10 = patch.evaluate((i + 1) * h, j * h).p;
+    const Vec3 p01 = patch.evaluate(i * h, (j + 1) * h).p, p11 = patch.evaluate((i + 1) * h, (j + 1) * h).p;
+    const Vec3 centre = patch.evaluate((i + 0.5f) * h, (j + 0.5f) * h).p;
+    const Vec3 blended = (p00 + p10 + p01 + p11) * 0.25f;
+    // Rounding of the evaluation itself: a few ulps of the coordinates.
+    const float slack = 8 * std::numeric_limits<float>::epsilon() * maxComponent(vabs(centre)) + 1e-30f;
+    for (Vec3 q : {blended, (p00 + p11) * 0.5f, (p10 + p01) * 0.5f}) {
+      const float e = length(q - centre);
+      worst = std::max(worst, e);
+      ASSERT_LE(e, bound + slack) << "level " << level << " quad " << i << "," << j;
+    }
+  }
+  // The bound is not absurdly loose either (it is what the offsets are made of).
+  if (c > 0 && level >= 2) {
+    EXPECT_GT(worst, bound * 1e-3f);
+  }
+}
+
+TEST(DicingError, TeapotPatchesStayWithinTheirBound) {
+  for (const auto& cp : loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt")) {
+    const BezierPatch patch(cp);
+    for (int level : {0, 2, 4, 7}) expectBound(patch, level, 400);
+  }
+}
+
+TEST(DicingError, TwistedBilinearWithinBoundAndPlanarIsZero) {
+  const BilinearPatch twisted({0, 0, 0}, {1, 0, 0.7f}, {0, 1, -0.4f}, {1, 1, 0.2f});
+  for (int level : {0, 1, 3, 6}) expectBound(twisted, level, 400);
+  const BilinearPatch planar({0, 0, 1}, {2, 0, 1}, {0, 3, 1}, {2, 3, 1});
+  EXPECT_EQ(planar.dicingErrorCoefficient(), 0.0f);
+}
+
+}  // namespace
+}  // namespace rayes
