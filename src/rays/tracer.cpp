@@ -5,6 +5,7 @@
 #include <limits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include "core/octahedral.h"
 
 namespace rayes {
@@ -63,6 +64,28 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   else traceAlone(batch, stats, times);
 }
 
+// Bottom level for one candidate slot: the ray against the diced leaf at the ray's level,
+// the result into the slot (its only writer).
+void Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, int m) {
+  const uint32_t i = slotRay_[s];
+  const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, cand_.entry[s]);
+  const float limit = searchLimit(b, i);
+  if (b.kind[i] == RayKind::Shadow) {
+    if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level)) {
+      cand_.t[s] = 0;
+      cand_.quadLevel[s] = uint32_t(level) << 24;
+    }
+    return;
+  }
+  GridHit h;
+  if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h)) {
+    cand_.t[s] = h.t; cand_.u[s] = h.u; cand_.v[s] = h.v;
+    cand_.quadLevel[s] = h.quad | (uint32_t(level) << 24);
+    cand_.ng[s] = encodeOctahedral(h.ng);
+    cand_.ns[s] = encodeOctahedral(h.ns);
+  }
+}
+
 void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t capacity = cand_.capacity();
   while (!active_.empty()) {
@@ -119,7 +142,11 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
       sort_.sort(filled_, cand_.leaf);
     }
 
-    // 3+4. One task per leaf: dice once, intersect all of its rays.
+    // 3+4. One task per leaf: dice once, intersect all of its rays. A leaf with many rays
+    // (a wall seen by most of the image) would serialise the iteration on one thread, so its
+    // rays are split into chunks that other threads intersect against the same, now read-only,
+    // buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
+    // (which would re-dice its buffer) while it waits.
     const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
     std::atomic<uint64_t> micropolygons{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
@@ -140,26 +167,18 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
           dice.dice(*leaves_[leaf], m);
         }
         micropolygons.fetch_add(uint64_t(1) << (2 * m), std::memory_order_relaxed);
-        ScopedTimer timer(times.bottom);
-        for (size_t k = 0; k < count; ++k) {
-          const uint32_t s = slots[k];
-          const uint32_t i = slotRay_[s];
-          const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, cand_.entry[s]);
-          const float limit = searchLimit(b, i);
-          if (b.kind[i] == RayKind::Shadow) {
-            if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level)) {
-              cand_.t[s] = 0;
-              cand_.quadLevel[s] = uint32_t(level) << 24;
-            }
-            continue;
-          }
-          GridHit h;
-          if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h)) {
-            cand_.t[s] = h.t; cand_.u[s] = h.u; cand_.v[s] = h.v;
-            cand_.quadLevel[s] = h.quad | (uint32_t(level) << 24);
-            cand_.ng[s] = encodeOctahedral(h.ng);
-            cand_.ns[s] = encodeOctahedral(h.ns);
-          }
+        auto intersectRange = [&](size_t k0, size_t k1) {
+          ScopedTimer timer(times.bottom);
+          for (size_t k = k0; k < k1; ++k) intersectSlot(b, dice, slots[k], leaf, m);
+        };
+        constexpr size_t kChunk = 1024;
+        if (count <= 2 * kChunk) {
+          intersectRange(0, count);
+        } else {
+          tbb::this_task_arena::isolate([&] {
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kChunk),
+                              [&](const auto& c) { intersectRange(c.begin(), c.end()); });
+          });
         }
       }
     });

@@ -48,6 +48,7 @@ class Tracer {
   void traceSorted(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
+  void intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, int m);
   DiceBuffer& localDiceBuffer();
 
   const TopLevelBvh& top_;
