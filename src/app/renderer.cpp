@@ -110,7 +110,7 @@ Film Renderer::render(const Progress& progress) {
       }
       {
         const auto tf = Clock::now();
-        tracer.finish(paths, film);
+        tracer.finish(paths, film, stats_.shade);
         stats_.timeFilm += secondsSince(tf);
       }
       ++stats_.batches;

@@ -95,13 +95,20 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
       const RayHit h = rays.hit[cs];
       const Vec3 wo = -normalize(rays.dir[cs]);
       if (!h.valid()) { paths.alive[k] = 0; continue; }  // v1 has no environment light
+      const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
+      // A broken hit (non-finite point or normals) ends the path here, before it can reach
+      // the film or the AOVs (DESIGN invariant 5).
+      if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wo)) {
+        stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+        paths.alive[k] = 0;
+        continue;
+      }
       stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
 
       const Material& mat = scene_.materials[scene_.leafMaterial[h.leaf]];
       const bool front = dot(h.ns, wo) > 0;
       const Vec3 ns = front ? h.ns : -h.ns;
       const Vec3 ng = dot(h.ng, wo) >= 0 ? h.ng : -h.ng;
-      const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
       Rgb& T = paths.throughput[k];
 
       if (bounce == 0) {
@@ -174,7 +181,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
   return emitted.load();
 }
 
-void PathTracer::finish(const PathBatch& paths, Film& film) const {
+void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) const {
   const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
   const uint64_t first = paths.first, end = paths.first + paths.size();
   if (first == end) return;
@@ -186,6 +193,10 @@ void PathTracer::finish(const PathBatch& paths, Film& film) const {
         if (id < first || id >= end) continue;
         PixelSample sample = paths.aov[id - first];
         sample.radiance = paths.radiance[id - first];
+        if (!isFinite(sample.radiance)) {
+          sample.radiance = {0, 0, 0};
+          stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+        }
         film.add(static_cast<uint32_t>(p), sample);
       }
   });

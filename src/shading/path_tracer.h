@@ -73,8 +73,10 @@ class PathTracer {
   // Shades generation `bounce` (0 = camera rays) and writes the next generation in place.
   // Returns the number of rays written.
   size_t shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats);
-  // Adds the batch's samples to the film, pixel by pixel in sample order.
-  void finish(const PathBatch& paths, Film& film) const;
+  // Adds the batch's samples to the film, pixel by pixel in sample order. A sample whose
+  // radiance overflowed to a non-finite value is dropped (added as black, AOVs kept) and
+  // counted in stats.nonFinite.
+  void finish(const PathBatch& paths, Film& film, ShadeStats& stats) const;
 
   // Cone spread given to rays leaving a diffuse surface (radians per unit distance). A
   // Lambertian lobe spreads rays over the hemisphere, so its rays want coarse geometry; the

@@ -1,0 +1,77 @@
+// The path-tracer kernels at their edges: secondary-ray offsets stay finite and scale with the
+// geometry, and a non-finite hit never reaches the film (DESIGN invariant 5).
+#include <cmath>
+#include <limits>
+#include <gtest/gtest.h>
+#include "shading/path_tracer.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+TEST(OriginOffset, ThesisRuleCappedByDicingErrorWithRelativeFloor) {
+  // Curved patch, fine level: the thesis's l / 2^m when it is the smaller.
+  EXPECT_FLOAT_EQ(PathTracer::originOffset(1.0f, 100.0f, 6, {0, 0, 0}), 1.0f / 64);
+  // Coarse level on a gently curved patch: twice the dicing-error bound C / 4^m instead.
+  EXPECT_FLOAT_EQ(PathTracer::originOffset(1.0f, 0.01f, 0, {0, 0, 0}), 0.02f);
+  // Planar patch: only the floor, which scales with the patch size and position.
+  EXPECT_FLOAT_EQ(PathTracer::originOffset(2.0f, 0.0f, 0, {0, 0, 0}), 2e-5f);
+  const float far = PathTracer::originOffset(2.0f, 0.0f, 0, {1e6f, 0, 0});
+  EXPECT_GT(far, 1e6f * std::numeric_limits<float>::epsilon() * 4);  // several ulps at 1e6
+  // Extreme inputs stay finite and positive where a floor exists.
+  EXPECT_TRUE(std::isfinite(PathTracer::originOffset(3e38f, 3e38f, 0, {3e38f, 3e38f, 3e38f})));
+  EXPECT_TRUE(std::isfinite(PathTracer::originOffset(1.0f, kInf, 12, {0, 0, 0})));
+  EXPECT_GT(PathTracer::originOffset(1e-30f, 0.0f, 12, {1, 1, 1}), 0.0f);
+}
+
+struct OneLightScene {
+  ShadingScene scene;
+  OneLightScene() {
+    scene.camera = PerspectiveCamera({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 40, 2, 2);
+    scene.width = scene.height = 2;
+    scene.integrator.maxDepth = 4;
+    Material m;
+    m.albedo = {0.5f, 0.5f, 0.5f};
+    scene.materials = {m};
+    scene.leafMaterial = {0};
+    scene.leafSide = {2};
+    scene.leafDicingError = {0};
+    scene.lights = LightSampler({{{0, 0, 3}, {10, 10, 10}}}, {});
+  }
+};
+
+TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
+  OneLightScene s;
+  PathTracer tracer(s.scene);
+  PathBatch paths;
+  RayBatch rays;
+  tracer.start(0, 4, paths, rays);
+  for (int k = 0; k < 4; ++k) {
+    RayHit& h = rays.hit[2 * k];
+    h.leaf = 0;
+    h.t = 5;
+    h.ng = {0, 0, 1};
+    h.ns = {0, 0, 1};
+  }
+  rays.hit[0].ns = {NAN, 0, 1};  // a broken shading normal
+  rays.hit[2].t = kInf;          // hit at infinity: p is not finite
+  ShadeStats stats;
+  tracer.shade(0, paths, rays, stats);
+  EXPECT_GE(stats.nonFinite.load(), 1u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_TRUE(isFinite(paths.radiance[k])) << k;
+    EXPECT_TRUE(isFinite(paths.throughput[k])) << k;
+    EXPECT_TRUE(isFinite(paths.shadowContribution[k])) << k;
+  }
+  // The healthy paths were shaded: they sent a shadow ray toward the light.
+  EXPECT_EQ(rays.kind[2 * 3 + 1], RayKind::Shadow);
+  paths.radiance[1] = {kInf, 0, 0};  // an overflowed sum
+  const uint64_t before = stats.nonFinite.load();
+  Film film(2, 2);
+  tracer.finish(paths, film, stats);
+  EXPECT_EQ(stats.nonFinite.load(), before + 1);
+  for (float v : film.beautyRgba()) EXPECT_TRUE(std::isfinite(v));
+}
+
+}  // namespace
+}  // namespace rayes
