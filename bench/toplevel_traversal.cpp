@@ -1,15 +1,13 @@
-// Top-level figures: collect() throughput (one thread and all threads), build time, Embree's
-// own traversal as a peer, and a candidate-sort comparison for the rays folder (whose owner
-// decides; the radix sort here is a candidate implementation, not used by the renderer).
+// Top-level figures: collect() throughput (one thread and all threads), build time and Embree's
+// own traversal as a peer. (The candidate sort, now production code in src/rays, is measured by
+// bench/rays_candidate_sort.cpp.)
 // Run: bench_toplevel_traversal --benchmark_min_time=0.2 ; figures in bench/RESULTS-toplevel.md.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -258,98 +256,6 @@ void BM_Build(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Build)->Arg(10000)->Arg(100000)->Arg(1000000)->UseRealTime()->Unit(benchmark::kMillisecond);
-
-// ---- Candidate sort: (leaf id, candidate index) pairs grouped by leaf, candidate order kept.
-struct Pair { uint32_t leaf, index; };
-
-std::vector<Pair> randomCandidates(size_t n, uint32_t leaves) {
-  Rng rng{11};
-  std::vector<Pair> c(n);
-  for (size_t i = 0; i < n; ++i) c[i] = {uint32_t(rng.uniform() * float(leaves)) % leaves, uint32_t(i)};
-  return c;
-}
-
-// Stable parallel LSD radix sort on the leaf id only (the index rides along, and stability
-// keeps candidates of one leaf in index order, the same result as sorting 64-bit keys).
-// Only the bits of the largest leaf id are sorted, in passes of at most maxDigitBits.
-void radixSortByLeaf(std::vector<Pair>& a, std::vector<Pair>& tmp, uint32_t maxLeaf, int maxDigitBits) {
-  const int bits = std::max(1, 32 - std::countl_zero(maxLeaf));
-  const int passes = (bits + maxDigitBits - 1) / maxDigitBits;
-  const int digitBits = (bits + passes - 1) / passes;
-  const size_t radix = size_t(1) << digitBits, n = a.size();
-  const size_t blocks = std::clamp<size_t>(n / 65536, 1, 64);
-  std::vector<uint32_t> offsets(blocks * radix);
-  tmp.resize(n);
-  auto blockRange = [&](size_t b) { return std::pair{n * b / blocks, n * (b + 1) / blocks}; };
-  for (int pass = 0; pass < passes; ++pass) {
-    const int shift = pass * digitBits;
-    const uint32_t mask = uint32_t(radix - 1);
-    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-      uint32_t* count = &offsets[b * radix];
-      std::fill(count, count + radix, 0u);
-      const auto [lo, hi] = blockRange(b);
-      for (size_t i = lo; i < hi; ++i) ++count[(a[i].leaf >> shift) & mask];
-    });
-    uint32_t sum = 0;  // digit-major exclusive scan: block b's digit d follows blocks < b
-    for (size_t d = 0; d < radix; ++d)
-      for (size_t b = 0; b < blocks; ++b) {
-        const uint32_t c = offsets[b * radix + d];
-        offsets[b * radix + d] = sum;
-        sum += c;
-      }
-    tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-      uint32_t* next = &offsets[b * radix];
-      const auto [lo, hi] = blockRange(b);
-      for (size_t i = lo; i < hi; ++i) tmp[next[(a[i].leaf >> shift) & mask]++] = a[i];
-    });
-    a.swap(tmp);
-  }
-}
-
-constexpr uint32_t kSortLeaves = 100000;
-
-void BM_SortParallelSort64(benchmark::State& state) {
-  const std::vector<Pair> input = randomCandidates(size_t(state.range(0)), kSortLeaves);
-  std::vector<uint64_t> keys(input.size());
-  for (auto _ : state) {
-    for (size_t i = 0; i < input.size(); ++i) keys[i] = uint64_t(input[i].leaf) << 32 | input[i].index;
-    tbb::parallel_sort(keys.begin(), keys.end());
-    benchmark::DoNotOptimize(keys.data());
-  }
-  state.counters["Mpairs/s"] = benchmark::Counter(double(input.size()) * double(state.iterations()) * 1e-6,
-                                                  benchmark::Counter::kIsRate);
-}
-BENCHMARK(BM_SortParallelSort64)->Arg(1 << 20)->Arg(1 << 23)->UseRealTime()->Unit(benchmark::kMillisecond);
-
-void BM_SortRadix32(benchmark::State& state) {
-  const std::vector<Pair> input = randomCandidates(size_t(state.range(0)), kSortLeaves);
-  const int maxDigitBits = int(state.range(1));
-  std::vector<Pair> a, tmp;
-  {  // the result must equal the 64-bit key sort
-    a = input;
-    radixSortByLeaf(a, tmp, kSortLeaves - 1, maxDigitBits);
-    std::vector<uint64_t> keys(input.size());
-    for (size_t i = 0; i < input.size(); ++i) keys[i] = uint64_t(input[i].leaf) << 32 | input[i].index;
-    std::sort(keys.begin(), keys.end());
-    for (size_t i = 0; i < keys.size(); ++i)
-      if (keys[i] != (uint64_t(a[i].leaf) << 32 | a[i].index)) {
-        state.SkipWithError("radix sort result differs");
-        return;
-      }
-  }
-  for (auto _ : state) {
-    a = input;  // the copy stands in for the 64-bit sort's key packing pass
-    radixSortByLeaf(a, tmp, kSortLeaves - 1, maxDigitBits);
-    benchmark::DoNotOptimize(a.data());
-  }
-  state.counters["Mpairs/s"] = benchmark::Counter(double(input.size()) * double(state.iterations()) * 1e-6,
-                                                  benchmark::Counter::kIsRate);
-}
-BENCHMARK(BM_SortRadix32)
-    ->ArgNames({"n", "digitBits"})
-    ->ArgsProduct({{1 << 20, 1 << 23}, {8, 11}})
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
