@@ -1,0 +1,577 @@
+// Peer comparison (DESIGN: "performance is measured against a peer in one run, as a ratio:
+// Embree with full tessellation"). One program, one run, a plain table on stdout.
+//
+// Scene: the Utah teapot (scenes/teapot.bpt, 32 bicubic Bezier patches) on a floor quad (one
+// bilinear patch; --no-floor leaves it out). Two ray sets:
+//   primary     512x512 camera rays of a view that frames the teapot, pixel footprint as the
+//               renderer gives it (coneWidth 0, coneSpread = 2 tan(fov/2) / height);
+//   incoherent  the same number of rays from random points on a sphere around the teapot
+//               towards random points inside its box (same cone spread).
+// For each level m (default 4, 6, 8) and two LOD modes:
+//   footprint   TraceSettings.maxLod = m, each ray at its own level <= m (the renderer's way);
+//   forced      coneWidth = coneSpread = 0, so every ray is intersected at level m exactly:
+//               the like-for-like comparison with Embree's full tessellation at m.
+// Engines:
+//   Rayes   TopLevelBvh over the patch boxes + Tracer::trace of the whole RayBatch (all threads,
+//           then 1 thread via tbb::global_control); a fresh Tracer per thread setting so its
+//           dice-buffer bytes are that setting's; one untimed warm-up trace, best of --repeat.
+//   Embree  every patch diced at m up front (Patch::dice, the same vertices Rayes dices) into
+//           one RTC_GEOMETRY_TYPE_GRID geometry, one RTCGrid per patch over a shared vertex
+//           buffer; rtcCommitScene timed separately (build); rtcIntersect1 per ray in a
+//           tbb::parallel_for (or serially with 1 thread); best of --repeat.
+//           Embree splits a grid cell along v1-v3 = (x+1,y)-(x,y+1); Rayes along p00-p11. Each
+//           grid row is stored mirrored in u (--no-mirror: not), which makes Embree's diagonal
+//           Rayes's, so at the same level both intersect the same triangles.
+// Memory: Rayes = top-level nodes + dice buffers (all threads) + candidate buffer + per-ray
+// state + the sort's scratch (not counted by the Tracer; estimated from its vectors, see
+// sortScratchBytes). Embree = our shared vertex buffer (positions only) + every byte Embree
+// allocates, from rtcSetDeviceMemoryMonitorFunction (peak during build and held after it).
+// Agreement: per ray, hit/miss differs; for rays both hit, |t_rayes - t_embree| (median, p99)
+// and whether the patch differs.
+//
+// Run (from anywhere): bench_peer_embree [--teapot PATH] [--levels 4,6,8] [--size 512]
+//                      [--repeat 3] [--no-floor] [--no-mirror] [--no-single]
+// Figures in bench/RESULTS-peer.md.
+#include <embree3/rtcore.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+#include "core/memory.h"
+#include "core/ray_batch.h"
+#include "core/rng.h"
+#include "core/timer.h"
+#include "dicing/bezier_patch.h"
+#include "dicing/bilinear_patch.h"
+#include "rays/tracer.h"
+#include "toplevel/toplevel_bvh.h"
+
+namespace {
+
+using namespace rayes;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// ---- options ----------------------------------------------------------------------------
+struct Options {
+  std::string teapot;
+  std::vector<int> levels{4, 6, 8};
+  int size = 512;
+  int repeat = 3;
+  bool floor = true, mirror = true, single = true;
+};
+
+std::string findTeapot(const char* argv0) {
+  namespace fs = std::filesystem;
+  std::vector<fs::path> tries{"scenes/teapot.bpt", "../scenes/teapot.bpt", "../../scenes/teapot.bpt"};
+  std::error_code ec;
+  const fs::path exe = fs::canonical("/proc/self/exe", ec);
+  if (!ec)  // <build>/bin/bench_peer_embree: the tree is usually <build>/..
+    for (fs::path d = exe.parent_path(); !d.empty() && d != d.root_path(); d = d.parent_path())
+      tries.push_back(d / "scenes/teapot.bpt");
+  (void)argv0;
+  tries.push_back("/work/main/scenes/teapot.bpt");
+  for (const fs::path& p : tries)
+    if (fs::exists(p, ec)) return p.string();
+  return {};
+}
+
+bool parse(int argc, char** argv, Options& o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto next = [&]() -> const char* { return i + 1 < argc ? argv[++i] : nullptr; };
+    if (a == "--teapot") { const char* v = next(); if (!v) return false; o.teapot = v; }
+    else if (a == "--levels") {
+      const char* v = next(); if (!v) return false;
+      o.levels.clear();
+      for (const char* p = v; *p;) {
+        char* end;
+        const long m = std::strtol(p, &end, 10);
+        if (end == p || m < 0 || m > 12) return false;
+        o.levels.push_back(int(m));
+        p = *end == ',' ? end + 1 : end;
+        if (*end && *end != ',') return false;
+      }
+    }
+    else if (a == "--size") { const char* v = next(); if (!v) return false; o.size = std::atoi(v); }
+    else if (a == "--repeat") { const char* v = next(); if (!v) return false; o.repeat = std::max(1, std::atoi(v)); }
+    else if (a == "--no-floor") o.floor = false;
+    else if (a == "--no-mirror") o.mirror = false;
+    else if (a == "--no-single") o.single = false;
+    else return false;
+  }
+  return o.size > 0;
+}
+
+// ---- scene and rays ---------------------------------------------------------------------
+struct Scene {
+  std::vector<PatchPtr> patches;
+  Box3 teapotBox;
+  int teapotPatches = 0;
+};
+
+Scene makeScene(const Options& o) {
+  Scene s;
+  for (const auto& cp : loadBezierPatchFile(o.teapot)) {
+    s.patches.push_back(std::make_shared<BezierPatch>(cp));
+    s.teapotBox.extend(s.patches.back()->bounds());
+  }
+  s.teapotPatches = int(s.patches.size());
+  if (o.floor) {  // z-up, under the teapot, 3x its footprint
+    const Vec3 c = s.teapotBox.center(), e = s.teapotBox.extent();
+    const float r = 1.5f * std::max(e.x, e.y);
+    const float z = s.teapotBox.lo.z;
+    s.patches.push_back(std::make_shared<BilinearPatch>(Vec3{c.x - r, c.y - r, z}, Vec3{c.x + r, c.y - r, z},
+                                                        Vec3{c.x - r, c.y + r, z}, Vec3{c.x + r, c.y + r, z}));
+  }
+  return s;
+}
+
+// Camera from scenes/teapot.json's direction (front, above), 40 degree field of view, at the
+// distance where the teapot's bounding sphere just fills the frame.
+struct Camera {
+  Vec3 pos, forward, right, up;
+  float tanHalf, spread;
+};
+
+Camera makeCamera(const Box3& box, int size) {
+  const float fov = 40.0f * std::numbers::pi_v<float> / 180.0f;
+  const Vec3 c = box.center();
+  const float radius = 0.5f * length(box.extent());
+  const Vec3 back = normalize(Vec3{-0.25f, -9.5f, 2.7f});  // teapot.json: position - look_at
+  Camera cam;
+  cam.pos = c + back * (radius / std::sin(0.5f * fov));
+  cam.forward = -back;
+  cam.right = normalize(cross(cam.forward, Vec3{0, 0, 1}));
+  cam.up = cross(cam.right, cam.forward);
+  cam.tanHalf = std::tan(0.5f * fov);
+  cam.spread = 2.0f * cam.tanHalf / float(size);
+  return cam;
+}
+
+struct RaySet {
+  std::string name;
+  std::vector<Vec3> org, dir;
+  float spread = 0;  // coneSpread in footprint mode
+};
+
+RaySet primaryRays(const Camera& cam, int size) {
+  RaySet r{"primary", {}, {}, cam.spread};
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const float sx = (2.0f * (float(x) + 0.5f) / float(size) - 1.0f) * cam.tanHalf;
+      const float sy = (1.0f - 2.0f * (float(y) + 0.5f) / float(size)) * cam.tanHalf;
+      r.org.push_back(cam.pos);
+      r.dir.push_back(normalize(cam.forward + cam.right * sx + cam.up * sy));
+    }
+  return r;
+}
+
+RaySet incoherentRays(const Box3& box, size_t n, float spread) {
+  RaySet r{"incoherent", {}, {}, spread};
+  auto uni = [](uint64_t i, uint64_t d) { return bitsToUnitFloat(mix64(mix64(i * 0x9e3779b97f4a7c15ull + 7) ^ d)); };
+  const Vec3 c = box.center(), e = box.extent();
+  const float radius = length(e);  // twice the bounding sphere's radius
+  for (size_t i = 0; i < n; ++i) {
+    // uniform direction on the sphere
+    const float z = 2.0f * uni(i, 1) - 1.0f, phi = 2.0f * std::numbers::pi_v<float> * uni(i, 2);
+    const float s = std::sqrt(std::max(0.0f, 1.0f - z * z));
+    const Vec3 o = c + Vec3{s * std::cos(phi), s * std::sin(phi), z} * radius;
+    const Vec3 target = box.lo + Vec3{uni(i, 3), uni(i, 4), uni(i, 5)} * e;
+    r.org.push_back(o);
+    r.dir.push_back(normalize(target - o));
+  }
+  return r;
+}
+
+void fillBatch(const RaySet& rs, bool forced, RayBatch& b) {
+  b.resize(rs.org.size());
+  for (size_t i = 0; i < rs.org.size(); ++i)
+    b.set(i, RayKind::Closest, rs.org[i], rs.dir[i], 0.0f, kInf, 0.0f, forced ? 0.0f : rs.spread, uint32_t(i));
+}
+
+// ---- Embree -----------------------------------------------------------------------------
+struct MemoryMonitor {
+  std::atomic<int64_t> current{0}, peak{0};
+  static bool callback(void* user, ssize_t bytes, bool /*post*/) {
+    auto* m = static_cast<MemoryMonitor*>(user);
+    const int64_t now = m->current.fetch_add(bytes) + bytes;
+    int64_t p = m->peak.load();
+    while (now > p && !m->peak.compare_exchange_weak(p, now)) {}
+    return true;
+  }
+};
+
+struct EmbreeEngine {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  MemoryMonitor mem;
+  std::vector<float> vertices;  // xyz (+1 float of padding at the end, Embree reads 16 bytes)
+  std::vector<RTCGrid> grids;
+  double tessSeconds = 0, buildSeconds = 0;
+  int64_t heldBytes = 0, peakBytes = 0;  // Embree's own, after / during rtcCommitScene
+
+  EmbreeEngine(const std::vector<PatchPtr>& patches, int m, bool mirror) {
+    device = rtcNewDevice(nullptr);
+    rtcSetDeviceMemoryMonitorFunction(device, &MemoryMonitor::callback, &mem);
+    const unsigned res = (1u << m) + 1, perPatch = res * res;
+    const auto t0 = Clock::now();
+    vertices.assign(size_t(perPatch) * patches.size() * 3 + 1, 0.0f);
+    grids.resize(patches.size());
+    tbb::parallel_for(size_t(0), patches.size(), [&](size_t k) {
+      std::vector<Vec3> p(perPatch), n(perPatch);
+      patches[k]->dice(m, p.data(), n.data());
+      float* out = vertices.data() + size_t(k) * perPatch * 3;
+      for (unsigned j = 0; j < res; ++j)
+        for (unsigned i = 0; i < res; ++i) {
+          const Vec3 v = p[size_t(j) * res + i];
+          const size_t at = size_t(j) * res + (mirror ? res - 1 - i : i);
+          out[3 * at] = v.x; out[3 * at + 1] = v.y; out[3 * at + 2] = v.z;
+        }
+      grids[k] = RTCGrid{unsigned(k) * perPatch, res, (unsigned short)res, (unsigned short)res};
+    });
+    tessSeconds = secondsSince(t0);
+    scene = rtcNewScene(device);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_GRID);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices.data(), 0,
+                               3 * sizeof(float), size_t(perPatch) * patches.size());
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, grids.data(), 0, sizeof(RTCGrid),
+                               grids.size());
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    const int64_t before = mem.current.load();
+    mem.peak.store(before);
+    const auto t1 = Clock::now();
+    rtcCommitScene(scene);
+    buildSeconds = secondsSince(t1);
+    heldBytes = mem.current.load();
+    peakBytes = mem.peak.load();
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
+      std::fprintf(stderr, "Embree error after commit\n");
+      std::exit(1);
+    }
+  }
+  ~EmbreeEngine() { rtcReleaseScene(scene); rtcReleaseDevice(device); }
+  size_t vertexBytes() const { return vertices.size() * sizeof(float); }
+
+  // Fills t (inf: miss) and the patch id of every ray.
+  void trace(const RaySet& rs, std::vector<float>& t, std::vector<uint32_t>& leaf, bool parallel) const {
+    const size_t n = rs.org.size();
+    t.resize(n);
+    leaf.resize(n);
+    auto one = [&](size_t i) {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      RTCRayHit rh;
+      const Vec3 o = rs.org[i], d = rs.dir[i];
+      rh.ray.org_x = o.x; rh.ray.org_y = o.y; rh.ray.org_z = o.z; rh.ray.tnear = 0;
+      rh.ray.dir_x = d.x; rh.ray.dir_y = d.y; rh.ray.dir_z = d.z; rh.ray.time = 0;
+      rh.ray.tfar = kInf; rh.ray.mask = 0xffffffffu; rh.ray.id = 0; rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scene, &ctx, &rh);
+      const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+      t[i] = hit ? rh.ray.tfar : kInf;
+      leaf[i] = hit ? rh.hit.primID : kNoLeaf;
+    };
+    if (parallel)
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) one(i);
+      });
+    else
+      for (size_t i = 0; i < n; ++i) one(i);
+  }
+};
+
+// ---- Rayes ------------------------------------------------------------------------------
+struct RayesRun {
+  double seconds = 0;  // best trace wall time
+  struct { double toplevel = 0, sort = 0, dice = 0, bottom = 0; } times;  // of the best run (s)
+  GenerationStats stats;
+  size_t diceBytes = 0, candBytes = 0, rayStateBytes = 0, sortScratchBytes = 0;
+  size_t iterations = 0;
+};
+
+// Bytes of the Tracer's own sort-side vectors, which candidateBufferBytes() leaves out:
+// slotRay_ (4 B per slot of capacity), filled_ (4 B per candidate) and CandidateSort's pairs,
+// scratch (8 B each) and order (4 B) per candidate of the largest iteration.
+size_t sortScratchBytes(size_t capacity, const GenerationStats& st) {
+  uint64_t maxCand = 0;
+  for (const IterationStats& it : st.iterations) maxCand = std::max(maxCand, it.candidates);
+  return capacity * 4 + size_t(maxCand) * (4 + 8 + 8 + 4);
+}
+
+RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, const TraceSettings& ts,
+                  const RaySet& rs, bool forced, int repeat, RayBatch& batch) {
+  RayesRun run;
+  Tracer tracer(top, patches, ts);
+  {  // warm-up: allocates the dice buffers and per-ray state
+    fillBatch(rs, forced, batch);
+    GenerationStats st;
+    TraceTimes tt;
+    tracer.trace(batch, st, tt);
+  }
+  run.seconds = kInf;
+  for (int r = 0; r < repeat; ++r) {
+    fillBatch(rs, forced, batch);
+    auto st = std::make_unique<GenerationStats>();
+    auto tt = std::make_unique<TraceTimes>();
+    const auto t0 = Clock::now();
+    tracer.trace(batch, *st, *tt);
+    const double s = secondsSince(t0);
+    if (s < run.seconds) {
+      run.seconds = s;
+      run.stats = *st;
+      run.times = {tt->toplevel.seconds(), tt->sort.seconds(), tt->dice.seconds(), tt->bottom.seconds()};
+    }
+  }
+  run.diceBytes = tracer.diceBufferBytes();
+  run.candBytes = tracer.candidateBufferBytes();
+  run.rayStateBytes = Tracer::bytesPerRayState() * rs.org.size();
+  run.sortScratchBytes = sortScratchBytes(ts.candidateCapacity, run.stats);
+  run.iterations = run.stats.iterations.size();
+  return run;
+}
+
+// ---- agreement --------------------------------------------------------------------------
+struct Agreement {
+  double hitMissDiffers = 0, leafDiffers = 0, medianDt = 0, p99Dt = 0, medianRelDt = 0;
+  size_t bothHit = 0, rayesHits = 0, embreeHits = 0;
+};
+
+Agreement compare(const RayBatch& b, const std::vector<float>& et, const std::vector<uint32_t>& el) {
+  Agreement a;
+  std::vector<float> dt, rel;
+  size_t differ = 0, leafDiff = 0;
+  for (size_t i = 0; i < b.size(); ++i) {
+    const bool rh = b.hit[i].valid(), eh = et[i] < kInf;
+    a.rayesHits += rh;
+    a.embreeHits += eh;
+    if (rh != eh) { ++differ; continue; }
+    if (!rh) continue;
+    ++a.bothHit;
+    leafDiff += b.hit[i].leaf != el[i];
+    dt.push_back(std::fabs(b.hit[i].t - et[i]));
+    rel.push_back(dt.back() / std::max(et[i], 1e-30f));
+  }
+  const double n = double(b.size());
+  a.hitMissDiffers = double(differ) / n;
+  a.leafDiffers = a.bothHit ? double(leafDiff) / double(a.bothHit) : 0;
+  auto quantile = [](std::vector<float>& v, double q) -> double {
+    if (v.empty()) return 0;
+    const size_t k = std::min(v.size() - 1, size_t(q * double(v.size())));
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+    return v[k];
+  };
+  a.medianDt = quantile(dt, 0.5);
+  a.p99Dt = quantile(dt, 0.99);
+  a.medianRelDt = quantile(rel, 0.5);
+  return a;
+}
+
+double mb(double bytes) { return bytes / (1024.0 * 1024.0); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (!parse(argc, argv, o)) {
+    std::fprintf(stderr,
+                 "usage: %s [--teapot PATH] [--levels 4,6,8] [--size 512] [--repeat 3] [--no-floor] "
+                 "[--no-mirror] [--no-single]\n", argv[0]);
+    return 2;
+  }
+  if (o.teapot.empty()) o.teapot = findTeapot(argv[0]);
+  if (o.teapot.empty()) {
+    std::fprintf(stderr, "scenes/teapot.bpt not found; pass --teapot PATH\n");
+    return 2;
+  }
+  const Scene scene = makeScene(o);
+  const Camera cam = makeCamera(scene.teapotBox, o.size);
+  const std::vector<RaySet> sets{primaryRays(cam, o.size),
+                                 incoherentRays(scene.teapotBox, size_t(o.size) * size_t(o.size), cam.spread)};
+  const int threads = tbb::info::default_concurrency();
+  const size_t nRays = sets[0].org.size();
+  char cpu[512] = "?";
+  if (FILE* f = std::fopen("/proc/cpuinfo", "r")) {
+    char line[512];
+    while (std::fgets(line, sizeof line, f))
+      if (std::strncmp(line, "model name", 10) == 0) {
+        const char* c = std::strchr(line, ':');
+        std::snprintf(cpu, sizeof cpu, "%s", c ? c + 2 : line);
+        cpu[std::strcspn(cpu, "\n")] = 0;
+        break;
+      }
+    std::fclose(f);
+  }
+  std::printf("# peer_embree: Rayes vs Embree %d.%d.%d (grid geometry, full tessellation)\n", RTC_VERSION_MAJOR,
+              RTC_VERSION_MINOR, RTC_VERSION_PATCH);
+  std::printf("machine: %s, %d threads (tbb default_concurrency), nproc %ld\n", cpu, threads,
+              sysconf(_SC_NPROCESSORS_ONLN));
+  std::printf("scene: %s, %d teapot patches%s; %zu rays per set, %dx%d view, fov 40, cone spread %.3g\n",
+              o.teapot.c_str(), scene.teapotPatches, o.floor ? " + 1 floor patch" : "", nRays, o.size, o.size,
+              double(cam.spread));
+  std::printf("repeat %d (best of), Embree grid rows %s\n\n", o.repeat, o.mirror ? "mirrored (same diagonal as Rayes)" : "not mirrored (other diagonal)");
+
+  // Embree's first commit in a process pays its one-time start-up (measured 56 ms for a level-4
+  // teapot whose second build takes 1 ms): a throwaway scene takes it out of the build times.
+  { EmbreeEngine warmUp(scene.patches, 0, o.mirror); }
+
+  // Top level: built once (33 boxes); its build time is reported.
+  std::vector<Box3> boxes;
+  for (const PatchPtr& p : scene.patches) boxes.push_back(p->bounds());
+  TopLevelBvh top;
+  const auto tb = Clock::now();
+  top.build(boxes);
+  const double topBuild = secondsSince(tb);
+
+  struct Row {
+    std::string rays, lod;
+    int m;
+    RayesRun rayesAll, rayesOne;
+    double embreeAll = 0, embreeOne = 0, tess = 0, build = 0, buildOne = 0;
+    size_t embreeVertexBytes = 0;
+    int64_t embreeHeld = 0, embreePeak = 0;
+    Agreement agree;
+    uint64_t embreeMicropolygons = 0;
+  };
+  std::vector<Row> rows;
+  RayBatch batch;
+  std::vector<float> et;
+  std::vector<uint32_t> el;
+  for (int m : o.levels) {
+    // Embree scene at level m, built with all threads (and once more with 1 thread for the
+    // single-thread build time).
+    auto embree = std::make_unique<EmbreeEngine>(scene.patches, m, o.mirror);
+    double buildOne = 0;
+    if (o.single) {
+      tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+      EmbreeEngine e1(scene.patches, m, o.mirror);
+      buildOne = e1.tessSeconds + e1.buildSeconds;
+    }
+    for (const RaySet& rs : sets)
+      for (bool forced : {false, true}) {
+        Row row;
+        row.rays = rs.name;
+        row.lod = forced ? "forced" : "footprint";
+        row.m = m;
+        row.tess = embree->tessSeconds;
+        row.build = embree->buildSeconds;
+        row.buildOne = buildOne;
+        row.embreeVertexBytes = embree->vertexBytes();
+        row.embreeHeld = embree->heldBytes;
+        row.embreePeak = embree->peakBytes;
+        row.embreeMicropolygons = uint64_t(scene.patches.size()) << (2 * m);
+        TraceSettings ts;
+        ts.maxLod = m;
+        ts.candidateCapacity = 8 * nRays;  // the renderer's: 4 slots per ray slot, 2 per path
+        // Embree, all threads then 1 thread.
+        row.embreeAll = kInf;
+        for (int r = 0; r < o.repeat; ++r) {
+          const auto t0 = Clock::now();
+          embree->trace(rs, et, el, true);
+          row.embreeAll = std::min(row.embreeAll, secondsSince(t0));
+        }
+        if (o.single) {
+          row.embreeOne = kInf;
+          for (int r = 0; r < o.repeat; ++r) {
+            const auto t0 = Clock::now();
+            embree->trace(rs, et, el, false);
+            row.embreeOne = std::min(row.embreeOne, secondsSince(t0));
+          }
+        }
+        // Rayes.
+        row.rayesAll = runRayes(top, scene.patches, ts, rs, forced, o.repeat, batch);
+        row.agree = compare(batch, et, el);
+        if (o.single) {
+          tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+          row.rayesOne = runRayes(top, scene.patches, ts, rs, forced, o.repeat, batch);
+        }
+        rows.push_back(std::move(row));
+        const Row& w = rows.back();
+        std::fprintf(stderr, "done %s %s m=%d: rayes %.1f ms, embree %.1f ms\n", w.rays.c_str(), w.lod.c_str(),
+                     m, w.rayesAll.seconds * 1e3, w.embreeAll * 1e3);
+      }
+  }
+
+  const double mr = double(nRays) * 1e-6;
+  std::printf("## Speed (%d threads; 1 thread in the t1 columns). Mrays/s = rays / best trace wall time\n\n", threads);
+  std::printf("| rays | LOD | m | Rayes Mrays/s | Embree Mrays/s | Rayes/Embree time | incl. build | Rayes t1 Mrays/s | Embree t1 Mrays/s | t1 ratio | t1 incl. build | Embree tess+build ms (t1) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const double incl = (topBuild + r.rayesAll.seconds) / (r.tess + r.build + r.embreeAll);
+    std::printf("| %s | %s | %d | %.2f | %.2f | %.2f | %.2f |", r.rays.c_str(), r.lod.c_str(), r.m,
+                mr / r.rayesAll.seconds, mr / r.embreeAll, r.rayesAll.seconds / r.embreeAll, incl);
+    if (o.single)
+      std::printf(" %.2f | %.2f | %.2f | %.2f | %.1f+%.1f (%.1f) |\n", mr / r.rayesOne.seconds, mr / r.embreeOne,
+                  r.rayesOne.seconds / r.embreeOne, (topBuild + r.rayesOne.seconds) / (r.buildOne + r.embreeOne),
+                  r.tess * 1e3, r.build * 1e3, r.buildOne * 1e3);
+    else
+      std::printf(" - | - | - | - | %.1f+%.1f |\n", r.tess * 1e3, r.build * 1e3);
+  }
+  std::printf("\nRayes top-level build (33 boxes, once): %.3f ms. 'incl. build' = (top build + Rayes trace) / "
+              "(Embree tessellation + rtcCommitScene + trace).\n\n", topBuild * 1e3);
+
+  std::printf("## Where Rayes's time goes (all threads; toplevel and sort wall clock, dice and bottom summed over threads)\n\n");
+  std::printf("| rays | LOD | m | trace ms | toplevel ms | sort ms | dice ms | bottom ms | iterations | candidates/ray | leaves diced | micropolygons Rayes | micropolygons Embree | t1 trace ms | t1 toplevel | t1 sort | t1 dice | t1 bottom |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const RayesRun& a = r.rayesAll;
+    uint64_t candidates = 0;
+    for (const IterationStats& it : a.stats.iterations) candidates += it.candidates;
+    std::printf("| %s | %s | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %zu | %.2f | %llu | %.3g | %.3g |", r.rays.c_str(),
+                r.lod.c_str(), r.m, a.seconds * 1e3, a.times.toplevel * 1e3, a.times.sort * 1e3,
+                a.times.dice * 1e3, a.times.bottom * 1e3, a.iterations, double(candidates) / double(nRays),
+                (unsigned long long)a.stats.leavesDiced, double(a.stats.micropolygonsCreated),
+                double(r.embreeMicropolygons));
+    if (o.single) {
+      const RayesRun& b = r.rayesOne;
+      std::printf(" %.1f | %.1f | %.1f | %.1f | %.1f |\n", b.seconds * 1e3, b.times.toplevel * 1e3,
+                  b.times.sort * 1e3, b.times.dice * 1e3, b.times.bottom * 1e3);
+    } else {
+      std::printf(" - | - | - | - | - |\n");
+    }
+  }
+
+  std::printf("\n## Memory (MiB; Rayes all threads = %d dice buffers)\n\n", threads);
+  std::printf("| rays | LOD | m | Rayes top | dice bufs | cand buf | ray state | sort scratch | Rayes total | Rayes total excl. ray-sized | Embree vertices | Embree held | Embree peak | Embree total (vert+peak) | Rayes/Embree | excl. ray-sized |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const RayesRun& a = r.rayesAll;
+    const double rayes = double(top.bytes() + a.diceBytes + a.candBytes + a.rayStateBytes + a.sortScratchBytes);
+    const double fixed = double(top.bytes() + a.diceBytes);
+    const double embree = double(r.embreeVertexBytes) + double(r.embreePeak);
+    std::printf("| %s | %s | %d | %.3f | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.1f | %.1f | %.1f | %.1f | %.3f | %.3f |\n",
+                r.rays.c_str(), r.lod.c_str(), r.m, mb(double(top.bytes())), mb(double(a.diceBytes)),
+                mb(double(a.candBytes)), mb(double(a.rayStateBytes)), mb(double(a.sortScratchBytes)), mb(rayes),
+                mb(fixed), mb(double(r.embreeVertexBytes)), mb(double(r.embreeHeld)), mb(double(r.embreePeak)),
+                mb(embree), rayes / embree, fixed / embree);
+  }
+
+  std::printf("\n## Agreement (Rayes all-thread run vs Embree, per ray)\n\n");
+  std::printf("| rays | LOD | m | Rayes hits | Embree hits | hit/miss differs | patch differs (both hit) | median abs dt | p99 abs dt | median rel dt |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const Agreement& g = r.agree;
+    std::printf("| %s | %s | %d | %zu | %zu | %.2e | %.2e | %.3g | %.3g | %.3g |\n", r.rays.c_str(), r.lod.c_str(),
+                r.m, g.rayesHits, g.embreeHits, g.hitMissDiffers, g.leafDiffers, g.medianDt, g.p99Dt,
+                g.medianRelDt);
+  }
+  std::printf("\npeak RSS of the process: %.1f MiB\n", mb(double(peakRssBytes())));
+  return 0;
+}
