@@ -1,5 +1,6 @@
 // DiceBuffer storage and the bottom-up build of the implicit quad-tree (thesis §6.1.1).
 #include "dicing/dice_buffer.h"
+#include <algorithm>
 #include <stdexcept>
 #include "dicing/morton.h"
 #include "dicing/patch_math.h"
@@ -14,7 +15,7 @@ DiceBuffer::DiceBuffer(int maxLevel) : maxLevel_(maxLevel) {
   const size_t res = (size_t(1) << maxLevel) + 1;
   positions_.resize(res * res);
   normals_.resize(res * res);
-  nodes_.resize(levelOffset(maxLevel + 1));
+  nodes_.resize(levelOffset(maxLevel + 1) * 6);  // 6 floats per box
 }
 
 void DiceBuffer::dice(const Patch& patch, int level) {
@@ -28,45 +29,99 @@ void DiceBuffer::dice(const Patch& patch, int level) {
 }
 
 // Level m: the box of each micro-quad's 4 corners (the two flat triangles lie in their convex
-// hull). Level i < m: the union of the 4 children, which Z-order keeps consecutive. One linear
-// pass per level, no sorting: O(4^m) in total.
-void DiceBuffer::buildTree() {
-  const uint32_t n = 1u << level_;
-  const size_t res = n + 1;
-  Box3* leaves = &nodes_[levelOffset(level_)];
-  for (uint32_t y = 0; y < n; ++y) {
-    const Vec3* row = &positions_[y * res];
-    for (uint32_t x = 0; x < n; ++x) {
-      const Vec3 p00 = row[x], p10 = row[x + 1], p01 = row[res + x], p11 = row[res + x + 1];
-      Box3& b = leaves[morton(x, y)];
-      b.lo = vmin(vmin(p00, p10), vmin(p01, p11));
-      b.hi = vmax(vmax(p00, p10), vmax(p01, p11));
-    }
+// hull). Level i < m: the union of the 4 children, which Z-order keeps in one group. One linear
+// pass per level in Z-order, no sorting: O(4^m) in total. Reductions use the same vmin/vmax
+// order as a Box3 union, so every box is bit-identical to the array-of-boxes layout it replaces.
+namespace {
+
+constexpr int kLo = 0, kHi = 4;  // lane offsets within an axis's 8 floats
+
+void storeBox(float* group, uint32_t lane, Vec3 lo, Vec3 hi) {
+  for (int a = 0; a < 3; ++a) {
+    group[8 * a + kLo + lane] = lo[a];
+    group[8 * a + kHi + lane] = hi[a];
   }
-  for (int i = level_ - 1; i >= 0; --i) {
-    Box3* parents = &nodes_[levelOffset(i)];
-    const Box3* children = &nodes_[levelOffset(i + 1)];
-    const size_t count = size_t(1) << (2 * i);
-    for (size_t c = 0; c < count; ++c) {
-      const Box3* ch = children + 4 * c;
-      parents[c].lo = vmin(vmin(ch[0].lo, ch[1].lo), vmin(ch[2].lo, ch[3].lo));
-      parents[c].hi = vmax(vmax(ch[0].hi, ch[1].hi), vmax(ch[2].hi, ch[3].hi));
+}
+
+// Union of the 4 boxes of a group.
+void groupBounds(const float* group, Vec3& lo, Vec3& hi) {
+  for (int a = 0; a < 3; ++a) {
+    const float* l = group + 8 * a + kLo;
+    const float* h = group + 8 * a + kHi;
+    lo[a] = std::min(std::min(l[0], l[1]), std::min(l[2], l[3]));
+    hi[a] = std::max(std::max(h[0], h[1]), std::max(h[2], h[3]));
+  }
+}
+
+}  // namespace
+
+void DiceBuffer::buildTree() {
+  const size_t res = (size_t(1) << level_) + 1;
+  auto quadBox = [&](uint32_t x, uint32_t y, Vec3& lo, Vec3& hi) {
+    const Vec3* p = &positions_[y * res + x];
+    const Vec3 p00 = p[0], p10 = p[1], p01 = p[res], p11 = p[res + 1];
+    lo = vmin(vmin(p00, p10), vmin(p01, p11));
+    hi = vmax(vmax(p00, p10), vmax(p01, p11));
+  };
+  float* root = rootBox();
+  Vec3 lo, hi;
+  if (level_ == 0) {
+    quadBox(0, 0, lo, hi);
+  } else {
+    const int m = level_;
+    float* leaves = nodeGroup(m - 1, 0);
+    const uint32_t groups = 1u << (2 * (m - 1));
+    for (uint32_t g = 0; g < groups; ++g) {
+      const uint32_t x0 = 2 * detail::mortonX(g), y0 = 2 * detail::mortonY(g);
+      float* group = leaves + kNodeGroupFloats * g;
+      for (uint32_t lane = 0; lane < 4; ++lane) {
+        quadBox(x0 + (lane & 1), y0 + (lane >> 1), lo, hi);
+        storeBox(group, lane, lo, hi);
+      }
     }
+    // Node n of level i (1 <= i < m) is the union of its children group (level i, n) and is
+    // stored in lane n % 4 of group (level i-1, n / 4).
+    for (int i = m - 1; i >= 1; --i) {
+      const float* children = nodeGroup(i, 0);
+      float* parents = nodeGroup(i - 1, 0);
+      const uint32_t count = 1u << (2 * i);
+      for (uint32_t n = 0; n < count; ++n) {
+        groupBounds(children + kNodeGroupFloats * n, lo, hi);
+        storeBox(parents + kNodeGroupFloats * (n >> 2), n & 3, lo, hi);
+      }
+    }
+    groupBounds(nodeGroup(0, 0), lo, hi);
+  }
+  for (int a = 0; a < 3; ++a) {
+    root[a] = lo[a];
+    root[3 + a] = hi[a];
   }
 }
 
 Vec3 DiceBuffer::position(int i, int j) const { return positions_[size_t(j) * resolution() + i]; }
 Vec3 DiceBuffer::normal(int i, int j) const { return normals_[size_t(j) * resolution() + i]; }
 
-const Box3& DiceBuffer::node(int treeLevel, int x, int y) const {
-  return nodes_[levelOffset(treeLevel) + morton(uint32_t(x), uint32_t(y))];
+Box3 DiceBuffer::node(int treeLevel, int x, int y) const {
+  Box3 b;
+  if (treeLevel == 0) {
+    const float* r = rootBox();
+    b.lo = {r[0], r[1], r[2]};
+    b.hi = {r[3], r[4], r[5]};
+    return b;
+  }
+  const uint32_t n = morton(uint32_t(x), uint32_t(y));
+  const float* g = nodeGroup(treeLevel - 1, n >> 2);
+  const uint32_t lane = n & 3;
+  b.lo = {g[lane], g[8 + lane], g[16 + lane]};
+  b.hi = {g[4 + lane], g[12 + lane], g[20 + lane]};
+  return b;
 }
 
 size_t DiceBuffer::nodeCount() const { return levelOffset(level_ + 1); }
 
 size_t DiceBuffer::bytesAllocated() const {
   return positions_.capacity() * sizeof(Vec3) + normals_.capacity() * sizeof(Vec3) +
-         nodes_.capacity() * sizeof(Box3);
+         nodes_.capacity() * sizeof(float);
 }
 
 }  // namespace rayes

@@ -61,7 +61,7 @@ class DiceBuffer {
   Vec3 position(int i, int j) const;
   Vec3 normal(int i, int j) const;
   // Node box of the implicit tree at (treeLevel, x, y).
-  const Box3& node(int treeLevel, int x, int y) const;
+  Box3 node(int treeLevel, int x, int y) const;
   size_t nodeCount() const;                                  // sum_{i<=level} 4^i
   size_t bytesAllocated() const;
 
@@ -74,7 +74,21 @@ class DiceBuffer {
   int level_ = 0;
   std::vector<Vec3> positions_;
   std::vector<Vec3> normals_;  // unit (or zero where the patch is degenerate as a whole)
-  std::vector<Box3> nodes_;  // all levels, level i at offset (4^i - 1) / 3, Z-order within
+  // The tree, stored by sibling groups: group g of level i (i < level_) holds the boxes of the
+  // 4 children (level i+1, Z-order 4g..4g+3) of node g of level i as structure of arrays,
+  // kNodeGroupFloats floats: lo.x[4] hi.x[4] lo.y[4] hi.y[4] lo.z[4] hi.z[4]. Groups of level i
+  // start at group (4^i - 1) / 3; the root box (lo, hi: 6 floats) follows the groups of the
+  // largest level. One traversal step is then one 4-wide slab test on 96 contiguous bytes.
+  // Same size as one Box3 per node: sum_{i<=maxLevel} 4^i boxes.
+  static constexpr size_t kNodeGroupFloats = 24;
+  static size_t groupOffset(int level, uint32_t g) {
+    return kNodeGroupFloats * (((size_t(1) << (2 * level)) - 1) / 3 + g);
+  }
+  const float* nodeGroup(int level, uint32_t g) const { return nodes_.data() + groupOffset(level, g); }
+  float* nodeGroup(int level, uint32_t g) { return nodes_.data() + groupOffset(level, g); }
+  const float* rootBox() const { return nodes_.data() + groupOffset(maxLevel_, 0); }
+  float* rootBox() { return nodes_.data() + groupOffset(maxLevel_, 0); }
+  std::vector<float> nodes_;
   Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
 };
 

@@ -17,6 +17,7 @@
 // ulps of any box coordinate, keeps `lo - margin` from rounding back to `lo` far from the
 // origin. It is per ray and per patch, never per box, so containment (and hence the exactness
 // above) is kept.
+#include <xmmintrin.h>
 #include <algorithm>
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
@@ -24,8 +25,6 @@
 #include "dicing/patch_math.h"
 
 namespace rayes {
-
-using detail::levelOffset;
 
 namespace {
 
@@ -35,8 +34,50 @@ struct StackEntry {
   float tEntry;
 };
 
-// 1 + 3 per level: a step pops one node and pushes at most 4.
+// 1 + 3 per level: a step pops one node and pushes at most 3 (the 4th is visited at once).
 constexpr int kStackSize = 1 + 3 * 12 + 3;
+
+// The ray of one traversal, prepared once for 4-wide slab tests on a node group (the 4
+// children of a node, SoA, see DiceBuffer::nodes_). It performs core/box.h intersectBox's
+// arithmetic operation for operation on the margin-padded boxes, so every lane gives exactly
+// the bits intersectBox would: near plane = (plane + signedPad - org) * invDir (x - m equals
+// x + (-m) in IEEE arithmetic), far plane the same times 1 + 2*gamma(3); entry = tn > t0 ? tn :
+// t0 is _mm_max_ps(tn, t0) and exit = tf < t1 ? tf : t1 is _mm_min_ps(tf, t1), NaN cases
+// included. Per ray the only choice left is which of lo/hi is the near plane per axis.
+struct GroupRay {
+  int nearOff[3], farOff[3];  // float offsets of the near/far plane lanes within a group
+  __m128 nearPad[3], farPad[3], org[3], inv[3];
+  __m128 tmin, scale;
+
+  GroupRay(const RayBoxQuery& q, float margin, float tMin) {
+    for (int a = 0; a < 3; ++a) {
+      const bool neg = q.sign[a] != 0;  // near plane is hi
+      nearOff[a] = 8 * a + (neg ? 4 : 0);
+      farOff[a] = 8 * a + (neg ? 0 : 4);
+      nearPad[a] = _mm_set1_ps(neg ? margin : -margin);
+      farPad[a] = _mm_set1_ps(neg ? -margin : margin);
+      org[a] = _mm_set1_ps(q.org[a]);
+      inv[a] = _mm_set1_ps(q.invDir[a]);
+    }
+    tmin = _mm_set1_ps(tMin);
+    scale = _mm_set1_ps(1.0f + 2.0f * gammaBound(3));
+  }
+
+  // Bit c set: child c is crossed within [tmin, tCull]; tEntry[c] its entry distance.
+  int test(const float* group, float tCull, __m128& tEntry) const {
+    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 n = _mm_loadu_ps(group + nearOff[a]);
+      const __m128 f = _mm_loadu_ps(group + farOff[a]);
+      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n, nearPad[a]), org[a]), inv[a]);
+      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f, farPad[a]), org[a]), inv[a]), scale);
+      t0 = _mm_max_ps(tn, t0);
+      t1 = _mm_min_ps(tf, t1);
+    }
+    tEntry = t0;
+    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+  }
+};
 
 // Unit bilinear blend of a quad's corner normals at local (s, r); zero if they cancel.
 Vec3 blendedNormal(const Vec3* n00, uint32_t stride, size_t res, float s, float r) {
@@ -60,10 +101,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   const float margin = gammaBound(16) * farthest + 0x1p-22f * magnitude;
   if (!std::isfinite(margin)) return false;
   const Vec3 pad{margin, margin, margin};
-  auto hitsBox = [&](Vec3 lo, Vec3 hi, float tCull, float& tEntry) {
-    float tExit;
-    return intersectBox(query, lo - pad, hi + pad, tmin, tCull, tEntry, tExit);
-  };
+  const GroupRay gray(query, margin, tmin);
 
   const uint32_t stride = 1u << (level_ - k);
   const size_t res = size_t(resolution());
@@ -74,54 +112,97 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
 
   StackEntry stack[kStackSize];
   int sp = 0;
-  float tEntry;
-  if (!hitsBox(nodes_[0].lo, nodes_[0].hi, tmax, tEntry)) return false;
-  stack[sp++] = {0, 0, tEntry};
-  while (sp > 0) {
-    const StackEntry e = stack[--sp];
-    if (e.tEntry > bestT) continue;  // equal stays: a tie may still win on quad index
-    if (e.level == k) {
-      const uint32_t x = detail::mortonX(e.node), y = detail::mortonY(e.node);
+  // The node being visited: its entry distance is <= bestT (tested against it when it was
+  // reached, or on popping).
+  uint32_t node = 0;
+  int level = 0;
+  float tNode, tExit;
+  {
+    const float* r = rootBox();
+    if (!intersectBox(query, Vec3{r[0], r[1], r[2]} - pad, Vec3{r[3], r[4], r[5]} + pad, tmin, tmax, tNode,
+                      tExit))
+      return false;
+  }
+  for (;;) {
+    if (level == k) {
+      const uint32_t x = detail::mortonX(node), y = detail::mortonY(node);
       const Vec3* p = &positions_[size_t(y) * stride * res + size_t(x) * stride];
       const Vec3 p00 = p[0], p10 = p[stride], p01 = p[stride * res], p11 = p[stride * res + stride];
       MicroQuadHit h;
-      if (!intersectMicroQuad(wray, p00, p10, p01, p11, tmin, tmax, h)) continue;
-      float tBox;
-      if (!hitsBox(vmin(vmin(p00, p10), vmin(p01, p11)), vmax(vmax(p00, p10), vmax(p01, p11)),
-                   tmax, tBox))
-        continue;
-      h.t = std::max(h.t, tBox);
-      if (!(h.t < tmax)) continue;
-      if (h.ng == Vec3{0, 0, 0}) {
+      bool accept = intersectMicroQuad(wray, p00, p10, p01, p11, tmin, tmax, h);
+      if (accept) {
+        float tBox = tNode;
+        // At the finest level the node box *is* the corner box (same vmin/vmax), tested with
+        // the same arithmetic against tCull = bestT <= tmax, so tNode is already its entry
+        // distance. Coarser levels test the coarse quad's own corner box.
+        if (k != level_)
+          accept = intersectBox(query, vmin(vmin(p00, p10), vmin(p01, p11)) - pad,
+                                vmax(vmax(p00, p10), vmax(p01, p11)) + pad, tmin, tmax, tBox, tExit);
+        if (accept) {
+          h.t = std::max(h.t, tBox);
+          accept = h.t < tmax;
+        }
+      }
+      if (accept && h.ng == Vec3{0, 0, 0}) {
         // Both triangles have zero area: the quad's vertex normals are the only direction left.
         h.ng = blendedNormal(&normals_[size_t(y) * stride * res + size_t(x) * stride], stride, res, h.s, h.r);
-        if (h.ng == Vec3{0, 0, 0}) continue;
+        accept = !(h.ng == Vec3{0, 0, 0});
       }
-      if constexpr (AnyHit) return true;
-      const uint32_t quad = (y << k) | x;
-      if (h.t < bestT || (h.t == bestT && quad < bestQuad)) {
-        bestT = h.t;
-        bestQuad = quad;
-        bestX = x;
-        bestY = y;
-        best = h;
+      if (accept) {
+        if constexpr (AnyHit) return true;
+        const uint32_t quad = (y << k) | x;
+        if (h.t < bestT || (h.t == bestT && quad < bestQuad)) {
+          bestT = h.t;
+          bestQuad = quad;
+          bestX = x;
+          bestY = y;
+          best = h;
+        }
       }
-      continue;
+    } else {
+      __m128 te;
+      int mask = gray.test(nodeGroup(level, node), bestT, te);
+      if (mask != 0) {
+        alignas(16) float t[4];
+        _mm_store_ps(t, te);
+        const uint32_t first = 4 * node;
+        ++level;
+        if ((mask & (mask - 1)) == 0) {  // one child: visit it, no stack
+          const int c = __builtin_ctz(unsigned(mask));
+          node = first + uint32_t(c);
+          tNode = t[c];
+          continue;
+        }
+        StackEntry hit[4];
+        int n = 0;
+        for (; mask != 0; mask &= mask - 1) {
+          const int c = __builtin_ctz(unsigned(mask));
+          hit[n++] = {first + uint32_t(c), level, t[c]};
+        }
+        if constexpr (!AnyHit) {
+          // Nearest first: it is visited now, the others are pushed far first.
+          for (int a = 1; a < n; ++a)
+            for (int b = a; b > 0 && hit[b].tEntry < hit[b - 1].tEntry; --b) std::swap(hit[b], hit[b - 1]);
+        }
+        for (int c = n - 1; c > 0; --c) stack[sp++] = hit[c];
+        node = hit[0].node;
+        tNode = hit[0].tEntry;
+        continue;
+      }
     }
-    const Box3* children = &nodes_[levelOffset(e.level + 1) + 4 * size_t(e.node)];
-    StackEntry hit[4];
-    int n = 0;
-    for (uint32_t c = 0; c < 4; ++c) {
-      if (hitsBox(children[c].lo, children[c].hi, bestT, tEntry))
-        hit[n++] = {4 * e.node + c, e.level + 1, tEntry};
+    // Pop the next node still entered no later than the best hit (equal stays: a tie may
+    // still win on quad index).
+    for (;;) {
+      if (sp == 0) goto done;
+      const StackEntry& e = stack[--sp];
+      if (e.tEntry > bestT) continue;
+      node = e.node;
+      level = e.level;
+      tNode = e.tEntry;
+      break;
     }
-    if constexpr (!AnyHit) {
-      // Far first onto the stack, so the nearest child is popped next.
-      for (int a = 1; a < n; ++a)
-        for (int b = a; b > 0 && hit[b].tEntry > hit[b - 1].tEntry; --b) std::swap(hit[b], hit[b - 1]);
-    }
-    for (int c = 0; c < n; ++c) stack[sp++] = hit[c];
   }
+done:
   if (bestQuad == UINT32_MAX) return false;
 
   const float inv = 1.0f / float(1u << k);  // a power of two: the scaling below is exact
