@@ -160,6 +160,20 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         }
       }
     } else {
+      if (level + 1 < k) {
+        // The 4 children's groups (384 contiguous bytes) are what the next step loads:
+        // fetch them while this group is tested.
+        const char* next = reinterpret_cast<const char*>(nodeGroup(level + 1, 4 * node));
+        for (int line = 0; line < 384; line += 64) _mm_prefetch(next + line, _MM_HINT_T0);
+      } else {
+        // The children are micro-quads: fetch the 3 grid rows of their corners.
+        const size_t x0 = 2 * size_t(detail::mortonX(node)) * stride, y0 = 2 * size_t(detail::mortonY(node)) * stride;
+        for (size_t r = 0; r <= 2; ++r) {
+          const Vec3* row = &positions_[(y0 + r * stride) * res + x0];
+          _mm_prefetch(reinterpret_cast<const char*>(row), _MM_HINT_T0);
+          _mm_prefetch(reinterpret_cast<const char*>(row + 2 * stride) + sizeof(Vec3) - 1, _MM_HINT_T0);
+        }
+      }
       __m128 te;
       int mask = gray.test(nodeGroup(level, node), bestT, te);
       if (mask != 0) {
