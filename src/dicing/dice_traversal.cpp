@@ -157,6 +157,13 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
           bestX = x;
           bestY = y;
           best = h;
+          // The shading normal is blended from this quad's vertex normals once the traversal
+          // ends: start loading them now.
+          const Vec3* n = &normals_[size_t(y) * stride * res + size_t(x) * stride];
+          _mm_prefetch(reinterpret_cast<const char*>(n), _MM_HINT_T0);
+          _mm_prefetch(reinterpret_cast<const char*>(n + stride + 1) - 1, _MM_HINT_T0);
+          _mm_prefetch(reinterpret_cast<const char*>(n + stride * res), _MM_HINT_T0);
+          _mm_prefetch(reinterpret_cast<const char*>(n + stride * res + stride + 1) - 1, _MM_HINT_T0);
         }
       }
     } else {
