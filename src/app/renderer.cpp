@@ -15,7 +15,7 @@ constexpr size_t kCandidatesPerRay = 4;
 
 size_t Renderer::bytesPerPath() {
   const size_t perRay = RayBatch::bytesPerRay() + Tracer::bytesPerRayState() + 2 * sizeof(uint32_t) +
-                        kCandidatesPerRay * CandidateBuffer::bytesPerSlot();
+                        kCandidatesPerRay * Tracer::bytesPerCandidate();
   return PathBatch::bytesPerPath() + 16 /* shading sort item */ + 2 * perRay;
 }
 

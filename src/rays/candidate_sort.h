@@ -7,7 +7,8 @@
 //
 // Hand-written because it was measured faster: a parallel LSD radix sort (oneTBB) on the leaf
 // id alone, sorting only as many bits as the largest leaf id has, is 7.7-11.5x faster than
-// tbb::parallel_sort of 64-bit (leaf, slot) keys on this machine (bench/RESULTS.md).
+// tbb::parallel_sort of 64-bit (leaf, slot) keys on this machine (bench/RESULTS.md,
+// bench/rays_candidate_sort.cpp).
 // Complexity O(n * ceil(bits / 11)); scratch is kept across iterations.
 #pragma once
 #include <cstdint>

@@ -39,9 +39,14 @@ class Tracer {
 
   const TraceSettings& settings() const { return settings_; }
   static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
-  // Bytes held by dice buffers (all threads so far) and the candidate buffer.
+  // Everything one candidate slot costs: the slot itself, its ray index, and the sort's
+  // working storage (filled list, pairs and scratch, order) when the slot is filled.
+  static constexpr size_t bytesPerCandidate() {
+    return CandidateBuffer::bytesPerSlot() + 3 * sizeof(uint32_t) + 2 * sizeof(CandidateSort::Pair);
+  }
+  // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;
-  size_t candidateBufferBytes() const { return cand_.capacity() * CandidateBuffer::bytesPerSlot(); }
+  size_t candidateBufferBytes() const { return cand_.capacity() * bytesPerCandidate(); }
 
  private:
   struct RayState;
