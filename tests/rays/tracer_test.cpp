@@ -63,17 +63,23 @@ RayHit bruteForce(const World& w, const RayBatch& b, int i, DiceBuffer& dice) {
   return best;
 }
 
-void expectMatchesBruteForce(size_t capacity, bool sorted) {
-  World w;
+// Traces `b` through the whole pipeline with the given candidate capacity and mode.
+GenerationStats traceAll(const World& w, RayBatch& b, size_t capacity, bool sorted) {
   TraceSettings s;
   s.maxLod = kLod;
   s.candidateCapacity = capacity;
   s.sortByLeaf = sorted;
   Tracer tracer(w.top, w.leaves, s);
-  RayBatch b = randomRays(3000, false);
   GenerationStats stats;
   TraceTimes times;
   tracer.trace(b, stats, times);
+  return stats;
+}
+
+void expectMatchesBruteForce(size_t capacity, bool sorted) {
+  World w;
+  RayBatch b = randomRays(3000, false);
+  const GenerationStats stats = traceAll(w, b, capacity, sorted);
   DiceBuffer dice(kLod);
   int hits = 0;
   for (int i = 0; i < int(b.size()); ++i) {
@@ -97,14 +103,8 @@ TEST(Tracer, RaysTracedAloneEqualBruteForce) { expectMatchesBruteForce(1, false)
 
 TEST(Tracer, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
   World w;
-  TraceSettings s;
-  s.maxLod = kLod;
-  s.candidateCapacity = 5000;
-  Tracer tracer(w.top, w.leaves, s);
   RayBatch b = randomRays(2000, true);
-  GenerationStats stats;
-  TraceTimes times;
-  tracer.trace(b, stats, times);
+  const GenerationStats stats = traceAll(w, b, 5000, true);
   DiceBuffer dice(kLod);
   int occluded = 0;
   for (int i = 0; i < int(b.size()); ++i) {
