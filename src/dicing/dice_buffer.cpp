@@ -1,5 +1,6 @@
 // DiceBuffer storage and the bottom-up build of the implicit quad-tree (thesis §6.1.1).
 #include "dicing/dice_buffer.h"
+#include <xmmintrin.h>
 #include <algorithm>
 #include <stdexcept>
 #include "dicing/morton.h"
@@ -36,11 +37,13 @@ namespace {
 
 constexpr int kLo = 0, kHi = 4;  // lane offsets within an axis's 8 floats
 
-void storeBox(float* group, uint32_t lane, Vec3 lo, Vec3 hi) {
-  for (int a = 0; a < 3; ++a) {
-    group[8 * a + kLo + lane] = lo[a];
-    group[8 * a + kHi + lane] = hi[a];
-  }
+// Lane-wise std::min(std::min(a, b), std::min(c, d)) (resp. max), exactly: std::min(x, y) is
+// (y < x) ? y : x, which is _mm_min_ps(y, x); likewise std::max(x, y) is _mm_max_ps(y, x).
+inline __m128 min4(__m128 a, __m128 b, __m128 c, __m128 d) {
+  return _mm_min_ps(_mm_min_ps(d, c), _mm_min_ps(b, a));
+}
+inline __m128 max4(__m128 a, __m128 b, __m128 c, __m128 d) {
+  return _mm_max_ps(_mm_max_ps(d, c), _mm_max_ps(b, a));
 }
 
 // Union of the 4 boxes of a group.
@@ -69,25 +72,45 @@ void DiceBuffer::buildTree() {
     quadBox(0, 0, lo, hi);
   } else {
     const int m = level_;
+    // Leaves, one group (a 2x2 block of micro-quads, 3x3 vertices) at a time, 4 lanes wide.
     float* leaves = nodeGroup(m - 1, 0);
     const uint32_t groups = 1u << (2 * (m - 1));
     for (uint32_t g = 0; g < groups; ++g) {
-      const uint32_t x0 = 2 * detail::mortonX(g), y0 = 2 * detail::mortonY(g);
+      const size_t x0 = 2 * size_t(detail::mortonX(g)), y0 = 2 * size_t(detail::mortonY(g));
+      const Vec3* r0 = &positions_[y0 * res + x0];
+      const Vec3* r1 = r0 + res;
+      const Vec3* r2 = r1 + res;
       float* group = leaves + kNodeGroupFloats * g;
-      for (uint32_t lane = 0; lane < 4; ++lane) {
-        quadBox(x0 + (lane & 1), y0 + (lane >> 1), lo, hi);
-        storeBox(group, lane, lo, hi);
+      for (int a = 0; a < 3; ++a) {
+        const __m128 v0 = _mm_setr_ps(r0[0][a], r0[1][a], r0[2][a], 0.0f);
+        const __m128 v1 = _mm_setr_ps(r1[0][a], r1[1][a], r1[2][a], 0.0f);
+        const __m128 v2 = _mm_setr_ps(r2[0][a], r2[1][a], r2[2][a], 0.0f);
+        // Lane l = (dx, dy) = (l & 1, l >> 1): its corners p00, p10, p01, p11.
+        const __m128 p00 = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(1, 0, 1, 0));
+        const __m128 p10 = _mm_shuffle_ps(v0, v1, _MM_SHUFFLE(2, 1, 2, 1));
+        const __m128 p01 = _mm_shuffle_ps(v1, v2, _MM_SHUFFLE(1, 0, 1, 0));
+        const __m128 p11 = _mm_shuffle_ps(v1, v2, _MM_SHUFFLE(2, 1, 2, 1));
+        _mm_storeu_ps(group + 8 * a + kLo, min4(p00, p10, p01, p11));
+        _mm_storeu_ps(group + 8 * a + kHi, max4(p00, p10, p01, p11));
       }
     }
     // Node n of level i (1 <= i < m) is the union of its children group (level i, n) and is
-    // stored in lane n % 4 of group (level i-1, n / 4).
+    // stored in lane n % 4 of group (level i-1, n / 4): each parent group is the lane-wise
+    // reduction of the transposes of its 4 nodes' children groups.
     for (int i = m - 1; i >= 1; --i) {
       const float* children = nodeGroup(i, 0);
       float* parents = nodeGroup(i - 1, 0);
-      const uint32_t count = 1u << (2 * i);
-      for (uint32_t n = 0; n < count; ++n) {
-        groupBounds(children + kNodeGroupFloats * n, lo, hi);
-        storeBox(parents + kNodeGroupFloats * (n >> 2), n & 3, lo, hi);
+      const uint32_t count = 1u << (2 * (i - 1));
+      for (uint32_t pg = 0; pg < count; ++pg) {
+        const float* c = children + kNodeGroupFloats * 4 * size_t(pg);
+        float* out = parents + kNodeGroupFloats * size_t(pg);
+        for (int plane = 0; plane < 6; ++plane) {
+          __m128 t0 = _mm_loadu_ps(c + 4 * plane), t1 = _mm_loadu_ps(c + kNodeGroupFloats + 4 * plane),
+                 t2 = _mm_loadu_ps(c + 2 * kNodeGroupFloats + 4 * plane),
+                 t3 = _mm_loadu_ps(c + 3 * kNodeGroupFloats + 4 * plane);
+          _MM_TRANSPOSE4_PS(t0, t1, t2, t3);  // t_j = lane j of the 4 children groups
+          _mm_storeu_ps(out + 4 * plane, plane % 2 == 0 ? min4(t0, t1, t2, t3) : max4(t0, t1, t2, t3));
+        }
       }
     }
     groupBounds(nodeGroup(0, 0), lo, hi);
