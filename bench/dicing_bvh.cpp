@@ -104,8 +104,8 @@ void BM_Occluded(benchmark::State& state) {
                                               benchmark::Counter::kIsRate);
 }
 
-BENCHMARK(BM_Traverse)->Arg(8)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Occluded)->Arg(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Traverse)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Occluded)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
