@@ -11,39 +11,18 @@
 #include "core/rng.h"
 #include "dicing/bezier_patch.h"
 #include "dicing/dice_buffer.h"
+#include "dicing_bench_setup.h"
 
 namespace {
 
 using namespace rayes;
+using rayes::bench::benchPatch;
+using rayes::bench::benchRays;
+using rayes::bench::Ray;
 constexpr int kLevel = 8;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-std::string teapotPath() {
-  const std::string here = __FILE__;
-  return here.substr(0, here.rfind('/')) + "/../scenes/teapot.bpt";
-}
 
-const BezierPatch& benchPatch() {
-  static const BezierPatch patch(loadBezierPatchFile(teapotPath())[0]);
-  return patch;
-}
-
-// Same construction and seed as bench/dicing_bvh.cpp.
-struct Ray {
-  Vec3 org, dir;
-};
-std::vector<Ray> benchRays(const Patch& patch, int count) {
-  std::vector<Ray> rays(static_cast<size_t>(count));
-  const Box3 b = patch.bounds();
-  const float radius = 2.0f * length(b.extent());
-  for (int k = 0; k < count; ++k) {
-    auto u = [&](uint32_t d) { return sampleUniform({uint32_t(k), 0, 0, 7}, d); };
-    const float z = 2 * u(0) - 1, phi = 6.2831853f * u(1), r = std::sqrt(std::max(0.0f, 1 - z * z));
-    const Vec3 org = b.center() + Vec3{r * std::cos(phi), r * std::sin(phi), z} * radius;
-    rays[size_t(k)] = {org, patch.evaluate(u(2), u(3)).p - org};
-  }
-  return rays;
-}
 
 class EmbreeGrid {
  public:
