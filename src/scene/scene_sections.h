@@ -1,0 +1,26 @@
+// Readers of the sections of a scene file. Each fills its part of the Scene and throws
+// InputError for anything wrong (see json_reader.h). docs/scene-format.md is their reference.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <string>
+#include "scene/json_reader.h"
+#include "scene/scene.h"
+
+namespace rayes {
+
+using MaterialIndex = std::map<std::string, uint32_t>;
+
+// "materials": name -> material; returns the index of each name in scene.materials.
+MaterialIndex readMaterials(const JsonReader& r, const json& j, Scene& scene);
+// "shapes": every patch of every shape, transformed, into scene.patches.
+void readShapes(const JsonReader& r, const json& j, Scene& scene, const MaterialIndex& materials,
+                const std::filesystem::path& sceneDir);
+// "lights": point lights into scene.pointLights, rectangles as emissive patches.
+void readLights(const JsonReader& r, const json& j, Scene& scene);
+
+// Shared helpers of the section readers.
+uint32_t materialRef(const JsonReader& r, const json& shape, const std::string& ptr, const MaterialIndex& materials);
+void addPatch(Scene& scene, PatchPtr patch, uint32_t material);
+
+}  // namespace rayes
