@@ -27,8 +27,10 @@ class JsonReader {
   static std::string typeName(const json& j) { return j.type_name(); }
 
   void object(const json& j, const std::string& ptr, std::initializer_list<const char*> allowed) const {
+    objectKeys(j, ptr, std::set<std::string>(allowed.begin(), allowed.end()));
+  }
+  void objectKeys(const json& j, const std::string& ptr, const std::set<std::string>& ok) const {
     if (!j.is_object()) fail(ptr, "expected an object, got " + typeName(j));
-    const std::set<std::string> ok(allowed.begin(), allowed.end());
     for (auto it = j.begin(); it != j.end(); ++it)
       if (!ok.count(it.key())) {
         std::string list;

@@ -1,0 +1,29 @@
+#include <array>
+#include "dicing/bilinear_patch.h"
+#include "scene/shape_kinds.h"
+
+namespace rayes {
+
+// {"type": "bilinear", "quads": [[p00, p10, p01, p11], ...]}
+ShapeSource readBilinearShape(const ShapeContext& ctx) {
+  const JsonReader& r = ctx.reader;
+  const json& qs = r.member(ctx.shape, ctx.ptr, "quads");
+  if (!qs.is_array() || qs.empty()) r.fail(ctx.ptr + "/quads", "expected a non-empty array of quads");
+  std::vector<std::array<Vec3, 4>> quads;
+  for (size_t k = 0; k < qs.size(); ++k) {
+    const std::string p = ctx.ptr + "/quads/" + std::to_string(k);
+    const json& q = qs[k];
+    if (!q.is_array() || q.size() != 4) r.fail(p, "expected 4 corners [p00, p10, p01, p11]");
+    quads.push_back({r.vec3(q[0], p + "/0"), r.vec3(q[1], p + "/1"), r.vec3(q[2], p + "/2"), r.vec3(q[3], p + "/3")});
+  }
+  return {{"quads"}, [quads](const Transform& xf) {
+            std::vector<PatchPtr> out;
+            for (auto q : quads) {
+              for (auto& v : q) v = xf.point(v);
+              out.push_back(std::make_shared<BilinearPatch>(q[0], q[1], q[2], q[3]));
+            }
+            return out;
+          }};
+}
+
+}  // namespace rayes

@@ -1,0 +1,37 @@
+// The kinds of shape a scene file can hold, and the modifiers every shape can carry.
+// A kind's reader checks its own keys and returns a ShapeSource: a function that builds the
+// shape's patches under a given transform (one call per time sample when the shape moves).
+// shape_reader.cpp owns the table of kinds and applies the modifiers in a fixed order.
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+#include "core/transform.h"
+#include "dicing/patch.h"
+#include "scene/json_reader.h"
+
+namespace rayes {
+
+struct ShapeContext {
+  const JsonReader& reader;
+  const json& shape;
+  std::string ptr;                 // JSON pointer of the shape, for messages
+  std::filesystem::path sceneDir;  // relative files are relative to the scene file
+
+  // A file named by the shape, resolved and checked to exist.
+  std::filesystem::path file(const char* key) const;
+};
+
+struct ShapeSource {
+  std::vector<const char*> keys;  // the kind's own keys, besides the common ones
+  std::function<std::vector<PatchPtr>(const Transform&)> build;
+};
+
+ShapeSource readBezierShape(const ShapeContext& ctx);
+ShapeSource readBilinearShape(const ShapeContext& ctx);
+
+// The "transform" modifier: an array of steps (docs/scene-format.md).
+Transform readTransform(const JsonReader& r, const json& j, const std::string& ptr);
+
+}  // namespace rayes
