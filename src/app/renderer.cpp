@@ -35,8 +35,9 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
   stats_.micropolygonsPotential = uint64_t(n) << (2 * options.maxLod);
 
   // Shading's view of the scene.
-  shading_.camera = PerspectiveCamera(scene.camera.position, scene.camera.lookAt, scene.camera.up,
-                                      scene.camera.fovYDegrees, scene.width, scene.height);
+  const CameraDesc& cam = scene.camera;
+  shading_.camera = PerspectiveCamera(cam.position, cam.lookAt, cam.up, cam.fovYDegrees, scene.width, scene.height,
+                                      cam.apertureRadius, cam.focusDistance, cam.shutterOpen, cam.shutterClose);
   shading_.width = scene.width;
   shading_.height = scene.height;
   shading_.samplesPerPixel = scene.samplesPerPixel;

@@ -16,6 +16,9 @@ namespace rayes {
 struct CameraDesc {
   Vec3 position{0, 0, 5}, lookAt{0, 0, 0}, up{0, 1, 0};
   float fovYDegrees = 40;
+  float apertureRadius = 0;  // 0: pinhole
+  float focusDistance = 1;
+  float shutterOpen = 0, shutterClose = 0;  // in the time units of shape motion; equal: no blur
 };
 
 struct Scene {

@@ -9,7 +9,7 @@ namespace {
 
 void readCamera(const JsonReader& r, const json& j, Scene& scene) {
   const std::string p = "/camera";
-  r.object(j, p, {"position", "look_at", "up", "fov"});
+  r.object(j, p, {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance", "shutter"});
   CameraDesc& c = scene.camera;
   c.position = r.vec3(r.member(j, p, "position"), p + "/position");
   c.lookAt = r.vec3(r.member(j, p, "look_at"), p + "/look_at");
@@ -21,6 +21,22 @@ void readCamera(const JsonReader& r, const json& j, Scene& scene) {
   if (!(length(c.up) > 0)) r.fail(p + "/up", "the up vector must not be zero");
   const Vec3 side = cross(normalize(forward), normalize(c.up));
   if (!(length(side) > 1e-6f)) r.fail(p + "/up", "the camera looks along its up vector");
+  c.focusDistance = length(forward);
+  if (j.contains("aperture_radius")) {
+    c.apertureRadius = float(r.number(j["aperture_radius"], p + "/aperture_radius"));
+    if (c.apertureRadius < 0) r.fail(p + "/aperture_radius", "the aperture radius must not be negative");
+  }
+  if (j.contains("focus_distance")) {
+    c.focusDistance = float(r.number(j["focus_distance"], p + "/focus_distance"));
+    if (!(c.focusDistance > 0)) r.fail(p + "/focus_distance", "the focus distance must be positive");
+  }
+  if (j.contains("shutter")) {
+    const json& sh = j["shutter"];
+    if (!sh.is_array() || sh.size() != 2) r.fail(p + "/shutter", "expected [open, close]");
+    c.shutterOpen = float(r.number(sh[0], p + "/shutter/0"));
+    c.shutterClose = float(r.number(sh[1], p + "/shutter/1"));
+    if (c.shutterClose < c.shutterOpen) r.fail(p + "/shutter", "the shutter closes before it opens");
+  }
 }
 
 void readFilm(const JsonReader& r, const json& j, Scene& scene) {

@@ -15,7 +15,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Random-number dimensions of one path vertex.
 enum Dim : uint32_t { kPixelX = 0, kPixelY = 1, kLightPick = 2, kLightU = 3, kLightV = 4,
-                      kBsdfU = 5, kBsdfV = 6, kRoulette = 7 };
+                      kBsdfU = 5, kBsdfV = 6, kRoulette = 7, kLensU = 8, kLensV = 9, kTime = 10 };
 
 struct PathIds { uint32_t pixel, sample; };
 PathIds idsOf(uint64_t id, uint32_t pixels) {
@@ -43,14 +43,15 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       const RngKey key{ids.pixel, ids.sample, 0, scene_.integrator.seed};
       const float px = float(ids.pixel % uint32_t(scene_.width)) + sampleUniform(key, kPixelX);
       const float py = float(ids.pixel / uint32_t(scene_.width)) + sampleUniform(key, kPixelY);
-      Vec3 o, d;
-      scene_.camera.generate(px, py, o, d);
+      const CameraRay cr = scene_.camera.generate(px, py, sampleUniform(key, kLensU), sampleUniform(key, kLensV),
+                                                  sampleUniform(key, kTime));
       paths.throughput[k] = {1, 1, 1};
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
       paths.alive[k] = 1;
       paths.aov[k] = PixelSample{};
-      rays.set(2 * size_t(k), RayKind::Closest, o, d, 0.0f, kInf, 0.0f, scene_.camera.pixelSpread(), k);
+      rays.set(2 * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, k, kNoLeaf,
+               kNoLeaf, 0, cr.time);
       rays.kind[2 * size_t(k) + 1] = RayKind::Inactive;
     }
   });
@@ -147,7 +148,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
           } else if (c.x > 0 || c.y > 0 || c.z > 0) {
             paths.shadowContribution[k] = c;
             rays.set(ss, RayKind::Shadow, origin, wi, 0.0f, dist * (1.0f - 1e-4f), width,
-                     kDiffuseSpread, k, ls.leaf, h.leaf, h.level);
+                     kDiffuseSpread, k, ls.leaf, h.leaf, h.level, rays.time[cs]);
             ++localEmitted;
             stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
           }
@@ -172,7 +173,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
       }
       if (!isFinite(T)) { stats.nonFinite.fetch_add(1, std::memory_order_relaxed); paths.alive[k] = 0; continue; }
       rays.set(cs, RayKind::Closest, origin, wi, 0.0f, kInf, width, std::max(rays.coneSpread[cs], kDiffuseSpread), k,
-               kNoLeaf, h.leaf, h.level);
+               kNoLeaf, h.leaf, h.level, rays.time[cs]);
       ++localEmitted;
       stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
     }
