@@ -34,6 +34,9 @@ class BezierPatch final : public Patch {
   // bilinear interpolant errs by at most h^2 (|P_uu| + |P_vv|) / 8, and splitting it into two
   // triangles by at most h^2 |P_uv| / 4 more.
   float dicingErrorCoefficient() const override { return errorCoefficient_; }
+  // The box of the sub-patch's control points (de Casteljau restriction to the rectangle),
+  // padded: conservative by the convex hull property.
+  Box3 boundsOver(float u0, float u1, float v0, float v1) const override;
 
   const std::array<Vec3, 16>& controlPoints() const { return cp_; }
 

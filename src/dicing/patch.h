@@ -29,6 +29,12 @@ class Patch {
   // Conservative bound of every diced point (see the contract above).
   virtual Box3 bounds() const = 0;
 
+  // A conservative bound of the true surface over the parameter rectangle [u0,u1] x [v0,v1]
+  // (every shutter time, displacement included): the per-micro-quad form of bounds(), used
+  // where a dicing must be bounded by the surface it approximates (crack-free borders).
+  // The default, bounds(), is always valid; kinds override it with something tighter.
+  virtual Box3 boundsOver(float u0, float u1, float v0, float v1) const { return bounds(); }
+
   // An upper bound on the length of any iso-parameter curve of the patch. The side of a
   // micro-quad at level m is then at most about sizeBound() / 2^m; level-of-detail selection
   // uses this, and so does nothing else, so it only has to be a reasonable, stable estimate.

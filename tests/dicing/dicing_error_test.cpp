@@ -55,3 +55,39 @@ TEST(DicingError, TwistedBilinearWithinBoundAndPlanarIsZero) {
 
 }  // namespace
 }  // namespace rayes
+
+namespace rayes {
+namespace {
+
+// Patch::boundsOver contains the true surface over its parameter rectangle.
+void expectBoundsOverContainsSurface(const Patch& patch) {
+  for (uint32_t s = 0; s < 300; ++s) {
+    const RngKey k{s, 0, 0, 91};
+    float u0 = sampleUniform(k, 0), u1 = sampleUniform(k, 1), v0 = sampleUniform(k, 2), v1 = sampleUniform(k, 3);
+    if (u0 > u1) std::swap(u0, u1);
+    if (v0 > v1) std::swap(v0, v1);
+    const Box3 box = patch.boundsOver(u0, u1, v0, v1);
+    ASSERT_TRUE(patch.bounds().contains(box.center()));
+    for (uint32_t i = 0; i < 64; ++i) {
+      const float u = u0 + (u1 - u0) * sampleUniform(k, 10 + 2 * i), v = v0 + (v1 - v0) * sampleUniform(k, 11 + 2 * i);
+      ASSERT_TRUE(box.contains(patch.evaluate(u, v).p)) << "rect " << u0 << ".." << u1 << " x " << v0 << ".." << v1;
+    }
+  }
+}
+
+TEST(BoundsOver, TeapotSubPatchHullsContainTheSurface) {
+  for (const auto& cp : loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt"))
+    expectBoundsOverContainsSurface(BezierPatch(cp));
+}
+
+TEST(BoundsOver, BilinearAndTightOnSmallRectangles) {
+  const BilinearPatch twisted({0, 0, 0}, {1, 0, 0.7f}, {0, 1, -0.4f}, {1, 1, 0.2f});
+  expectBoundsOverContainsSurface(twisted);
+  // A tiny rectangle gives a tiny box, not the whole patch's.
+  const auto cps = loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt");
+  const BezierPatch p(cps[0]);
+  EXPECT_LT(p.boundsOver(0.5f, 0.51f, 0.5f, 0.51f).longestSide(), 0.05f * p.bounds().longestSide());
+}
+
+}  // namespace
+}  // namespace rayes
