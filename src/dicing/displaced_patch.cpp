@@ -1,0 +1,229 @@
+#include "dicing/displaced_patch.h"
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include "core/interval.h"
+#include "dicing/bezier_patch.h"
+#include "dicing/bilinear_patch.h"
+#include "dicing/patch_math.h"
+
+namespace rayes {
+
+namespace {
+
+using detail::unitOrZero;
+
+struct IVec3 {
+  Interval x, y, z;
+};
+
+IVec3 toIntervals(const Box3& b) { return {{b.lo.x, b.hi.x}, {b.lo.y, b.hi.y}, {b.lo.z, b.hi.z}}; }
+
+IVec3 cross(const IVec3& a, const IVec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+float maxAbs(const Box3& b) { return std::max(maxComponent(vabs(b.lo)), maxComponent(vabs(b.hi))); }
+
+Box3 widenedBox(Box3 b, float m) {
+  b.lo = b.lo - Vec3{m, m, m};
+  b.hi = b.hi + Vec3{m, m, m};
+  return b;
+}
+
+// Every unit normal, widened for the rounding of unitOrZero().
+Box3 allDirections() { return {{-1.000001f, -1.000001f, -1.000001f}, {1.000001f, 1.000001f, 1.000001f}}; }
+
+// Per component, the range of n / |n| over n in the box `nb` (in double; then widened).
+// `degenerate`: below this magnitude (max component) the base substitutes a nudged normal,
+// whose direction we know nothing of, so a box reaching it gives every direction.
+Box3 unitRange(const IVec3& nb, double degenerate) {
+  const Interval c[3] = {nb.x, nb.y, nb.z};
+  double dmin2 = 0, dmax2 = 0, minMaxAbs = 0;
+  for (const Interval& i : c) {
+    if (!std::isfinite(i.lo) || !std::isfinite(i.hi)) return allDirections();
+    const double lo = i.lo, hi = i.hi;
+    const double near = (lo <= 0 && hi >= 0) ? 0.0 : std::min(std::fabs(lo), std::fabs(hi));
+    const double far = std::max(std::fabs(lo), std::fabs(hi));
+    dmin2 += near * near;
+    dmax2 += far * far;
+    minMaxAbs = std::max(minMaxAbs, near);
+  }
+  if (!(minMaxAbs > degenerate) || !(dmin2 > 0)) return allDirections();
+  const double dmin = std::sqrt(dmin2) * (1 - 1e-12), dmax = std::sqrt(dmax2) * (1 + 1e-12);
+  Box3 r;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = c[a].lo, hi = c[a].hi;
+    double rl, rh;
+    if (lo >= 0) { rl = lo / dmax; rh = hi / dmin; }
+    else if (hi <= 0) { rl = lo / dmin; rh = hi / dmax; }
+    else { rl = lo / dmin; rh = hi / dmin; }
+    // unitOrZero() rounds: a few ulps of 1.
+    r.lo[a] = float(std::max(-1.0, rl) - 1e-6);
+    r.hi[a] = float(std::min(1.0, rh) + 1e-6);
+  }
+  return r;
+}
+
+// Control points of the degree-(n-1) Bézier curve in[0..n-1] restricted to [a, b] (a <= b):
+// two de Casteljau splits. Exact intervals of zero width give n copies of the point at a.
+template <int n>
+void restrictCurve(const Vec3 in[n], float a, float b, Vec3 out[n]) {
+  auto split = [](const Vec3 p[n], float t, Vec3 left[n], Vec3 right[n]) {
+    Vec3 w[n];
+    for (int i = 0; i < n; ++i) w[i] = p[i];
+    for (int r = 0; r < n; ++r) {
+      left[r] = w[0];
+      right[n - 1 - r] = w[n - 1 - r];
+      for (int i = 0; i + 1 < n - r; ++i) w[i] = w[i] + (w[i + 1] - w[i]) * t;
+    }
+  };
+  Vec3 l[n], r[n], r2[n];
+  split(in, a, l, r);                                        // r covers [a, 1]
+  const float t = a < 1 ? (b - a) / (1 - a) : 0.0f;
+  split(r, std::clamp(t, 0.0f, 1.0f), out, r2);              // out covers [a, b]
+}
+
+// The box of a Bézier patch with (nu x nv) control points c[j * nu + i], restricted to the
+// parameter rectangle: by the convex hull property it contains the patch over the rectangle.
+template <int nu, int nv>
+Box3 restrictedHull(const Vec3* c, float u0, float u1, float v0, float v1) {
+  Vec3 rows[nu * nv];
+  for (int j = 0; j < nv; ++j) restrictCurve<nu>(&c[j * nu], u0, u1, &rows[j * nu]);
+  Box3 box;
+  for (int i = 0; i < nu; ++i) {
+    Vec3 col[nv], out[nv];
+    for (int j = 0; j < nv; ++j) col[j] = rows[j * nu + i];
+    restrictCurve<nv>(col, v0, v1, out);
+    for (int j = 0; j < nv; ++j) box.extend(out[j]);
+  }
+  return box;
+}
+
+}  // namespace
+
+DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, PatchPtr reference)
+    : base_(std::move(base)), displacement_(std::move(displacement)), reference_(std::move(reference)) {
+  if (!base_ || !displacement_) throw std::invalid_argument("DisplacedPatch needs a base patch and a displacement");
+  if (!reference_) reference_ = base_;
+  kind_ = std::string("displaced-") + base_->kind();
+  if (const auto* bz = dynamic_cast<const BezierPatch*>(base_.get())) {
+    baseKind_ = BaseKind::Bezier;
+    Box3 box;
+    for (const Vec3& p : bz->controlPoints()) box.extend(p);
+    tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
+  } else if (dynamic_cast<const BilinearPatch*>(base_.get())) {
+    baseKind_ = BaseKind::Bilinear;
+    // A bilinear patch's corners come out of evaluate() exactly (lerp weights 1 and 0).
+    corners_[0] = base_->evaluate(0, 0).p;
+    corners_[1] = base_->evaluate(1, 0).p;
+    corners_[2] = base_->evaluate(0, 1).p;
+    corners_[3] = base_->evaluate(1, 1).p;
+    Box3 box;
+    for (const Vec3& p : corners_) box.extend(p);
+    tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
+  } else {
+    tinyNormal_ = detail::degenerateNormalThreshold(base_->bounds().longestSide());
+  }
+  bounds_ = boundsOver(0, 1, 0, 1);
+  const Interval h = displacement_->range(reference_->bounds(), 0, 1, 0, 1);
+  const float spread = std::min(2.0f, length(normalRangeOver(0, 1, 0, 1).extent()));
+  // h changes along an iso curve by about meanSlopePerLength x its length on the reference.
+  sizeBound_ = base_->sizeBound() + reference_->sizeBound() * displacement_->meanSlopePerLength() +
+               displacement_->meanSlopePerParameter() + h.magnitude() * spread;
+}
+
+Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) const {
+  if (u0 > u1) std::swap(u0, u1);
+  if (v0 > v1) std::swap(v0, v1);
+  u0 = std::clamp(u0, 0.0f, 1.0f); u1 = std::clamp(u1, 0.0f, 1.0f);
+  v0 = std::clamp(v0, 0.0f, 1.0f); v1 = std::clamp(v1, 0.0f, 1.0f);
+  if (baseKind_ == BaseKind::Bezier) {
+    const auto& cp = static_cast<const BezierPatch&>(*base_).controlPoints();
+    // P_u and P_v are Bézier patches themselves (hodographs): 3 x the control point
+    // differences along u (3 x 4 points) and along v (4 x 3). Restricted to the rectangle,
+    // their control boxes bound the derivatives there -- also over a degenerate rectangle
+    // (a border piece, u0 == u1 or v0 == v1).
+    Vec3 hu[12], hv[12];
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i) hu[j * 3 + i] = (cp[size_t(j) * 4 + i + 1] - cp[size_t(j) * 4 + i]) * 3.0f;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) hv[j * 4 + i] = (cp[size_t(j + 1) * 4 + i] - cp[size_t(j) * 4 + i]) * 3.0f;
+    Box3 du = restrictedHull<3, 4>(hu, u0, u1, v0, v1), dv = restrictedHull<4, 3>(hv, u0, u1, v0, v1);
+    // evaluate()'s derivatives are differences of float blends of the control points: off by
+    // a few ulps of the control points' magnitude (not of the derivative's), and the float
+    // restriction by a few ulps of the derivative's.
+    Box3 cb;
+    for (const Vec3& p : cp) cb.extend(p);
+    const float cancellation = 2e-5f * maxAbs(cb) + 1e-30f;
+    du = widenedBox(du, 1e-5f * maxAbs(du) + cancellation);
+    dv = widenedBox(dv, 1e-5f * maxAbs(dv) + cancellation);
+    IVec3 n = cross(toIntervals(du), toIntervals(dv));
+    // evaluate() computes dP/du x dP/dv in float: off by a few ulps of |P_u| |P_v|.
+    const float evalError = 1e-5f * (length(vmax(vabs(du.lo), vabs(du.hi))) * length(vmax(vabs(dv.lo), vabs(dv.hi))));
+    n = {widened(n.x, evalError), widened(n.y, evalError), widened(n.z, evalError)};
+    return unitRange(n, 2.0 * tinyNormal_);
+  }
+  if (baseKind_ == BaseKind::Bilinear) {
+    const Vec3 &p00 = corners_[0], &p10 = corners_[1], &p01 = corners_[2], &p11 = corners_[3];
+    // P_u = lerp(p10 - p00, p11 - p01, v) and P_v = lerp(p01 - p00, p11 - p10, u): linear.
+    Box3 du, dv, cb;
+    for (float v : {v0, v1}) du.extend(detail::lerp(p10 - p00, p11 - p01, v));
+    for (float u : {u0, u1}) dv.extend(detail::lerp(p01 - p00, p11 - p10, u));
+    for (const Vec3& p : corners_) cb.extend(p);
+    const float roundError = 1e-5f * maxAbs(cb) + 1e-30f;
+    du = widenedBox(du, roundError);
+    dv = widenedBox(dv, roundError);
+    IVec3 n = cross(toIntervals(du), toIntervals(dv));
+    const float evalError = 1e-5f * (length(vmax(vabs(du.lo), vabs(du.hi))) * length(vmax(vabs(dv.lo), vabs(dv.hi))));
+    n = {widened(n.x, evalError), widened(n.y, evalError), widened(n.z, evalError)};
+    return unitRange(n, 2.0 * tinyNormal_);
+  }
+  return allDirections();
+}
+
+Box3 DisplacedPatch::boundsOver(float u0, float u1, float v0, float v1) const {
+  const Box3 b = base_->boundsOver(u0, u1, v0, v1);
+  const Box3 rb = reference_ == base_ ? b : reference_->boundsOver(u0, u1, v0, v1);
+  const Interval h = displacement_->range(rb, std::min(u0, u1), std::max(u0, u1), std::min(v0, v1), std::max(v0, v1));
+  const Box3 nr = normalRangeOver(u0, u1, v0, v1);
+  Box3 r;
+  for (int a = 0; a < 3; ++a) {
+    const Interval c = Interval(b.lo[a], b.hi[a]) + Interval(nr.lo[a], nr.hi[a]) * h;
+    r.lo[a] = c.lo;
+    r.hi[a] = c.hi;
+  }
+  // P + N h rounds twice per component, within the padding's relative margin.
+  return r.padded();
+}
+
+SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
+  const SurfacePoint c = base_->evaluate(u, v);
+  const Vec3 n = unitOrZero(c.n);
+  const float h = kDifferenceStep;
+  // Finite differences of the base at a fixed step, one-sided at the borders.
+  const float ua = u + h <= 1.0f ? u + h : u, ub = u - h >= 0.0f ? u - h : u;
+  const float va = v + h <= 1.0f ? v + h : v, vb = v - h >= 0.0f ? v - h : v;
+  const SurfacePoint pua = ua == u ? c : base_->evaluate(ua, v), pub = ub == u ? c : base_->evaluate(ub, v);
+  const SurfacePoint pva = va == v ? c : base_->evaluate(u, va), pvb = vb == v ? c : base_->evaluate(u, vb);
+  const float iu = 1.0f / (ua - ub), iv = 1.0f / (va - vb);
+  const Vec3 pu = (pua.p - pub.p) * iu, pv = (pva.p - pvb.p) * iv;
+  const Vec3 nu = (unitOrZero(pua.n) - unitOrZero(pub.n)) * iu, nv = (unitOrZero(pva.n) - unitOrZero(pvb.n)) * iv;
+  HeightSample s;
+  if (reference_ == base_) {
+    s = displacement_->sample(c.p, pu, pv, u, v);
+  } else {
+    const Vec3 r = reference_->evaluate(u, v).p;
+    const Vec3 ru = (reference_->evaluate(ua, v).p - reference_->evaluate(ub, v).p) * iu;
+    const Vec3 rv = (reference_->evaluate(u, va).p - reference_->evaluate(u, vb).p) * iv;
+    s = displacement_->sample(r, ru, rv, u, v);
+  }
+  SurfacePoint out;
+  out.p = c.p + n * s.h;
+  const Vec3 du = pu + nu * s.h + n * s.hu, dv = pv + nv * s.h + n * s.hv;
+  const Vec3 dn = rayes::cross(du, dv);
+  out.n = (isFinite(dn) && maxComponent(vabs(dn)) > tinyNormal_) ? dn : c.n;
+  return out;
+}
+
+}  // namespace rayes

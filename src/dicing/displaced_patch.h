@@ -1,0 +1,76 @@
+// Displacement along the normal: a Patch decorator over any base patch,
+//   P'(u, v) = P(u, v) + N(u, v) h,   N = the base's unit normal, h from a Displacement.
+//
+// Bounds (DESIGN invariant 1). boundsOver(rect) = base.boundsOver(rect) + Nrange(rect) x
+// Hrange(rect) per axis, in interval arithmetic, padded: Hrange is the displacement's
+// conservative range (interval noise over the base's position box, or the min-max MIP
+// pyramid), Nrange a conservative range of each component of the base's unit normal over the
+// rectangle. For Bézier bases Nrange comes from the hodographs of the de Casteljau sub-patch
+// (the derivative of a Bézier lies in the hull of its difference control points), for bilinear
+// bases from the derivatives' end values (they are linear); for other kinds, and wherever the
+// base normal can degenerate (poles, where the base substitutes a nudged normal), each
+// component is taken in [-1, 1]. bounds() is boundsOver(0, 1, 0, 1).
+//
+// Normals. The displaced normal is P'_u x P'_v with P'_u = P_u + N_u h + N h_u: the base's
+// P_u and N_u by finite differences of base evaluations at a fixed parameter step (2^-10,
+// one-sided at the borders), h_u analytically from the displacement. A fixed step (not the
+// dicing's grid spacing) keeps a vertex's normal independent of the dicing level, so dice()
+// equals evaluate() bit for bit and the level-k subgrid of a level-m dicing is a level-k
+// dicing, normals included (invariant 2). Where that cross product is not finite or vanishes,
+// the base normal is used. dice() is Patch's default (one evaluate() per vertex).
+//
+// Seams: h of a noise displacement is a function of the base POSITION, so it is bit-identical
+// on both sides of a shared border; the displaced border vertices are then bit-identical only
+// where the two bases' unit normals are too. See tests/dicing/displace_patch_test.cpp for what
+// the teapot does (its shared borders differ by rounding in the normal).
+#pragma once
+#include <string>
+#include "dicing/displacement.h"
+#include "dicing/patch.h"
+
+namespace rayes {
+
+class DisplacedPatch final : public Patch {
+ public:
+  // `reference`: the surface whose position (and parameters) the displacement is a function
+  // of, with the base's parametrisation -- the scene gives the shape's object-space patch, so
+  // the pattern is attached to the shape and does not swim when it is transformed or moves
+  // between time samples. Null: the base itself (no extra evaluations).
+  DisplacedPatch(PatchPtr base, DisplacementPtr displacement, PatchPtr reference = nullptr);
+
+  Box3 bounds() const override { return bounds_; }
+  Box3 boundsOver(float u0, float u1, float v0, float v1) const override;
+  // The base's size lengthened by the displacement's mean slope (per unit length and per unit
+  // parameter) and by max|h| times the spread of the base normal (an offset surface of a
+  // curved base is longer): strongly displaced patches are diced finer. An estimate for LOD,
+  // as the Patch contract allows; not a bound.
+  float sizeBound() const override { return sizeBound_; }
+  SurfacePoint evaluate(float u, float v) const override;
+  // The conservative default: the longest side of bounds() (a bound of the distance between
+  // the dicing and the surface at m = 0, divided by 4^m). A second-derivative bound would need
+  // the base normal's derivatives, which the Patch interface does not give.
+  float dicingErrorCoefficient() const override { return bounds_.longestSide(); }
+  const char* kind() const override { return kind_.c_str(); }  // "displaced-<base kind>"
+
+  const Patch& base() const { return *base_; }
+  const Displacement& displacement() const { return *displacement_; }
+  // Per component, a conservative range of the base's unit normal (as evaluate() computes it)
+  // over the parameter rectangle, as a box in [-1, 1]^3 (widened for rounding).
+  Box3 normalRangeOver(float u0, float u1, float v0, float v1) const;
+
+  static constexpr float kDifferenceStep = 1.0f / 1024.0f;
+
+ private:
+  enum class BaseKind { Bezier, Bilinear, Other };
+  PatchPtr base_;
+  DisplacementPtr displacement_;
+  PatchPtr reference_;       // never null (the base when none was given)
+  std::string kind_;
+  BaseKind baseKind_ = BaseKind::Other;
+  Vec3 corners_[4];          // bilinear base: p00, p10, p01, p11 (from evaluate at the corners)
+  float tinyNormal_ = 0;     // the base's degenerate-normal threshold (patch_math.h)
+  Box3 bounds_;
+  float sizeBound_ = 0;
+};
+
+}  // namespace rayes

@@ -1,0 +1,152 @@
+// Displacement functions: a scalar height h over a patch, with a conservative range over a box
+// (thesis §6.1: "min-max MIP maps on textures and interval arithmetic on procedural noise").
+// DisplacedPatch (dicing/displaced_patch.h) moves each point of its base surface by h along the
+// base's unit normal and bounds the result with range().
+//
+// Two kinds:
+//  - NoiseDisplacement: fractal value noise of the base surface's POSITION (3D, world space).
+//    A function of position is continuous across patch borders even where (u, v) are not, so
+//    neighbouring patches agree on h at their shared border vertices bit for bit.
+//  - HeightMapDisplacement: a bilinearly filtered image indexed by the patch's (u, v), bounded
+//    by a min-max MIP pyramid. Each patch maps the whole image over its own unit square.
+//
+// Contract of range(): it contains sample(...).h as computed in float, for every float point p
+// inside pBox and every (u, v) inside [u0,u1] x [v0,v1], whatever the other arguments. The
+// exact-arithmetic range is computed with outward rounding and then widened by a bound on the
+// float evaluation's own rounding; tests/dicing/displace_*_test.cpp check it by sampling.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+#include "core/box.h"
+#include "core/interval.h"
+#include "core/vec.h"
+
+namespace rayes {
+
+// A height and its derivatives along the base surface's parameters.
+struct HeightSample {
+  float h = 0;
+  float hu = 0, hv = 0;  // dh/du, dh/dv (chain rule through pu, pv for position-based heights)
+};
+
+class Displacement {
+ public:
+  virtual ~Displacement() = default;
+  // The height at base point p with parameters (u, v); pu, pv are the base surface's dP/du,
+  // dP/dv there (only used for hu, hv). Deterministic, finite for finite input.
+  virtual HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const = 0;
+  // Conservative range of sample().h, see the contract above.
+  virtual Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const = 0;
+  // LOD estimates (not bounds): the mean |dh/ds| per unit length of base surface, and per unit
+  // of (u, v) parameter. DisplacedPatch::sizeBound() lengthens the base's size by these.
+  virtual float meanSlopePerLength() const = 0;
+  virtual float meanSlopePerParameter() const = 0;
+  virtual const char* kind() const = 0;  // "noise", "image"
+};
+
+using DisplacementPtr = std::shared_ptr<const Displacement>;
+
+// h(p) = offset + amplitude * sum_k w_k n_k(p * f_k + o_k) / sum_k w_k, with w_k = gain^k,
+// f_k = frequency * lacunarity^k, o_k a per-octave offset from the seed, and n_k value noise in
+// [-1, 1] (or 1 - |n_k| in [0, 1] when ridged). So |h - offset| <= |amplitude|.
+struct NoiseParams {
+  float amplitude = 1;
+  float frequency = 1;   // lattice cells per unit length of the first octave, > 0
+  int octaves = 4;       // 1..16
+  float gain = 0.5f;     // amplitude ratio of successive octaves, in (0, 1]
+  float lacunarity = 2;  // frequency ratio of successive octaves, in [1, 4]
+  uint32_t seed = 0;
+  bool ridged = false;
+  float offset = 0;
+};
+
+// Value noise on the integer lattice: trilinear interpolation of hashed lattice values in
+// [-1, 1) with quintic fade weights. Its interval extension over a box is exact per lattice
+// cell up to rounding: the fade is monotone, so each axis's weight over the box's slice of the
+// cell is an interval [fade(t0), fade(t1)], and a lerp of intervals with an interval weight is
+// bounded at the weight's endpoints. Boxes over more than kMaxCells cells get [-1, 1].
+class ValueNoise {
+ public:
+  static constexpr int kMaxCells = 512;
+  explicit ValueNoise(uint64_t seed) : seed_(seed) {}
+  // Noise and its gradient at x (lattice units).
+  float eval(float x, float y, float z, Vec3* gradient) const;
+  // Conservative range of eval() over every float point of [lo, hi].
+  Interval range(Vec3 lo, Vec3 hi) const;
+  float lattice(int64_t ix, int64_t iy, int64_t iz) const;
+
+ private:
+  uint64_t seed_;
+};
+
+class NoiseDisplacement final : public Displacement {
+ public:
+  explicit NoiseDisplacement(const NoiseParams& params);  // std::invalid_argument if out of range
+  HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const override;
+  Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const override;
+  float meanSlopePerLength() const override { return meanSlope_; }
+  float meanSlopePerParameter() const override { return 0; }
+  const char* kind() const override { return "noise"; }
+  const NoiseParams& params() const { return params_; }
+  // The noise coordinate of octave k for position p: the exact float operations that range()
+  // repeats on a box's corners (monotone rounding makes the box image conservative).
+  Vec3 octaveCoordinate(int k, Vec3 p) const;
+  // Range of the normalised fractal sum (before amplitude and offset) over a position box.
+  Interval fractalRange(const Box3& pBox) const;
+
+ private:
+  NoiseParams params_;
+  std::vector<ValueNoise> octaves_;
+  std::vector<float> freq_, weight_;
+  std::vector<Vec3> shift_;
+  float invWeightSum_ = 1;
+  float meanSlope_ = 0;
+};
+
+// A single-channel float image (row-major, row 0 at v = 0) with bilinear filtering (texel
+// centres at ((i + 0.5) / width, (j + 0.5) / height), clamped at the edges), and its min-max
+// MIP pyramid: level L holds, per node, the min and max of the 2^L x 2^L texels it covers.
+// A bilinear sample lies between the min and max of its 4 texels, so the range over a (u, v)
+// rectangle is the min/max over the texels its samples can touch, read from at most 4 nodes.
+class HeightMap {
+ public:
+  // std::invalid_argument for non-positive sizes, a texel count that does not match, or a
+  // non-finite texel.
+  HeightMap(int width, int height, std::vector<float> texels);
+  float sample(float u, float v, float* dhdu = nullptr, float* dhdv = nullptr) const;
+  Interval range(float u0, float u1, float v0, float v1) const;
+  // Min and max over texels [i0, i1] x [j0, j1] (inclusive, clamped), from the pyramid.
+  Interval texelRange(int i0, int i1, int j0, int j1) const;
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int levels() const { return int(mins_.size()); }
+  float texel(int i, int j) const { return mins_[0][size_t(j) * width_ + i]; }
+  float meanNeighbourDifference() const { return meanDiff_; }
+
+ private:
+  int width_, height_;
+  std::vector<std::vector<float>> mins_, maxs_;  // per level, row-major, levelWidth(L) wide
+  std::vector<int> levelWidth_, levelHeight_;
+  float roundingMargin_ = 0;
+  float meanDiff_ = 0;
+};
+
+// h(u, v) = offset + amplitude * map.sample(u, v).
+class HeightMapDisplacement final : public Displacement {
+ public:
+  HeightMapDisplacement(std::shared_ptr<const HeightMap> map, float amplitude, float offset);
+  HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const override;
+  Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const override;
+  float meanSlopePerLength() const override { return 0; }
+  float meanSlopePerParameter() const override;
+  const char* kind() const override { return "image"; }
+  const HeightMap& map() const { return *map_; }
+
+ private:
+  std::shared_ptr<const HeightMap> map_;
+  float amplitude_, offset_;
+};
+
+}  // namespace rayes

@@ -1,0 +1,214 @@
+// Fractal value noise and its interval extension (see dicing/displacement.h).
+//
+// Why value noise rather than gradient noise: its value at a point is a convex combination of
+// lattice values with monotone weights, which gives an interval extension that is both
+// provably conservative and tight (it shrinks to the point value as the box shrinks, and is
+// exact per cell at the box's corners); gradient noise's range within a cell has no such
+// closed form and needs Lipschitz bounds that stay loose.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include "core/rng.h"
+#include "dicing/displacement.h"
+
+namespace rayes {
+
+namespace {
+
+// Lattice coordinates are clamped to +-2^30 so that the cell index always fits an int64 and
+// the clamp, a monotone function, keeps the box image conservative.
+constexpr float kCoordinateLimit = 1073741824.0f;
+
+inline float clampCoordinate(float x) {
+  if (!(x == x)) return 0.0f;  // NaN (never from a finite base surface)
+  return std::clamp(x, -kCoordinateLimit, kCoordinateLimit);
+}
+
+inline float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+inline float fadeDerivative(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
+inline double fadeExact(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
+inline float lerp1(float a, float b, float s) { return a + (b - a) * s; }
+
+// The float fade differs from the exact one by a few ulps of 1 (about 2e-6 at worst for the
+// Horner form above on [0, 1]); the interval weights are widened by this much.
+constexpr double kFadeError = 1e-5;
+// A chain of three float lerps of values in [-1, 1] with weights in [0, 1] errs by less than
+// 1e-6 from the exact trilinear blend of the same weights.
+constexpr float kLerpError = 2e-6f;
+
+struct D {
+  double lo, hi;
+};
+
+// Range of (1 - s) a + s b over a in A, b in B, s in S (S within [0, 1]): both weights are
+// non-negative, so the extremes take A's and B's matching ends, and are linear in s.
+inline D lerpRange(D a, D b, D s) {
+  const double l0 = a.lo + (b.lo - a.lo) * s.lo, l1 = a.lo + (b.lo - a.lo) * s.hi;
+  const double h0 = a.hi + (b.hi - a.hi) * s.lo, h1 = a.hi + (b.hi - a.hi) * s.hi;
+  return {std::min(l0, l1), std::max(h0, h1)};
+}
+
+}  // namespace
+
+float ValueNoise::lattice(int64_t ix, int64_t iy, int64_t iz) const {
+  const uint64_t h = mix64(seed_ ^ (uint64_t(ix) * 0x9E3779B97F4A7C15ull) ^
+                           (uint64_t(iy) * 0xC2B2AE3D27D4EB4Full) ^ (uint64_t(iz) * 0x165667B19E3779F9ull));
+  return float(h >> 40) * (1.0f / 8388608.0f) - 1.0f;  // exact, in [-1, 1)
+}
+
+float ValueNoise::eval(float x, float y, float z, Vec3* gradient) const {
+  x = clampCoordinate(x);
+  y = clampCoordinate(y);
+  z = clampCoordinate(z);
+  const float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
+  const float tx = std::clamp(x - fx, 0.0f, 1.0f), ty = std::clamp(y - fy, 0.0f, 1.0f),
+              tz = std::clamp(z - fz, 0.0f, 1.0f);
+  const float sx = std::clamp(fade(tx), 0.0f, 1.0f), sy = std::clamp(fade(ty), 0.0f, 1.0f),
+              sz = std::clamp(fade(tz), 0.0f, 1.0f);
+  const int64_t ix = int64_t(fx), iy = int64_t(fy), iz = int64_t(fz);
+  float c[2][2][2];  // c[dz][dy][dx]
+  for (int dz = 0; dz < 2; ++dz)
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx) c[dz][dy][dx] = lattice(ix + dx, iy + dy, iz + dz);
+  const float a00 = lerp1(c[0][0][0], c[0][0][1], sx), a10 = lerp1(c[0][1][0], c[0][1][1], sx);
+  const float a01 = lerp1(c[1][0][0], c[1][0][1], sx), a11 = lerp1(c[1][1][0], c[1][1][1], sx);
+  const float b0 = lerp1(a00, a10, sy), b1 = lerp1(a01, a11, sy);
+  if (gradient) {
+    const float e00 = c[0][0][1] - c[0][0][0], e10 = c[0][1][1] - c[0][1][0];
+    const float e01 = c[1][0][1] - c[1][0][0], e11 = c[1][1][1] - c[1][1][0];
+    gradient->x = fadeDerivative(tx) * lerp1(lerp1(e00, e10, sy), lerp1(e01, e11, sy), sz);
+    gradient->y = fadeDerivative(ty) * lerp1(a10 - a00, a11 - a01, sz);
+    gradient->z = fadeDerivative(tz) * (b1 - b0);
+  }
+  return lerp1(b0, b1, sz);
+}
+
+Interval ValueNoise::range(Vec3 lo, Vec3 hi) const {
+  const Interval everything = widened({-1.0f, 1.0f}, kLerpError);
+  float cl[3], ch[3];
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    const float l = clampCoordinate(lo[a]), h = clampCoordinate(hi[a]);
+    if (!(l <= h)) return everything;
+    cl[a] = std::floor(l);
+    ch[a] = std::floor(h);
+    cells *= double(ch[a]) - double(cl[a]) + 1.0;
+  }
+  if (cells > kMaxCells) return everything;
+  // Per axis and cell: the interval of the fade weight over the box's slice of the cell.
+  // t = x - floor(x) is computed exactly as eval() does, at the slice's ends; for fixed
+  // floor(x) it is a monotone function of x, so every t of the slice lies between them.
+  auto weights = [&](int a, int64_t cell) -> D {
+    const float l = clampCoordinate(lo[a]), h = clampCoordinate(hi[a]);
+    const float t0 = cell == int64_t(cl[a]) ? std::clamp(l - cl[a], 0.0f, 1.0f) : 0.0f;
+    const float t1 = cell == int64_t(ch[a]) ? std::clamp(h - ch[a], 0.0f, 1.0f) : 1.0f;
+    return {std::max(0.0, fadeExact(t0) - kFadeError), std::min(1.0, fadeExact(t1) + kFadeError)};
+  };
+  double rlo = 2, rhi = -2;
+  // Integer loops: beyond 2^24 floats skip integers, which only adds cells eval() never uses.
+  for (int64_t iz = int64_t(cl[2]); iz <= int64_t(ch[2]); ++iz) {
+    const D sz = weights(2, iz);
+    for (int64_t iy = int64_t(cl[1]); iy <= int64_t(ch[1]); ++iy) {
+      const D sy = weights(1, iy);
+      for (int64_t ix = int64_t(cl[0]); ix <= int64_t(ch[0]); ++ix) {
+        const D sx = weights(0, ix);
+        D c[2][2][2];
+        for (int dz = 0; dz < 2; ++dz)
+          for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+              const double v = lattice(ix + dx, iy + dy, iz + dz);
+              c[dz][dy][dx] = {v, v};
+            }
+        const D a00 = lerpRange(c[0][0][0], c[0][0][1], sx), a10 = lerpRange(c[0][1][0], c[0][1][1], sx);
+        const D a01 = lerpRange(c[1][0][0], c[1][0][1], sx), a11 = lerpRange(c[1][1][0], c[1][1][1], sx);
+        const D r = lerpRange(lerpRange(a00, a10, sy), lerpRange(a01, a11, sy), sz);
+        rlo = std::min(rlo, r.lo);
+        rhi = std::max(rhi, r.hi);
+      }
+    }
+  }
+  return intersect(widened({float(rlo), float(rhi)}, kLerpError), everything);
+}
+
+NoiseDisplacement::NoiseDisplacement(const NoiseParams& p) : params_(p) {
+  if (!(p.frequency > 0) || !std::isfinite(p.frequency)) throw std::invalid_argument("noise frequency must be > 0");
+  if (p.octaves < 1 || p.octaves > 16) throw std::invalid_argument("noise octaves must be in 1..16");
+  if (!(p.gain > 0 && p.gain <= 1)) throw std::invalid_argument("noise gain must be in (0, 1]");
+  if (!(p.lacunarity >= 1 && p.lacunarity <= 4)) throw std::invalid_argument("noise lacunarity must be in [1, 4]");
+  if (!std::isfinite(p.amplitude) || !std::isfinite(p.offset)) throw std::invalid_argument("noise amplitude and offset must be finite");
+  float f = p.frequency, w = 1, sum = 0;
+  double slope = 0;
+  for (int k = 0; k < p.octaves; ++k) {
+    octaves_.emplace_back(mix64(uint64_t(p.seed) * 0x100000001B3ull + uint64_t(k) + 1));
+    freq_.push_back(f);
+    weight_.push_back(w);
+    const uint64_t h = mix64(mix64(p.seed) ^ (uint64_t(k) << 32 | 0xA5A5u));
+    // A per-octave offset of the lattice (in [0, 64) cells) so that octaves do not all have a
+    // lattice point at the origin.
+    shift_.push_back({float(h & 0xFFFF) / 1024.0f, float((h >> 16) & 0xFFFF) / 1024.0f,
+                      float((h >> 32) & 0xFFFF) / 1024.0f});
+    sum += w;
+    // Mean |d n / d x| of value noise per lattice unit: E|fade'| (= 1) x E|b - a| (= 2/3 for
+    // uniform lattice values).
+    slope += double(w) * f * (2.0 / 3.0);
+    f *= p.lacunarity;
+    w *= p.gain;
+  }
+  invWeightSum_ = 1.0f / sum;
+  meanSlope_ = float(std::fabs(double(p.amplitude)) * slope / sum);
+}
+
+Vec3 NoiseDisplacement::octaveCoordinate(int k, Vec3 p) const {
+  const float f = freq_[size_t(k)];
+  const Vec3 s = shift_[size_t(k)];
+  return {clampCoordinate(p.x * f + s.x), clampCoordinate(p.y * f + s.y), clampCoordinate(p.z * f + s.z)};
+}
+
+HeightSample NoiseDisplacement::sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const {
+  float acc = 0;
+  Vec3 grad{0, 0, 0};
+  for (int k = 0; k < params_.octaves; ++k) {
+    const Vec3 c = octaveCoordinate(k, p);
+    Vec3 g;
+    float n = octaves_[size_t(k)].eval(c.x, c.y, c.z, &g);
+    if (params_.ridged) {
+      g = n < 0.0f ? g : -g;
+      n = 1.0f - std::fabs(n);
+    }
+    acc += weight_[size_t(k)] * n;
+    grad += g * (weight_[size_t(k)] * freq_[size_t(k)]);
+  }
+  HeightSample s;
+  s.h = params_.offset + params_.amplitude * (acc * invWeightSum_);
+  const Vec3 gp = grad * (params_.amplitude * invWeightSum_);
+  s.hu = dot(gp, pu);
+  s.hv = dot(gp, pv);
+  return s;
+}
+
+Interval NoiseDisplacement::fractalRange(const Box3& b) const {
+  double lo = 0, hi = 0;
+  for (int k = 0; k < params_.octaves; ++k) {
+    // p * f + s is monotone in p (f > 0), so the box's corners map to the image box's corners.
+    Interval r = octaves_[size_t(k)].range(octaveCoordinate(k, b.lo), octaveCoordinate(k, b.hi));
+    if (params_.ridged) r = widened(Interval(1.0f) - abs(r), 1e-7f);
+    lo += double(weight_[size_t(k)]) * r.lo;
+    hi += double(weight_[size_t(k)]) * r.hi;
+  }
+  // The float sum of sample() rounds once per octave and once for the normalisation: a few
+  // ulps of 1 in all; 1e-6 covers 16 octaves with a wide margin.
+  return widened({float(lo * invWeightSum_), float(hi * invWeightSum_)}, 1e-6f);
+}
+
+Interval NoiseDisplacement::range(const Box3& pBox, float, float, float, float) const {
+  const float amp = params_.amplitude, off = params_.offset;
+  if (pBox.empty() || !isFinite(pBox.lo) || !isFinite(pBox.hi)) {
+    const Interval f = params_.ridged ? Interval(0.0f, 1.0f) : Interval(-1.0f, 1.0f);
+    return widened(Interval(off) + Interval(amp) * widened(f, 1e-5f), 1e-5f * (std::fabs(amp) + std::fabs(off)));
+  }
+  const Interval h = Interval(off) + Interval(amp) * fractalRange(pBox);
+  // offset + amplitude * x rounds twice in sample().
+  return widened(h, 1e-6f * (std::fabs(amp) + std::fabs(off)));
+}
+
+}  // namespace rayes

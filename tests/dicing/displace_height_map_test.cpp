@@ -1,0 +1,110 @@
+// Height maps: bilinear filtering and the min-max MIP pyramid (dicing/displacement.h).
+#include <gtest/gtest.h>
+#include <memory>
+#include "dicing/displacement.h"
+#include "dicing_test_util.h"
+
+namespace rayes {
+namespace {
+
+using test::Random;
+
+std::shared_ptr<HeightMap> randomMap(int w, int h, uint64_t seed) {
+  Random rng(seed);
+  std::vector<float> t(size_t(w) * h);
+  for (auto& x : t) x = rng.uniform(-3.0f, 5.0f);
+  return std::make_shared<HeightMap>(w, h, std::move(t));
+}
+
+TEST(HeightMap, SampleIsBetweenItsFourTexelsAndInterpolatesCentres) {
+  const auto map = randomMap(5, 3, 1);
+  // At a texel centre the sample is the texel.
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 5; ++i) EXPECT_FLOAT_EQ(map->sample((i + 0.5f) / 5, (j + 0.5f) / 3), map->texel(i, j));
+  // Edges clamp.
+  EXPECT_FLOAT_EQ(map->sample(0, 0), map->texel(0, 0));
+  EXPECT_FLOAT_EQ(map->sample(1, 1), map->texel(4, 2));
+}
+
+TEST(HeightMap, PyramidRangeContainsTheBruteForceRange) {
+  const auto map = randomMap(37, 23, 2);  // not powers of two
+  Random rng(3);
+  for (int k = 0; k < 5000; ++k) {
+    const int i0 = rng.below(37), i1 = i0 + rng.below(37 - i0), j0 = rng.below(23), j1 = j0 + rng.below(23 - j0);
+    float mn = 1e30f, mx = -1e30f;
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        mn = std::min(mn, map->texel(i, j));
+        mx = std::max(mx, map->texel(i, j));
+      }
+    const Interval r = map->texelRange(i0, i1, j0, j1);
+    ASSERT_LE(r.lo, mn);
+    ASSERT_GE(r.hi, mx);
+  }
+}
+
+TEST(HeightMap, RangeOverUvRectContainsEverySample) {
+  for (auto [w, h] : {std::pair{37, 23}, std::pair{64, 64}, std::pair{1, 1}, std::pair{1, 9}, std::pair{256, 3}}) {
+    const auto map = randomMap(w, h, uint64_t(w * 1000 + h));
+    Random rng(uint64_t(w + h));
+    int outside = 0;
+    double ratio = 0;
+    int ratioCount = 0;
+    for (int b = 0; b < 200; ++b) {
+      const float su = std::pow(10.0f, rng.uniform(-4, 0)), sv = std::pow(10.0f, rng.uniform(-4, 0));
+      const float u0 = rng.uniform(0, 1 - su), v0 = rng.uniform(0, 1 - sv), u1 = u0 + su, v1 = v0 + sv;
+      const Interval r = map->range(u0, u1, v0, v1);
+      float mn = 1e30f, mx = -1e30f;
+      for (int k = 0; k < 5000; ++k) {
+        const int pu = rng.below(6), pv = rng.below(6);
+        const float u = pu == 0 ? u0 : pu == 1 ? u1 : std::min(u1, u0 + su * rng.uniform());
+        const float v = pv == 0 ? v0 : pv == 1 ? v1 : std::min(v1, v0 + sv * rng.uniform());
+        const float x = map->sample(u, v);
+        mn = std::min(mn, x);
+        mx = std::max(mx, x);
+        if (!r.contains(x)) ++outside;
+      }
+      if (mx - mn > 1e-3f) {
+        ratio += r.width() / (mx - mn);
+        ++ratioCount;
+      }
+    }
+    EXPECT_EQ(outside, 0) << w << "x" << h;
+    if (ratioCount) std::printf("height map %dx%d: mean interval width / sampled spread = %.2f\n", w, h, ratio / ratioCount);
+  }
+}
+
+TEST(HeightMap, DerivativesMatchDifferences) {
+  const auto map = randomMap(16, 16, 4);
+  Random rng(6);
+  for (int k = 0; k < 500; ++k) {
+    const float u = rng.uniform(0.05f, 0.95f), v = rng.uniform(0.05f, 0.95f);
+    float du = 0, dv = 0;
+    map->sample(u, v, &du, &dv);
+    const float e = 1e-4f;
+    // Skip samples within e of a texel centre line, where the bilinear kinks.
+    const float fx = u * 16 - 0.5f, fy = v * 16 - 0.5f;
+    if (std::fabs(fx - std::round(fx)) < 2e-3f || std::fabs(fy - std::round(fy)) < 2e-3f) continue;
+    EXPECT_NEAR(du, (map->sample(u + e, v) - map->sample(u - e, v)) / (2 * e), 0.05f * (1 + std::fabs(du)));
+    EXPECT_NEAR(dv, (map->sample(u, v + e) - map->sample(u, v - e)) / (2 * e), 0.05f * (1 + std::fabs(dv)));
+  }
+}
+
+TEST(HeightMap, RejectsBadInput) {
+  EXPECT_THROW(HeightMap(0, 3, {}), std::invalid_argument);
+  EXPECT_THROW(HeightMap(2, 2, {1, 2, 3}), std::invalid_argument);
+  EXPECT_THROW(HeightMap(1, 1, {std::nanf("")}), std::invalid_argument);
+}
+
+TEST(HeightMapDisplacement, AmplitudeAndOffsetApplyToTheRange) {
+  auto map = randomMap(8, 8, 5);
+  const HeightMapDisplacement d(map, -2.0f, 1.0f);
+  const Interval r = d.range(Box3{}, 0, 1, 0, 1);
+  const Interval t = map->range(0, 1, 0, 1);
+  EXPECT_LE(r.lo, 1.0f - 2.0f * t.hi);
+  EXPECT_GE(r.hi, 1.0f - 2.0f * t.lo);
+  EXPECT_NEAR(r.lo, 1.0f - 2.0f * t.hi, 1e-3f);
+}
+
+}  // namespace
+}  // namespace rayes

@@ -1,0 +1,193 @@
+// Interval arithmetic on value noise and on the fractal displacement (dicing/displacement.h):
+// every sampled point value lies in the interval of its box, and the interval is not absurdly
+// loose (the mean ratio of interval width to the sampled spread is printed and bounded).
+#include <gtest/gtest.h>
+#include <cstdio>
+#include "core/interval.h"
+#include "dicing/displacement.h"
+#include "dicing_test_util.h"
+
+namespace rayes {
+namespace {
+
+using test::Random;
+
+TEST(Interval, OperationsContainEveryResult) {
+  Random rng(11);
+  for (int k = 0; k < 20000; ++k) {
+    const float a0 = rng.uniform(-10, 10), a1 = a0 + rng.uniform(0, 5);
+    const float b0 = rng.uniform(-10, 10), b1 = b0 + rng.uniform(0, 5);
+    const Interval a{a0, a1}, b{b0, b1};
+    const float x = rng.uniform(a0, a1), y = rng.uniform(b0, b1);
+    EXPECT_TRUE((a + b).contains(x + y));
+    EXPECT_TRUE((a - b).contains(x - y));
+    EXPECT_TRUE((a * b).contains(x * y));
+    EXPECT_TRUE(abs(a).contains(std::fabs(x)));
+  }
+  // 0 x inf is everything, not NaN.
+  const Interval inf{0.0f, std::numeric_limits<float>::infinity()};
+  const Interval z{-1.0f, 0.0f};
+  EXPECT_TRUE((inf * z).contains(-1e30f));
+  EXPECT_FALSE((inf * z).empty());
+}
+
+// A random box in lattice units: sizes from 1e-4 to 20 cells, anywhere from -1e4 to 1e4.
+void randomBox(Random& rng, Vec3& lo, Vec3& hi) {
+  const float scale = std::pow(10.0f, rng.uniform(-4.0f, 1.3f));
+  const float reach = std::pow(10.0f, rng.uniform(0.0f, 4.0f));
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = rng.uniform(-reach, reach);
+    hi[a] = lo[a] + scale * rng.uniform(0.0f, 1.0f);
+  }
+}
+
+Vec3 pointIn(Random& rng, Vec3 lo, Vec3 hi) {
+  Vec3 p;
+  for (int a = 0; a < 3; ++a) {
+    // A quarter of the coordinates exactly on the box's faces (where the floor changes).
+    const int pick = rng.below(8);
+    p[a] = pick == 0 ? lo[a] : pick == 1 ? hi[a] : std::min(hi[a], lo[a] + (hi[a] - lo[a]) * rng.uniform());
+  }
+  return p;
+}
+
+TEST(ValueNoise, IntervalContainsEverySampledValue) {
+  const ValueNoise noise(42);
+  Random rng(7);
+  int outside = 0;
+  double ratioSum = 0;
+  int ratioCount = 0;
+  constexpr int kBoxes = 400, kPoints = 5000;  // 2e6 points
+  for (int b = 0; b < kBoxes; ++b) {
+    Vec3 lo, hi;
+    randomBox(rng, lo, hi);
+    const Interval r = noise.range(lo, hi);
+    float mn = 2, mx = -2;
+    for (int k = 0; k < kPoints; ++k) {
+      const Vec3 p = pointIn(rng, lo, hi);
+      const float n = noise.eval(p.x, p.y, p.z, nullptr);
+      mn = std::min(mn, n);
+      mx = std::max(mx, n);
+      if (!r.contains(n)) {
+        if (++outside < 5) ADD_FAILURE() << "noise " << n << " outside [" << r.lo << ", " << r.hi << "]";
+      }
+    }
+    if (mx - mn > 1e-3f) {
+      ratioSum += double(r.width()) / double(mx - mn);
+      ++ratioCount;
+    }
+  }
+  EXPECT_EQ(outside, 0);
+  const double meanRatio = ratioSum / ratioCount;
+  std::printf("value noise: mean interval width / sampled spread = %.3f over %d boxes\n", meanRatio, ratioCount);
+  EXPECT_LT(meanRatio, 2.0);  // the interval is a close bound, not [-1, 1]
+}
+
+TEST(ValueNoise, TinyBoxesGiveTinyIntervals) {
+  const ValueNoise noise(3);
+  Random rng(5);
+  for (int k = 0; k < 1000; ++k) {
+    const Vec3 lo{rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-50, 50)};
+    const Vec3 hi = lo + Vec3{1e-4f, 1e-4f, 1e-4f};
+    const Interval r = noise.range(lo, hi);
+    EXPECT_LT(r.width(), 3e-3f);  // gradient <= 3.75 per axis: 3 x 3.75e-4 + rounding margins
+    EXPECT_TRUE(r.contains(noise.eval(lo.x, lo.y, lo.z, nullptr)));
+  }
+}
+
+TEST(ValueNoise, GradientMatchesDifferences) {
+  const ValueNoise noise(9);
+  Random rng(1);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 p{rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20)};
+    Vec3 g;
+    noise.eval(p.x, p.y, p.z, &g);
+    const float h = 1e-3f;
+    for (int a = 0; a < 3; ++a) {
+      Vec3 pa = p, pb = p;
+      pa[a] += h;
+      pb[a] -= h;
+      const float d = (noise.eval(pa.x, pa.y, pa.z, nullptr) - noise.eval(pb.x, pb.y, pb.z, nullptr)) / (2 * h);
+      EXPECT_NEAR(g[a], d, 0.02f + 0.01f * std::fabs(d));
+    }
+  }
+}
+
+void checkFractal(const NoiseParams& np, uint64_t seed, const char* label) {
+  const NoiseDisplacement disp(np);
+  Random rng(seed);
+  int outside = 0;
+  double ratioSum = 0;
+  int ratioCount = 0;
+  for (int b = 0; b < 200; ++b) {
+    Vec3 lo, hi;
+    randomBox(rng, lo, hi);
+    // World units: divide by the first octave's frequency.
+    lo = lo / np.frequency;
+    hi = hi / np.frequency;
+    Box3 box;
+    box.extend(lo);
+    box.extend(hi);
+    const Interval r = disp.range(box, 0, 1, 0, 1);
+    float mn = 1e30f, mx = -1e30f;
+    for (int k = 0; k < 5000; ++k) {
+      const Vec3 p = pointIn(rng, box.lo, box.hi);
+      const float h = disp.sample(p, {1, 0, 0}, {0, 1, 0}, 0, 0).h;
+      mn = std::min(mn, h);
+      mx = std::max(mx, h);
+      if (!r.contains(h) && ++outside < 5)
+        ADD_FAILURE() << label << ": h " << h << " outside [" << r.lo << ", " << r.hi << "]";
+    }
+    if (mx - mn > 1e-3f * std::fabs(np.amplitude)) {
+      ratioSum += double(r.width()) / double(mx - mn);
+      ++ratioCount;
+    }
+  }
+  EXPECT_EQ(outside, 0) << label;
+  std::printf("%s: mean interval width / sampled spread = %.3f over %d boxes\n", label, ratioSum / ratioCount, ratioCount);
+  EXPECT_LT(ratioSum / ratioCount, 3.0) << label;
+}
+
+TEST(NoiseDisplacement, FractalIntervalContainsEverySample) {
+  NoiseParams np;
+  np.amplitude = 2.5f;
+  np.frequency = 3.0f;
+  np.octaves = 6;
+  np.offset = 0.25f;
+  checkFractal(np, 21, "fbm 6 octaves");
+  np.ridged = true;
+  np.amplitude = -4.0f;  // negative amplitudes push inward
+  checkFractal(np, 22, "ridged 6 octaves");
+  np.ridged = false;
+  np.octaves = 16;  // up to 2^15 x the first frequency
+  np.gain = 0.8f;
+  checkFractal(np, 23, "fbm 16 octaves");
+}
+
+TEST(NoiseDisplacement, AmplitudeBoundsTheHeight) {
+  NoiseParams np;
+  np.amplitude = 3.0f;
+  np.octaves = 5;
+  const NoiseDisplacement disp(np);
+  Box3 everywhere;
+  everywhere.extend({-1e6f, -1e6f, -1e6f});
+  everywhere.extend({1e6f, 1e6f, 1e6f});
+  const Interval r = disp.range(everywhere, 0, 1, 0, 1);
+  EXPECT_GE(r.lo, -3.001f);
+  EXPECT_LE(r.hi, 3.001f);
+}
+
+TEST(NoiseDisplacement, RejectsBadParameters) {
+  NoiseParams np;
+  np.frequency = 0;
+  EXPECT_THROW(NoiseDisplacement{np}, std::invalid_argument);
+  np = {};
+  np.octaves = 17;
+  EXPECT_THROW(NoiseDisplacement{np}, std::invalid_argument);
+  np = {};
+  np.gain = 0;
+  EXPECT_THROW(NoiseDisplacement{np}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rayes

@@ -1,0 +1,260 @@
+// DisplacedPatch (dicing/displaced_patch.h): DESIGN invariant 1 with displacement. For each
+// test shape (a teapot body patch, a teapot pole patch, a twisted bilinear patch) and each
+// displacement (moderate noise, extreme noise -- amplitude the patch's own size, frequency up to
+// past the dicing resolution --, a height map), 10^6 displaced points all lie inside bounds(),
+// and points of random sub-rectangles (and border pieces) inside boundsOver(). Also: dice()
+// equals evaluate() bit for bit, normals are finite, and what the teapot's seams do.
+#include <gtest/gtest.h>
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <vector>
+#include "dicing/bilinear_patch.h"
+#include "dicing/dice_buffer.h"
+#include "dicing/patch_math.h"
+#include "dicing/displaced_patch.h"
+#include "dicing_test_util.h"
+
+namespace rayes {
+namespace {
+
+using test::Random;
+using test::sameBits;
+
+struct Shape {
+  const char* name;
+  PatchPtr patch;
+};
+
+std::vector<Shape> testShapes() {
+  const auto teapot = test::loadTeapot();
+  int pole = -1;
+  for (int k = 0; k < int(teapot.size()) && pole < 0; ++k)
+    for (int side = 0; side < 4; ++side) {
+      const auto b = test::borderControlPoints(teapot[size_t(k)], side);
+      if (b[0] == b[1] && b[1] == b[2] && b[2] == b[3]) { pole = k; break; }
+    }
+  EXPECT_GE(pole, 0);
+  return {{"teapot body", std::make_shared<BezierPatch>(teapot[0])},
+          {"teapot pole", std::make_shared<BezierPatch>(teapot[size_t(std::max(pole, 0))])},
+          {"twisted bilinear", std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{2, 0, 0.3f}, Vec3{0, 2, -0.2f}, Vec3{2, 2.2f, 0.4f})}};
+}
+
+std::shared_ptr<HeightMap> randomMap(int w, int h, uint64_t seed) {
+  Random rng(seed);
+  std::vector<float> t(size_t(w) * h);
+  for (auto& x : t) x = rng.uniform(0.0f, 1.0f);
+  return std::make_shared<HeightMap>(w, h, std::move(t));
+}
+
+struct Displaced {
+  const char* name;
+  DisplacementPtr d;
+};
+
+std::vector<Displaced> testDisplacements(float size) {
+  NoiseParams moderate;
+  moderate.amplitude = 0.1f * size;
+  moderate.frequency = 4.0f / size;
+  moderate.octaves = 5;
+  NoiseParams extreme;
+  extreme.amplitude = size;              // as large as the patch
+  extreme.frequency = 256.0f / size;     // a lattice cell per micro-quad at level 8 ...
+  extreme.octaves = 4;                   // ... and 8x finer in the last octave
+  extreme.ridged = true;
+  return {{"moderate noise", std::make_shared<NoiseDisplacement>(moderate)},
+          {"extreme noise", std::make_shared<NoiseDisplacement>(extreme)},
+          {"height map", std::make_shared<HeightMapDisplacement>(randomMap(64, 48, 7), 0.5f * size, -0.1f * size)}};
+}
+
+// A parameter in [a, b]: an end, a dyadic grid point of level 8, or uniform.
+float param(Random& rng, float a, float b) {
+  switch (rng.below(8)) {
+    case 0: return a;
+    case 1: return b;
+    case 2: return std::clamp(std::round(rng.uniform(a, b) * 256.0f) / 256.0f, a, b);
+    default: return std::min(b, a + (b - a) * rng.uniform());
+  }
+}
+
+TEST(DisplacedPatch, MillionPointsInsideBoundsAndBoundsOver) {
+  for (const Shape& shape : testShapes()) {
+    const float size = shape.patch->bounds().longestSide();
+    for (const Displaced& disp : testDisplacements(size)) {
+      const DisplacedPatch patch(shape.patch, disp.d);
+      const Box3 box = patch.bounds();
+      Random rng(uint64_t(size * 1000) + uint64_t(disp.name[0]));
+      int outside = 0, nonFinite = 0;
+      for (int k = 0; k < 1000000; ++k) {
+        const float u = param(rng, 0, 1), v = param(rng, 0, 1);
+        const SurfacePoint sp = patch.evaluate(u, v);
+        if (!box.contains(sp.p) && ++outside < 4)
+          ADD_FAILURE() << shape.name << " / " << disp.name << ": (" << u << ", " << v << ") outside bounds()";
+        if (!isFinite(sp.n) || maxComponent(vabs(sp.n)) == 0.0f) ++nonFinite;
+      }
+      EXPECT_EQ(outside, 0) << shape.name << " / " << disp.name;
+      EXPECT_EQ(nonFinite, 0) << shape.name << " / " << disp.name;
+
+      // Sub-rectangles from a micro-quad at level 10 to half the patch, and border pieces.
+      int outsideSub = 0;
+      std::vector<double> ratios;
+      for (int r = 0; r < 2000; ++r) {
+        const float su = std::pow(2.0f, -rng.uniform(1, 10)), sv = std::pow(2.0f, -rng.uniform(1, 10));
+        float u0 = rng.uniform(0, 1 - su), v0 = rng.uniform(0, 1 - sv), u1 = u0 + su, v1 = v0 + sv;
+        if (r % 10 == 0) u0 = u1 = float(rng.below(2));   // a border piece along v
+        if (r % 10 == 1) v0 = v1 = float(rng.below(2));   // a border piece along u
+        const Box3 sub = patch.boundsOver(u0, u1, v0, v1);
+        Box3 seen;
+        for (int k = 0; k < 250; ++k) {
+          const Vec3 p = patch.evaluate(param(rng, u0, u1), param(rng, v0, v1)).p;
+          seen.extend(p);
+          if (!sub.contains(p) && ++outsideSub < 4)
+            ADD_FAILURE() << shape.name << " / " << disp.name << ": outside boundsOver(" << u0 << ", " << u1
+                          << ", " << v0 << ", " << v1 << ")";
+        }
+        if (seen.longestSide() > 0) ratios.push_back(double(sub.longestSide()) / double(seen.longestSide()));
+      }
+      EXPECT_EQ(outsideSub, 0) << shape.name << " / " << disp.name;
+      std::sort(ratios.begin(), ratios.end());
+      std::printf("%-16s %-15s bounds %.3g (base %.3g); boundsOver longest side / sampled: median %.2f, 90%% %.2f\n",
+                  shape.name, disp.name, box.longestSide(), size, ratios[ratios.size() / 2], ratios[ratios.size() * 9 / 10]);
+    }
+  }
+}
+
+TEST(DisplacedPatch, DiceEqualsEvaluateBitForBitAndLevelsNest) {
+  for (const Shape& shape : testShapes()) {
+    const float size = shape.patch->bounds().longestSide();
+    for (const Displaced& disp : testDisplacements(size)) {
+      const DisplacedPatch patch(shape.patch, disp.d);
+      const int m = 5, n = 1 << m;
+      std::vector<Vec3> p((n + 1) * (n + 1)), nn(p.size()), pc(17 * 17), nc(pc.size());
+      patch.dice(m, p.data(), nn.data());
+      patch.dice(4, pc.data(), nc.data());
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          const SurfacePoint sp = patch.evaluate(float(i) / n, float(j) / n);
+          ASSERT_TRUE(sameBits(sp.p, p[size_t(j) * (n + 1) + i])) << shape.name << " / " << disp.name;
+          ASSERT_TRUE(sameBits(sp.n, nn[size_t(j) * (n + 1) + i])) << shape.name << " / " << disp.name;
+          if (i % 2 == 0 && j % 2 == 0) {
+            ASSERT_TRUE(sameBits(pc[size_t(j / 2) * 17 + i / 2], p[size_t(j) * (n + 1) + i]));
+            ASSERT_TRUE(sameBits(nc[size_t(j / 2) * 17 + i / 2], nn[size_t(j) * (n + 1) + i]));
+          }
+        }
+    }
+  }
+}
+
+TEST(DisplacedPatch, DicedGridInsideBoundsAndDiceBufferWorks) {
+  DiceBuffer buffer(8);
+  for (const Shape& shape : testShapes()) {
+    const float size = shape.patch->bounds().longestSide();
+    for (const Displaced& disp : testDisplacements(size)) {
+      const DisplacedPatch patch(shape.patch, disp.d);
+      buffer.dice(patch, 8);
+      const Box3 b = patch.bounds();
+      for (int j = 0; j < buffer.resolution(); ++j)
+        for (int i = 0; i < buffer.resolution(); ++i) {
+          ASSERT_TRUE(b.contains(buffer.position(i, j))) << shape.name << " / " << disp.name;
+          ASSERT_TRUE(isFinite(buffer.normal(i, j)));
+        }
+      EXPECT_TRUE(b.contains(buffer.node(0, 0, 0)));
+    }
+  }
+}
+
+TEST(DisplacedPatch, FlatBaseKeepsItsBoxTightSideways) {
+  // A horizontal plane: the normal is exactly +z, so displacement only widens z.
+  auto plane = std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{10, 0, 0}, Vec3{0, 10, 0}, Vec3{10, 10, 0});
+  NoiseParams np;
+  np.amplitude = 5;
+  np.frequency = 0.3f;
+  const DisplacedPatch patch(plane, std::make_shared<NoiseDisplacement>(np));
+  const Box3 b = patch.bounds();
+  EXPECT_NEAR(b.lo.x, 0.0f, 1e-3f);
+  EXPECT_NEAR(b.hi.y, 10.0f, 1e-3f);
+  EXPECT_GT(b.hi.z, 0.5f);
+  EXPECT_GE(b.lo.z, -5.01f);
+  const Box3 q = patch.boundsOver(0.5f, 0.5f + 1.0f / 256, 0.25f, 0.25f + 1.0f / 256);
+  EXPECT_LT(q.extent().x, 0.05f);
+  EXPECT_LT(q.extent().z, 1.0f);  // far below the 10 of the whole range
+  EXPECT_STREQ(patch.kind(), "displaced-bilinear");
+  EXPECT_GT(patch.sizeBound(), plane->sizeBound());
+  EXPECT_GT(patch.dicingErrorCoefficient(), 0.0f);
+  EXPECT_TRUE(patch.needsBorderClosure());
+}
+
+TEST(DisplacedPatch, NormalRangeContainsSampledUnitNormals) {
+  for (const Shape& shape : testShapes()) {
+    NoiseParams np;
+    const DisplacedPatch patch(shape.patch, std::make_shared<NoiseDisplacement>(np));
+    Random rng(77);
+    for (int r = 0; r < 3000; ++r) {
+      const float su = std::pow(2.0f, -rng.uniform(0, 12)), sv = std::pow(2.0f, -rng.uniform(0, 12));
+      const float u0 = rng.uniform(0, 1 - su), v0 = rng.uniform(0, 1 - sv);
+      const Box3 nr = patch.normalRangeOver(u0, u0 + su, v0, v0 + sv);
+      for (int k = 0; k < 50; ++k) {
+        const Vec3 n = detail::unitOrZero(shape.patch->evaluate(param(rng, u0, u0 + su), param(rng, v0, v0 + sv)).n);
+        ASSERT_TRUE(nr.contains(n)) << shape.name;
+      }
+    }
+  }
+}
+
+TEST(DisplacedPatch, ReferenceSurfaceFeedsTheNoise) {
+  // The same patch moved by 100: with the unmoved patch as reference, the displacement moves
+  // with it (same heights); without, the noise pattern differs.
+  const auto teapot = test::loadTeapot();
+  auto rest = std::make_shared<BezierPatch>(teapot[0]);
+  auto moved = std::make_shared<BezierPatch>(test::transformed(teapot[0], 1.0f, {100, 0, 0}));
+  NoiseParams np;
+  np.amplitude = 0.3f;
+  np.frequency = 3;
+  auto d = std::make_shared<NoiseDisplacement>(np);
+  const DisplacedPatch a(rest, d), b(moved, d, rest), c(moved, d);
+  int differ = 0;
+  for (float u : {0.1f, 0.4f, 0.7f})
+    for (float v : {0.2f, 0.5f, 0.9f}) {
+      const Vec3 pa = a.evaluate(u, v).p, pb = b.evaluate(u, v).p - Vec3{100, 0, 0};
+      EXPECT_NEAR(pa.x, pb.x, 1e-4f);
+      EXPECT_NEAR(pa.z, pb.z, 1e-4f);
+      differ += length(c.evaluate(u, v).p - Vec3{100, 0, 0} - pa) > 1e-3f;
+      EXPECT_TRUE(b.bounds().contains(b.evaluate(u, v).p));
+    }
+  EXPECT_GT(differ, 0);
+}
+
+// What displacement does at the teapot's seams: heights are a function of position, so they
+// agree; the base unit normals at a shared border come from different patches' derivatives.
+TEST(DisplacedPatch, TeapotSeamsDifferOnlyByNormalRounding) {
+  const auto teapot = test::loadTeapot();
+  NoiseParams np;
+  np.amplitude = 0.2f;
+  np.frequency = 2;
+  auto d = std::make_shared<NoiseDisplacement>(np);
+  std::vector<std::shared_ptr<DisplacedPatch>> patches;
+  for (const auto& cp : teapot) patches.push_back(std::make_shared<DisplacedPatch>(std::make_shared<BezierPatch>(cp), d));
+  const int level = 5, n = 1 << level;
+  std::vector<Vec3> pa((n + 1) * (n + 1)), na(pa.size()), pb(pa.size()), nb(pa.size());
+  int identical = 0, total = 0;
+  float maxGap = 0;
+  for (const auto& s : test::findSharedBorders(teapot)) {
+    patches[size_t(s.patchA)]->dice(level, pa.data(), na.data());
+    patches[size_t(s.patchB)]->dice(level, pb.data(), nb.data());
+    for (int k = 0; k <= n; ++k) {
+      const auto ia = test::borderVertex(s.sideA, k, n);
+      const auto ib = test::borderVertex(s.sideB, s.reversed ? n - k : k, n);
+      const Vec3 a = pa[size_t(ia[1]) * (n + 1) + ia[0]], b = pb[size_t(ib[1]) * (n + 1) + ib[0]];
+      identical += sameBits(a, b);
+      maxGap = std::max(maxGap, length(a - b));
+      ++total;
+    }
+  }
+  std::printf("teapot seams, noise amplitude 0.2: %d of %d displaced border vertices bit-identical, max gap %.3g\n",
+              identical, total, maxGap);
+  // Rounding of the unit normal only (relative 1e-6 of the amplitude), no G1 breaks.
+  EXPECT_LT(maxGap, 1e-5f);
+}
+
+}  // namespace
+}  // namespace rayes
