@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 #include "core/transform.h"
+#include "dicing/displacement.h"
 #include "dicing/patch.h"
 #include "scene/json_reader.h"
 
@@ -33,5 +34,13 @@ ShapeSource readBilinearShape(const ShapeContext& ctx);
 
 // The "transform" modifier: an array of steps (docs/scene-format.md).
 Transform readTransform(const JsonReader& r, const json& j, const std::string& ptr);
+
+// The "displacement" modifier of ctx.shape (displacement_reader.cpp; the shape must have it).
+DisplacementPtr readDisplacement(const ShapeContext& ctx);
+// `patches` = source.build(xf), each wrapped in a DisplacedPatch when `d` is not null. The
+// displacement is a function of the object-space surface (source.build of the identity), so
+// the pattern moves with the shape's transform and is the same at every time sample.
+std::vector<PatchPtr> displacePatches(const DisplacementPtr& d, const ShapeSource& source, const Transform& xf,
+                                      std::vector<PatchPtr> patches);
 
 }  // namespace rayes

@@ -36,7 +36,7 @@ const std::map<std::string, KindReader>& shapeKinds() {
 }
 
 // Keys every shape may carry, whatever its kind.
-const std::vector<const char*> kCommonKeys = {"type", "material", "transform"};
+const std::vector<const char*> kCommonKeys = {"type", "material", "transform", "displacement"};
 
 }  // namespace
 
@@ -61,7 +61,8 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     r.objectKeys(shape, p, allowed);
     const uint32_t mat = materialRef(r, shape, p, materials);
     const Transform xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : Transform{};
-    for (auto& patch : source.build(xf)) addPatch(scene, std::move(patch), mat);
+    const DisplacementPtr disp = shape.contains("displacement") ? readDisplacement(ctx) : nullptr;
+    for (auto& patch : displacePatches(disp, source, xf, source.build(xf))) addPatch(scene, std::move(patch), mat);
   }
 }
 

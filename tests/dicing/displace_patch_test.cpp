@@ -181,7 +181,6 @@ TEST(DisplacedPatch, FlatBaseKeepsItsBoxTightSideways) {
   EXPECT_STREQ(patch.kind(), "displaced-bilinear");
   EXPECT_GT(patch.sizeBound(), plane->sizeBound());
   EXPECT_GT(patch.dicingErrorCoefficient(), 0.0f);
-  EXPECT_TRUE(patch.needsBorderClosure());
 }
 
 TEST(DisplacedPatch, NormalRangeContainsSampledUnitNormals) {

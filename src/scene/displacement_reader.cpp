@@ -1,0 +1,123 @@
+// The "displacement" modifier of a shape (docs/scene-format.md, "displacement"):
+//   {"type": "noise", "amplitude": a, "frequency": f, "octaves": n, "gain": g, "lacunarity": l,
+//    "seed": s, "ridged": b, "offset": o}
+//   {"type": "image", "file": "h.exr", "amplitude": a, "offset": o, "channel": "Y"}
+// Height maps are read here with OpenEXR (dicing must not depend on it) and handed to dicing
+// as a plain float array. Every error names the scene file, line:column and JSON pointer; an
+// unreadable image also names the image file.
+#include <filesystem>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <cstring>
+#include "dicing/displaced_patch.h"
+#include "dicing/displacement.h"
+#include "scene/shape_kinds.h"
+
+namespace rayes {
+
+namespace {
+
+std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::string& ptr,
+                                                const std::filesystem::path& path, const std::string& wanted) {
+  int width = 0, height = 0;
+  std::vector<float> texels;
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imf::ChannelList& channels = file.header().channels();
+    std::string name = wanted;
+    if (name.empty()) {
+      for (const char* c : {"Y", "R"})
+        if (channels.findChannel(c)) { name = c; break; }
+      if (name.empty() && channels.begin() != channels.end() && ++channels.begin() == channels.end())
+        name = channels.begin().name();
+      if (name.empty()) r.fail(ptr + "/file", "height map '" + path.string() + "' has no channel Y or R (name one with 'channel')");
+    } else if (!channels.findChannel(name.c_str())) {
+      r.fail(ptr + "/channel", "height map '" + path.string() + "' has no channel '" + name + "'");
+    }
+    const Imath::Box2i dw = file.header().dataWindow();
+    width = dw.max.x - dw.min.x + 1;
+    height = dw.max.y - dw.min.y + 1;
+    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
+      r.fail(ptr + "/file", "height map '" + path.string() + "' has an unsupported size");
+    texels.assign(size_t(width) * size_t(height), 0.0f);
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(texels.data()) -
+                 (ptrdiff_t(dw.min.x) + ptrdiff_t(dw.min.y) * width) * ptrdiff_t(sizeof(float));
+    fb.insert(name.c_str(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * size_t(width)));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    r.fail(ptr + "/file", "cannot read height map '" + path.string() + "': " + e.what());
+  }
+  // EXR rows run top to bottom; v = 0 is the first row (docs/scene-format.md).
+  for (size_t k = 0; k < texels.size(); ++k)
+    if (!std::isfinite(texels[k]))
+      r.fail(ptr + "/file", "height map '" + path.string() + "' has a non-finite texel at (" +
+                                std::to_string(k % size_t(width)) + ", " + std::to_string(k / size_t(width)) + ")");
+  return std::make_shared<HeightMap>(width, height, std::move(texels));
+}
+
+}  // namespace
+
+DisplacementPtr readDisplacement(const ShapeContext& ctx) {
+  const JsonReader& r = ctx.reader;
+  const std::string p = ctx.ptr + "/displacement";
+  const json& d = ctx.shape.at("displacement");
+  if (!d.is_object()) r.fail(p, "expected an object, got " + JsonReader::typeName(d));
+  const std::string type = r.string(r.member(d, p, "type"), p + "/type");
+  auto num = [&](const char* key, double fallback) {
+    return d.contains(key) ? r.number(d[key], p + "/" + key) : fallback;
+  };
+  const double amplitude = num("amplitude", 1.0);
+  const double offset = num("offset", 0.0);
+  if (std::fabs(amplitude) > 1e30) r.fail(p + "/amplitude", "must be at most 1e30 in magnitude");
+  if (std::fabs(offset) > 1e30) r.fail(p + "/offset", "must be at most 1e30 in magnitude");
+  if (type == "noise") {
+    r.object(d, p, {"type", "amplitude", "frequency", "octaves", "gain", "lacunarity", "seed", "ridged", "offset"});
+    NoiseParams np;
+    np.amplitude = float(amplitude);
+    np.offset = float(offset);
+    np.frequency = float(num("frequency", 1.0));
+    if (!(np.frequency > 0) || np.frequency > 1e30f) r.fail(p + "/frequency", "must be > 0 (lattice cells per unit length)");
+    np.octaves = d.contains("octaves") ? r.integer(d["octaves"], p + "/octaves") : 4;
+    if (np.octaves < 1 || np.octaves > 16) r.fail(p + "/octaves", "must be in 1..16");
+    np.gain = float(num("gain", 0.5));
+    if (!(np.gain > 0 && np.gain <= 1)) r.fail(p + "/gain", "must be in (0, 1]");
+    np.lacunarity = float(num("lacunarity", 2.0));
+    if (!(np.lacunarity >= 1 && np.lacunarity <= 4)) r.fail(p + "/lacunarity", "must be in [1, 4]");
+    if (d.contains("seed")) {
+      const int s = r.integer(d["seed"], p + "/seed");
+      if (s < 0) r.fail(p + "/seed", "must be >= 0");
+      np.seed = uint32_t(s);
+    }
+    np.ridged = d.contains("ridged") ? r.boolean(d["ridged"], p + "/ridged") : false;
+    return std::make_shared<NoiseDisplacement>(np);
+  }
+  if (type == "image") {
+    r.object(d, p, {"type", "file", "amplitude", "offset", "channel"});
+    const std::string f = r.string(r.member(d, p, "file"), p + "/file");
+    const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : ctx.sceneDir / f;
+    if (!std::filesystem::exists(fp)) r.fail(p + "/file", "cannot open height map '" + fp.string() + "'");
+    const std::string channel = d.contains("channel") ? r.string(d["channel"], p + "/channel") : "";
+    auto map = readHeightMap(r, p, fp, channel);
+    return std::make_shared<HeightMapDisplacement>(std::move(map), float(amplitude), float(offset));
+  }
+  r.fail(p + "/type", "unknown displacement type '" + type + "' (expected image, noise)");
+}
+
+std::vector<PatchPtr> displacePatches(const DisplacementPtr& d, const ShapeSource& source, const Transform& xf,
+                                      std::vector<PatchPtr> patches) {
+  if (!d) return patches;
+  const Transform identity;
+  const bool transformed = std::memcmp(xf.m, identity.m, sizeof identity.m) != 0;
+  const std::vector<PatchPtr> reference = transformed ? source.build(identity) : patches;
+  for (size_t k = 0; k < patches.size(); ++k)
+    patches[k] = std::make_shared<DisplacedPatch>(patches[k], d, transformed ? reference[k] : nullptr);
+  return patches;
+}
+
+}  // namespace rayes

@@ -1,0 +1,135 @@
+// The "displacement" modifier of shapes (docs/scene-format.md): noise and OpenEXR height maps,
+// and their errors (a missing or unreadable height map names the file and the JSON pointer).
+#include <gtest/gtest.h>
+#include <gmock/gmock.h>
+#include <filesystem>
+#include <unistd.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfOutputFile.h>
+#include "core/error.h"
+#include "dicing/displaced_patch.h"
+#include "scene/scene_loader.h"
+
+namespace rayes {
+namespace {
+using ::testing::HasSubstr;
+
+std::string sceneWith(const std::string& shapeExtra) {
+  return R"({
+  "camera": {"position": [0, -3, 1], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 40},
+  "film": {"resolution": [32, 24], "spp": 4},
+  "materials": {"m": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+  "shapes": [{"type": "bilinear", "material": "m", "quads": [[[-1,-1,0],[1,-1,0],[-1,1,0],[1,1,0]]])" +
+         shapeExtra + R"(}]
+})";
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    parseScene(text, "bad.json");
+  } catch (const InputError& e) {
+    return e.message();
+  }
+  return "no error";
+}
+
+std::filesystem::path tempDir() {
+  const auto d = std::filesystem::temp_directory_path() / ("rayes_displacement_test_" + std::to_string(getpid()));
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+void writeExr(const std::string& path, int w, int h, const char* channel, const std::vector<float>& data) {
+  Imf::Header header(w, h);
+  header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
+  Imf::FrameBuffer fb;
+  fb.insert(channel, Imf::Slice(Imf::FLOAT, (char*)data.data(), sizeof(float), sizeof(float) * size_t(w)));
+  Imf::OutputFile file(path.c_str(), header);
+  file.setFrameBuffer(fb);
+  file.writePixels(h);
+}
+
+TEST(DisplacementReader, NoiseWrapsEveryPatch) {
+  const Scene s = parseScene(sceneWith(R"(, "displacement": {"type": "noise", "amplitude": 0.5, "frequency": 2,
+      "octaves": 3, "ridged": true, "seed": 4})"), "ok.json");
+  ASSERT_EQ(s.patches.size(), 1u);
+  EXPECT_STREQ(s.patches[0]->kind(), "displaced-bilinear");
+  const Box3 b = s.patches[0]->bounds();
+  EXPECT_GT(b.hi.z, 0.0f);
+  EXPECT_LE(b.hi.z, 0.51f);
+  EXPECT_GE(b.lo.z, -0.01f);  // ridged noise is in [0, 1]
+}
+
+TEST(DisplacementReader, TransformedShapeKeepsItsPattern) {
+  const std::string d = R"(, "displacement": {"type": "noise", "amplitude": 0.3, "frequency": 3})";
+  const Scene a = parseScene(sceneWith(d), "a.json");
+  const Scene b = parseScene(sceneWith(R"(, "transform": [{"translate": [50, 0, 0]}])" + d), "b.json");
+  for (float u : {0.2f, 0.6f}) {
+    const Vec3 pa = a.patches[0]->evaluate(u, 0.4f).p, pb = b.patches[0]->evaluate(u, 0.4f).p;
+    EXPECT_NEAR(pa.z, pb.z, 1e-5f);
+    EXPECT_TRUE(b.patches[0]->bounds().contains(pb));
+  }
+}
+
+TEST(DisplacementReader, HeightMapFromExr) {
+  const auto dir = tempDir();
+  writeExr((dir / "h.exr").string(), 4, 3, "Y", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+  const Scene s = parseScene(sceneWith(R"(, "displacement": {"type": "image", "file": ")" + (dir / "h.exr").string() +
+                                       R"(", "amplitude": 0.1, "offset": -0.5})"),
+                             "ok.json");
+  ASSERT_EQ(s.patches.size(), 1u);
+  const auto* d = dynamic_cast<const DisplacedPatch*>(s.patches[0].get());
+  ASSERT_NE(d, nullptr);
+  EXPECT_STREQ(d->displacement().kind(), "image");
+  // The first texel row is v = 0; the corner (0, 0) reads texel (0, 0) = 0: h = -0.5.
+  EXPECT_NEAR(s.patches[0]->evaluate(0, 0).p.z, -0.5f, 1e-5f);
+  EXPECT_NEAR(s.patches[0]->evaluate(1, 1).p.z, -0.5f + 1.1f, 1e-5f);
+  // A relative name is relative to the scene file.
+  const std::string scenePath = (dir / "scene.json").string();
+  FILE* f = std::fopen(scenePath.c_str(), "w");
+  const std::string text = sceneWith(R"(, "displacement": {"type": "image", "file": "h.exr", "channel": "Y"})");
+  std::fwrite(text.data(), 1, text.size(), f);
+  std::fclose(f);
+  EXPECT_STREQ(loadScene(scenePath).patches[0]->kind(), "displaced-bilinear");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DisplacementReader, MissingHeightMapNamesTheFileAndPlace) {
+  const std::string e = errorOf(sceneWith(R"(, "displacement": {"type": "image", "file": "no-such-map.exr"})"));
+  EXPECT_THAT(e, HasSubstr("bad.json:"));
+  EXPECT_THAT(e, HasSubstr("/shapes/0/displacement/file"));
+  EXPECT_THAT(e, HasSubstr("no-such-map.exr"));
+}
+
+TEST(DisplacementReader, UnreadableHeightMapNamesTheFile) {
+  const auto dir = tempDir();
+  const std::string path = (dir / "broken.exr").string();
+  FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs("not an exr", f);
+  std::fclose(f);
+  const std::string e = errorOf(sceneWith(R"(, "displacement": {"type": "image", "file": ")" + path + R"("})"));
+  EXPECT_THAT(e, HasSubstr("cannot read height map"));
+  EXPECT_THAT(e, HasSubstr("broken.exr"));
+  writeExr((dir / "rgb.exr").string(), 2, 2, "G", {0, 1, 2, 3});
+  const std::string e2 = errorOf(sceneWith(R"(, "displacement": {"type": "image", "file": ")" + (dir / "rgb.exr").string() +
+                                           R"(", "channel": "Z"})"));
+  EXPECT_THAT(e2, HasSubstr("no channel 'Z'"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DisplacementReader, BadParametersAreInputErrors) {
+  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "noise", "frequency": 0})")),
+              HasSubstr("/shapes/0/displacement/frequency"));
+  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "noise", "octaves": 40})")),
+              HasSubstr("/shapes/0/displacement/octaves"));
+  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "noise", "amplitud": 1})")),
+              HasSubstr("unknown key 'amplitud'"));
+  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "bumps"})")),
+              HasSubstr("unknown displacement type 'bumps'"));
+  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": 3)")), HasSubstr("/shapes/0/displacement"));
+}
+
+}  // namespace
+}  // namespace rayes
