@@ -1,0 +1,128 @@
+#include <memory>
+#include <optional>
+#include "core/error.h"
+#include "dicing/subdiv_mesh.h"
+#include "scene/obj_reader.h"
+#include "scene/shape_kinds.h"
+
+namespace rayes {
+
+namespace {
+
+// Inline form: "vertices": [[x,y,z], ...], "faces": [[i, j, k, ...], ...] (zero-based),
+// optional "creases": [[v0, v1, sharpness], ...], "corners": [[v, sharpness], ...],
+// "holes": [f, ...].
+SubdivMeshDesc readInlineMesh(const JsonReader& r, const json& shape, const std::string& p) {
+  SubdivMeshDesc d;
+  const json& vs = r.member(shape, p, "vertices");
+  if (!vs.is_array() || vs.empty()) r.fail(p + "/vertices", "expected a non-empty array of points");
+  for (size_t k = 0; k < vs.size(); ++k) d.positions.push_back(r.vec3(vs[k], p + "/vertices/" + std::to_string(k)));
+  const json& fs = r.member(shape, p, "faces");
+  if (!fs.is_array() || fs.empty()) r.fail(p + "/faces", "expected a non-empty array of faces");
+  for (size_t k = 0; k < fs.size(); ++k) {
+    const std::string fp = p + "/faces/" + std::to_string(k);
+    if (!fs[k].is_array()) r.fail(fp, "expected an array of vertex indices");
+    for (size_t i = 0; i < fs[k].size(); ++i) d.faceVertices.push_back(r.integer(fs[k][i], fp + "/" + std::to_string(i)));
+    d.faceSizes.push_back(int(fs[k].size()));
+  }
+  if (shape.contains("creases")) {
+    const json& cs = shape["creases"];
+    if (!cs.is_array()) r.fail(p + "/creases", "expected an array of [v0, v1, sharpness]");
+    for (size_t k = 0; k < cs.size(); ++k) {
+      const std::string cp = p + "/creases/" + std::to_string(k);
+      if (!cs[k].is_array() || cs[k].size() != 3) r.fail(cp, "expected [v0, v1, sharpness]");
+      d.creases.push_back({r.integer(cs[k][0], cp + "/0"), r.integer(cs[k][1], cp + "/1"), float(r.number(cs[k][2], cp + "/2"))});
+    }
+  }
+  if (shape.contains("corners")) {
+    const json& cs = shape["corners"];
+    if (!cs.is_array()) r.fail(p + "/corners", "expected an array of [v, sharpness]");
+    for (size_t k = 0; k < cs.size(); ++k) {
+      const std::string cp = p + "/corners/" + std::to_string(k);
+      if (!cs[k].is_array() || cs[k].size() != 2) r.fail(cp, "expected [v, sharpness]");
+      d.corners.push_back({r.integer(cs[k][0], cp + "/0"), float(r.number(cs[k][1], cp + "/1"))});
+    }
+  }
+  if (shape.contains("holes")) {
+    const json& hs = shape["holes"];
+    if (!hs.is_array()) r.fail(p + "/holes", "expected an array of face indices");
+    for (size_t k = 0; k < hs.size(); ++k) d.holes.push_back(r.integer(hs[k], p + "/holes/" + std::to_string(k)));
+  }
+  return d;
+}
+
+std::string inlinePointer(const std::string& p, const SubdivInputError& e) {
+  using Item = SubdivInputError::Item;
+  const std::string i = "/" + std::to_string(e.index);
+  switch (e.item) {
+    case Item::Vertex: return p + "/vertices" + i;
+    case Item::Face: return p + "/faces" + i;
+    case Item::Crease: return p + "/creases" + i;
+    case Item::Corner: return p + "/corners" + i;
+    case Item::Hole: return p + "/holes" + i;
+    default: return p;
+  }
+}
+
+}  // namespace
+
+// {"type": "subdiv", "file": "x.obj", "scheme": "catmull-clark" | "loop",
+//  "boundary": "edge-and-corner" | "edge-only" | "none"}, or the inline form above instead of
+// "file". The topology is built (and checked) here, once; each transform builds a mesh of
+// transformed control points over it (subdivision is affine invariant).
+ShapeSource readSubdivShape(const ShapeContext& ctx) {
+  const JsonReader& r = ctx.reader;
+  const json& shape = ctx.shape;
+  const std::string& p = ctx.ptr;
+  if (shape.contains("file") == shape.contains("faces"))
+    r.fail(p, "a subdiv shape needs exactly one of 'file' and 'vertices'/'faces'");
+  SubdivScheme scheme = SubdivScheme::CatmullClark;
+  if (shape.contains("scheme")) {
+    const std::string s = r.string(shape["scheme"], p + "/scheme");
+    if (s == "loop") scheme = SubdivScheme::Loop;
+    else if (s != "catmull-clark") r.fail(p + "/scheme", "unknown scheme '" + s + "' (expected catmull-clark or loop)");
+  }
+  std::optional<SubdivBoundary> boundary;  // overrides an OBJ interpolateboundary tag
+  if (shape.contains("boundary")) {
+    const std::string b = r.string(shape["boundary"], p + "/boundary");
+    if (b == "none") boundary = SubdivBoundary::None;
+    else if (b == "edge-only") boundary = SubdivBoundary::EdgeOnly;
+    else if (b == "edge-and-corner") boundary = SubdivBoundary::EdgeAndCorner;
+    else r.fail(p + "/boundary", "unknown boundary rule '" + b + "' (expected edge-and-corner, edge-only or none)");
+  }
+  std::shared_ptr<const SubdivTopology> topo;
+  SubdivMeshDesc desc;
+  if (shape.contains("file")) {
+    for (const char* k : {"vertices", "creases", "corners", "holes"})
+      if (shape.contains(k)) r.fail(p + "/" + k, std::string("'") + k + "' belongs to the inline form, not to 'file'");
+    const std::string path = ctx.file("file").string();
+    ObjMesh obj = loadObj(path);
+    obj.mesh.scheme = scheme;
+    if (boundary) obj.mesh.boundary = *boundary;
+    try {
+      topo = buildSubdivTopology(obj.mesh);
+    } catch (const SubdivInputError& e) {
+      const int line = objLineOf(obj, e);
+      throw InputError(path, line > 0 ? "line " + std::to_string(line) : "", e.what());
+    }
+    desc = std::move(obj.mesh);
+  } else {
+    desc = readInlineMesh(r, shape, p);
+    desc.scheme = scheme;
+    if (boundary) desc.boundary = *boundary;
+    try {
+      topo = buildSubdivTopology(desc);
+    } catch (const SubdivInputError& e) {
+      r.fail(inlinePointer(p, e), e.what());
+    }
+  }
+  auto positions = std::make_shared<const std::vector<Vec3>>(std::move(desc.positions));
+  return {{"file", "scheme", "boundary", "vertices", "faces", "creases", "corners", "holes"},
+          [topo, positions](const Transform& xf) {
+            std::vector<Vec3> pts(positions->size());
+            for (size_t k = 0; k < pts.size(); ++k) pts[k] = xf.point((*positions)[k]);
+            return SubdivMesh::build(topo, std::move(pts))->patches();
+          }};
+}
+
+}  // namespace rayes
