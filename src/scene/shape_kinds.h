@@ -31,6 +31,7 @@ struct ShapeSource {
 
 ShapeSource readBezierShape(const ShapeContext& ctx);
 ShapeSource readBilinearShape(const ShapeContext& ctx);
+ShapeSource readSubdivShape(const ShapeContext& ctx);
 
 // The "transform" modifier: an array of steps (docs/scene-format.md).
 Transform readTransform(const JsonReader& r, const json& j, const std::string& ptr);

@@ -31,6 +31,7 @@ const std::map<std::string, KindReader>& shapeKinds() {
   static const std::map<std::string, KindReader> kinds = {
       {"bezier", readBezierShape},
       {"bilinear", readBilinearShape},
+      {"subdiv", readSubdivShape},
   };
   return kinds;
 }
