@@ -8,6 +8,7 @@
 #include "core/rng.h"
 #include "dicing/bezier_patch.h"
 #include "dicing/dice_buffer.h"
+#include "dicing/moving_patch.h"
 #include "dicing_bench_setup.h"
 
 namespace {
@@ -84,6 +85,41 @@ void BM_Occluded(benchmark::State& state) {
 
 BENCHMARK(BM_Traverse)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Occluded)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
+
+// The same rays with the crack-free border boxes (what the Tracer does on curved patches),
+// and on the patch moving between two samples at a random time weight (motion blur).
+void BM_TraverseVariant(benchmark::State& state, bool borders, bool moving) {
+  const int m = int(state.range(0));
+  DiceBuffer buffer(m);
+  std::vector<PatchPtr> samples;
+  for (float dx : {0.0f, 0.3f}) {
+    auto cp = benchPatch().controlPoints();
+    for (auto& p : cp) p = p + Vec3{dx, 0.1f * dx, 0};
+    samples.push_back(std::make_shared<BezierPatch>(cp));
+  }
+  const MovingPatch movingPatch(samples, {0.0f, 1.0f});
+  if (moving) buffer.diceInterval(movingPatch, 0, m);
+  else buffer.dice(benchPatch(), m);
+  const std::vector<Ray> rays = benchRays(benchPatch(), 1 << 16);
+  size_t hits = 0;
+  for (auto _ : state) {
+    uint32_t k = 0;
+    for (const Ray& r : rays) {
+      GridHit h;
+      BottomQuery q;
+      q.closeBorders = borders;
+      q.alpha = moving ? float(++k & 1023) / 1024.0f : 0.0f;
+      hits += buffer.intersect(r.org, r.dir, 0.0f, std::numeric_limits<float>::infinity(), m, h, q);
+    }
+  }
+  state.counters["rays"] = benchmark::Counter(double(state.iterations()) * double(rays.size()),
+                                              benchmark::Counter::kIsRate);
+  state.counters["hit_fraction"] = double(hits) / (double(state.iterations()) * double(rays.size()));
+}
+void BM_TraverseBorders(benchmark::State& state) { BM_TraverseVariant(state, true, false); }
+void BM_TraverseMoving(benchmark::State& state) { BM_TraverseVariant(state, false, true); }
+BENCHMARK(BM_TraverseBorders)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TraverseMoving)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

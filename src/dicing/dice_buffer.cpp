@@ -13,20 +13,46 @@ using detail::morton;
 
 DiceBuffer::DiceBuffer(int maxLevel) : maxLevel_(maxLevel) {
   if (maxLevel < 0 || maxLevel > 12) throw std::invalid_argument("DiceBuffer: maxLevel not in 0..12");
-  const size_t res = (size_t(1) << maxLevel) + 1;
-  positions_.resize(res * res);
-  normals_.resize(res * res);
-  nodes_.resize(levelOffset(maxLevel + 1) * 6);  // 6 floats per box
+  allocate(a_);
+}
+
+void DiceBuffer::allocate(Sample& s) const {
+  const size_t res = (size_t(1) << maxLevel_) + 1;
+  s.positions.resize(res * res);
+  s.normals.resize(res * res);
+  s.nodes.resize(levelOffset(maxLevel_ + 1) * 6);  // 6 floats per box
+  s.borders.resize(borderOffset(4, 0, 0));         // 4 borders x (2^(maxLevel+1) - 1) boxes
+}
+
+void DiceBuffer::diceSample(const Patch& patch, int sample, int level, Sample& out) {
+  patch.diceAt(sample, level, out.positions.data(), out.normals.data());
+  const size_t count = size_t(resolution()) * resolution();
+  for (size_t k = 0; k < count; ++k) out.normals[k] = detail::unitOrZero(out.normals[k]);
+  buildTree(out.positions, out.nodes);
+  if (borders_) buildBorders(patch, sample, out, out.borders);  // only for the patches that need them
 }
 
 void DiceBuffer::dice(const Patch& patch, int level) {
   if (level < 0 || level > maxLevel_) throw std::invalid_argument("DiceBuffer::dice: level > maxLevel");
   level_ = level;
+  moving_ = false;
+  borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();
-  patch.dice(level, positions_.data(), normals_.data());
-  const size_t count = size_t(resolution()) * resolution();
-  for (size_t k = 0; k < count; ++k) normals_[k] = detail::unitOrZero(normals_[k]);
-  buildTree();
+  diceSample(patch, 0, level, a_);
+}
+
+void DiceBuffer::diceInterval(const Patch& patch, int interval, int level) {
+  if (patch.timeSamples() < 2) return dice(patch, level);
+  if (level < 0 || level > maxLevel_) throw std::invalid_argument("DiceBuffer::dice: level > maxLevel");
+  if (interval < 0 || interval + 1 >= patch.timeSamples())
+    throw std::invalid_argument("DiceBuffer::diceInterval: no such time interval");
+  level_ = level;
+  moving_ = true;
+  borders_ = patch.needsBorderClosure();
+  patchBounds_ = patch.bounds();  // the union over all samples: the margin is per patch, not per interval
+  if (b_.positions.empty()) allocate(b_);
+  diceSample(patch, interval, level, a_);
+  diceSample(patch, interval + 1, level, b_);
 }
 
 // Level m: the box of each micro-quad's 4 corners (the two flat triangles lie in their convex
@@ -58,7 +84,8 @@ void groupBounds(const float* group, Vec3& lo, Vec3& hi) {
 
 }  // namespace
 
-void DiceBuffer::buildTree() {
+void DiceBuffer::buildTree(const std::vector<Vec3>& positions_, std::vector<float>& nodes) const {
+  auto nodeGroup = [&](int level, uint32_t g) { return nodes.data() + groupOffset(level, g); };
   const size_t res = (size_t(1) << level_) + 1;
   auto quadBox = [&](uint32_t x, uint32_t y, Vec3& lo, Vec3& hi) {
     const Vec3* p = &positions_[y * res + x];
@@ -66,7 +93,7 @@ void DiceBuffer::buildTree() {
     lo = vmin(vmin(p00, p10), vmin(p01, p11));
     hi = vmax(vmax(p00, p10), vmax(p01, p11));
   };
-  float* root = rootBox();
+  float* root = nodes.data() + groupOffset(maxLevel_, 0);
   Vec3 lo, hi;
   if (level_ == 0) {
     quadBox(0, 0, lo, hi);
@@ -121,8 +148,61 @@ void DiceBuffer::buildTree() {
   }
 }
 
-Vec3 DiceBuffer::position(int i, int j) const { return positions_[size_t(j) * resolution() + i]; }
-Vec3 DiceBuffer::normal(int i, int j) const { return normals_[size_t(j) * resolution() + i]; }
+// Border trees: for each border e and level i, box (e, i, j) is the box of the true border
+// curve over segment j (Patch::boundsOverAt on the degenerate rectangle of that border) and of
+// the segment's chord (its two grid vertices), united with its two children's boxes so that a
+// node contains every finer level's box below it (the traversal prunes with it). Built
+// finest level first. Levels above level_ are never read.
+void DiceBuffer::buildBorders(const Patch& patch, int sample, const Sample& s, std::vector<float>& out) const {
+  const int m = level_;
+  const size_t res = (size_t(1) << m) + 1;
+  for (int e = 0; e < 4; ++e) {
+    for (int i = m; i >= 0; --i) {
+      const uint32_t n = 1u << i;
+      const size_t stride = size_t(1) << (m - i);
+      const float inv = 1.0f / float(n);  // a power of two: j * inv is exact
+      for (uint32_t j = 0; j < n; ++j) {
+        const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
+        Box3 b;
+        size_t v0, v1;  // grid indices of the chord's ends
+        switch (e) {
+          case 0: b = patch.boundsOverAt(sample, t0, t1, 0.0f, 0.0f); v0 = j * stride; v1 = v0 + stride; break;
+          case 1: b = patch.boundsOverAt(sample, 1.0f, 1.0f, t0, t1);
+                  v0 = j * stride * res + (res - 1); v1 = v0 + stride * res; break;
+          case 2: b = patch.boundsOverAt(sample, t0, t1, 1.0f, 1.0f);
+                  v0 = (res - 1) * res + j * stride; v1 = v0 + stride; break;
+          default: b = patch.boundsOverAt(sample, 0.0f, 0.0f, t0, t1); v0 = j * stride * res; v1 = v0 + stride * res; break;
+        }
+        b.extend(s.positions[v0]);
+        b.extend(s.positions[v1]);
+        float* box = out.data() + borderOffset(e, i, j);
+        if (i < m) {
+          const float* c = out.data() + borderOffset(e, i + 1, 2 * j);  // the two children are adjacent
+          for (int a = 0; a < 3; ++a) {
+            b.lo[a] = std::min(b.lo[a], std::min(c[a], c[6 + a]));
+            b.hi[a] = std::max(b.hi[a], std::max(c[3 + a], c[9 + a]));
+          }
+        }
+        for (int a = 0; a < 3; ++a) {
+          box[a] = b.lo[a];
+          box[3 + a] = b.hi[a];
+        }
+      }
+    }
+  }
+}
+
+Box3 DiceBuffer::borderNode(int e, int treeLevel, int j) const {
+  Box3 b;
+  if (!borders_) return b;
+  const float* r = a_.borders.data() + borderOffset(e, treeLevel, uint32_t(j));
+  b.lo = {r[0], r[1], r[2]};
+  b.hi = {r[3], r[4], r[5]};
+  return b;
+}
+
+Vec3 DiceBuffer::position(int i, int j) const { return a_.positions[size_t(j) * resolution() + i]; }
+Vec3 DiceBuffer::normal(int i, int j) const { return a_.normals[size_t(j) * resolution() + i]; }
 
 Box3 DiceBuffer::node(int treeLevel, int x, int y) const {
   Box3 b;
@@ -143,8 +223,11 @@ Box3 DiceBuffer::node(int treeLevel, int x, int y) const {
 size_t DiceBuffer::nodeCount() const { return levelOffset(level_ + 1); }
 
 size_t DiceBuffer::bytesAllocated() const {
-  return positions_.capacity() * sizeof(Vec3) + normals_.capacity() * sizeof(Vec3) +
-         nodes_.capacity() * sizeof(float);
+  size_t b = 0;
+  for (const Sample* s : {&a_, &b_})
+    b += s->positions.capacity() * sizeof(Vec3) + s->normals.capacity() * sizeof(Vec3) +
+         s->nodes.capacity() * sizeof(float) + s->borders.capacity() * sizeof(float);
+  return b;
 }
 
 }  // namespace rayes

@@ -14,10 +14,25 @@
 // intersects the coarse micro-quads made of every 2^(m-k)-th vertex. Those vertices have the
 // same parameters as a level-k dicing, so the hit is exactly the hit on a level-k dicing: a
 // ray's hit never depends on which other rays made the patch be diced finer.
+//
+// Motion (thesis §6.3): diceInterval() dices the two time samples bracketing an interval into
+// two grids with two trees (the second allocated on first use); a query at time weight alpha
+// traverses boxes and micro-quads interpolated as (1-alpha)*a + alpha*b. That blend is
+// monotone in a and b, so an interpolated box contains the interpolated points of the boxes
+// it interpolates and the traversal stays exact. A static dicing never touches the second
+// grid: its traversal is the static code path, unchanged.
+//
+// Crack-free borders (docs/architecture.md): for a patch whose borders are curved
+// (Patch::needsBorderClosure) the buffer also builds, per border, a binary tree over the
+// border segments of every level, whose leaf at level k is the box of the true border curve
+// over that segment (Patch::boundsOver on the degenerate rectangle) and of its chord. A query
+// with closeBorders also hits these boxes: whatever level a neighbour was intersected at, the
+// slit between the two dicings lies in them. See intersect().
 #pragma once
 #include <cstdint>
 #include <vector>
 #include "core/box.h"
+#include "dicing/micro_quad.h"
 #include "dicing/patch.h"
 
 namespace rayes {
@@ -31,18 +46,34 @@ struct GridHit {
                         // for a zero-area triangle the watertight test still claims (rounding
                         // gives it a sliver), the other triangle's, else the blended vertex normal
   Vec3 ns;              // shading normal: bilinear blend of the quad's vertex normals (unit)
+  bool border = false;  // the hit is on a border box (crack closure), not on a micro-triangle
+};
+
+// What a query needs besides the ray. The defaults: the micro-polygons alone, first sample.
+struct BottomQuery {
+  float alpha = 0;            // time weight of the second sample of diceInterval() (0 for dice())
+  bool closeBorders = false;  // also hit the border boxes (ignored where the patch needs none);
+                              // the Tracer sets it (Tracer::closeBordersFor)
 };
 
 class DiceBuffer {
  public:
   // Allocates for levels up to maxLevel (0..12; std::invalid_argument otherwise).
   explicit DiceBuffer(int maxLevel);
+  DiceBuffer(const DiceBuffer&) = delete;
+  DiceBuffer& operator=(const DiceBuffer&) = delete;
 
   // Dices `patch` at `level` (<= maxLevel, else std::invalid_argument) and builds the
   // implicit BVH. Vertex normals are stored unit length.
   void dice(const Patch& patch, int level);
 
+  // Dices time samples `interval` and `interval`+1 of a moving patch (0 <= interval <
+  // timeSamples()-1) at `level`, for queries with alpha in [0, 1]. A static patch: dice().
+  void diceInterval(const Patch& patch, int interval, int level);
+
   int level() const { return level_; }
+  bool moving() const { return moving_; }
+  bool hasBorders() const { return borders_; }
   int maxLevel() const { return maxLevel_; }
 
   // Nearest hit with t in (tmin, tmax) at the ray's own level (0 <= rayLevel <= level(); a
@@ -51,29 +82,63 @@ class DiceBuffer {
   // Ties in t are broken by the smaller micro-quad index, so the result does not depend on
   // traversal order. Watertight: a ray through a shared edge or vertex hits at least one of
   // the micro-quads that share it.
-  bool intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit) const;
+  //
+  // Border boxes (query.closeBorders, on a patch that needs them): the box of border segment
+  // j at the ray's level k is hit when the ray enters it within (tmin, tmax) from outside (a
+  // ray starting inside a border box -- a secondary ray leaving the surface near a seam -- is
+  // not stopped by it). The hit distance is the ray's crossing of the adjacent micro-triangle's
+  // plane clamped to the box's entry/exit, so the point lies as close to the surface as the
+  // box allows; the normals are that quad's; quad is the border micro-quad; border is set.
+  // The result is still a pure function of (ray, patch, k, alpha): the border tree's boxes
+  // contain every finer level's.
+  bool intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,
+                 BottomQuery query = {}) const;
 
   // Any hit with t in (tmin, tmax) at the ray's level (shadow rays).
-  bool occluded(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel) const;
+  bool occluded(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, BottomQuery query = {}) const;
 
   // Grid access for tests and debugging.
   int resolution() const { return (1 << level_) + 1; }      // vertices per side
+  // (position, normal and node: of the first time sample.)
   Vec3 position(int i, int j) const;
   Vec3 normal(int i, int j) const;
   // Node box of the implicit tree at (treeLevel, x, y).
   Box3 node(int treeLevel, int x, int y) const;
+  // Border box of segment j (0 <= j < 2^treeLevel) of border e (0: v=0, 1: u=1, 2: v=1,
+  // 3: u=0) at treeLevel, for the first time sample; empty when hasBorders() is false.
+  Box3 borderNode(int e, int treeLevel, int j) const;
   size_t nodeCount() const;                                  // sum_{i<=level} 4^i
   size_t bytesAllocated() const;
 
  private:
-  void buildTree();
-  template <bool AnyHit>
-  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit* hit) const;
+  // One time sample's grid, tree and border trees.
+  struct Sample {
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;  // unit (or zero where the patch is degenerate as a whole)
+    std::vector<float> nodes;   // the tree, see kNodeGroupFloats below
+    std::vector<float> borders; // 4 binary trees of boxes (6 floats), see borderOffset()
+  };
+  struct Best;
+  void allocate(Sample& s) const;
+  void diceSample(const Patch& patch, int sample, int level, Sample& out);
+  void buildTree(const std::vector<Vec3>& positions, std::vector<float>& nodes) const;
+  void buildBorders(const Patch& patch, int sample, const Sample& s, std::vector<float>& borders) const;
+  template <bool AnyHit, bool Moving>
+  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, bool closeBorders,
+                GridHit* hit) const;
+  template <bool AnyHit, bool Moving>
+  bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
+                       float tmax, int k, float w0, float w1, Best& best) const;
+  size_t borderOffset(int e, int level, uint32_t j) const {
+    return 6 * (size_t(e) * ((size_t(2) << maxLevel_) - 1) + ((size_t(1) << level) - 1) + j);
+  }
 
   int maxLevel_ = 0;
   int level_ = 0;
-  std::vector<Vec3> positions_;
-  std::vector<Vec3> normals_;  // unit (or zero where the patch is degenerate as a whole)
+  bool moving_ = false;   // the second sample (b_) holds this dicing's other time sample
+  bool borders_ = false;  // this dicing has border trees
+  Sample a_;              // first (or only) time sample
+  Sample b_;              // second time sample: allocated by the first diceInterval()
   // The tree, stored by sibling groups: group g of level i (i < level_) holds the boxes of the
   // 4 children (level i+1, Z-order 4g..4g+3) of node g of level i as structure of arrays,
   // kNodeGroupFloats floats: lo.x[4] hi.x[4] lo.y[4] hi.y[4] lo.z[4] hi.z[4]. Groups of level i
@@ -84,11 +149,8 @@ class DiceBuffer {
   static size_t groupOffset(int level, uint32_t g) {
     return kNodeGroupFloats * (((size_t(1) << (2 * level)) - 1) / 3 + g);
   }
-  const float* nodeGroup(int level, uint32_t g) const { return nodes_.data() + groupOffset(level, g); }
-  float* nodeGroup(int level, uint32_t g) { return nodes_.data() + groupOffset(level, g); }
-  const float* rootBox() const { return nodes_.data() + groupOffset(maxLevel_, 0); }
-  float* rootBox() { return nodes_.data() + groupOffset(maxLevel_, 0); }
-  std::vector<float> nodes_;
+  const float* nodeGroup(int level, uint32_t g) const { return a_.nodes.data() + groupOffset(level, g); }
+  const float* rootBox() const { return a_.nodes.data() + groupOffset(maxLevel_, 0); }
   Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
 };
 

@@ -87,20 +87,56 @@ struct GroupRay {
     tEntry = t0;
     return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
   }
+
+  // The same test on the group interpolated between two time samples, w0 * a + w1 * b lane by
+  // lane (monotone in a and b: the blended box contains the blended points).
+  int testLerp(const float* a, const float* b, __m128 w0, __m128 w1, float tCull, __m128& tEntry) const {
+    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    for (int k = 0; k < 3; ++k) {
+      const __m128 n = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(a + nearOff[k]), w0), _mm_mul_ps(_mm_loadu_ps(b + nearOff[k]), w1));
+      const __m128 f = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(a + farOff[k]), w0), _mm_mul_ps(_mm_loadu_ps(b + farOff[k]), w1));
+      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n, nearPad[k]), org[k]), inv[k]);
+      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f, farPad[k]), org[k]), inv[k]), scale);
+      t0 = _mm_max_ps(tn, t0);
+      t1 = _mm_min_ps(tf, t1);
+    }
+    tEntry = t0;
+    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+  }
 };
 
+inline Vec3 lerpPoint(Vec3 a, Vec3 b, float w0, float w1) { return a * w0 + b * w1; }
+
 // Unit bilinear blend of a quad's corner normals at local (s, r); zero if they cancel.
-Vec3 blendedNormal(const Vec3* n00, uint32_t stride, size_t res, float s, float r) {
-  const Vec3 blend = (n00[0] * (1.0f - s) + n00[stride] * s) * (1.0f - r) +
-                     (n00[stride * res] * (1.0f - s) + n00[stride * res + stride] * s) * r;
+Vec3 blendNormals(Vec3 n00, Vec3 n10, Vec3 n01, Vec3 n11, float s, float r) {
+  const Vec3 blend = (n00 * (1.0f - s) + n10 * s) * (1.0f - r) + (n01 * (1.0f - s) + n11 * s) * r;
   return detail::unitOrZero(blend);
 }
+Vec3 blendedNormal(const Vec3* n00, uint32_t stride, size_t res, float s, float r) {
+  return blendNormals(n00[0], n00[stride], n00[stride * res], n00[stride * res + stride], s, r);
+}
+
+struct BorderEntry {
+  uint32_t j;
+  int level;
+  float tEntry;
+};
 
 }  // namespace
 
-template <bool AnyHit>
-bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel,
-                          GridHit* out) const {
+// The best hit so far of one traversal: micro-quad (x, y) at the ray's level, local (s, r).
+struct DiceBuffer::Best {
+  float t;
+  uint32_t quad = UINT32_MAX;
+  uint32_t x = 0, y = 0;
+  float s = 0, r = 0;
+  Vec3 ng;
+  bool border = false;
+};
+
+template <bool AnyHit, bool Moving>
+bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha,
+                          bool closeBorders, GridHit* out) const {
   if (!(tmin < tmax)) return false;
   WatertightRay wray;
   if (!makeWatertightRay(org, dir, wray)) return false;
@@ -112,13 +148,24 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   if (!std::isfinite(margin)) return false;
   const Vec3 pad{margin, margin, margin};
   const GroupRay gray(query, margin, tmin);
+  // Motion: the weights of the two samples (unused by the static instantiation).
+  const float w1 = Moving ? std::clamp(alpha, 0.0f, 1.0f) : 0.0f;
+  const float w0 = 1.0f - w1;
+  [[maybe_unused]] const __m128 w0v = _mm_set1_ps(w0), w1v = _mm_set1_ps(w1);
+  // Plain pointers, hoisted: the hot loop reads through registers, not through the vectors.
+  const Vec3* const positions_ = a_.positions.data();
+  const Vec3* const normals_ = a_.normals.data();
+  const float* const nodesA = a_.nodes.data();
+  [[maybe_unused]] const Vec3* const posB = b_.positions.data();
+  [[maybe_unused]] const Vec3* const normalsB = b_.normals.data();
+  [[maybe_unused]] const float* const nodesB = b_.nodes.data();
 
   const uint32_t stride = 1u << (level_ - k);
   const size_t res = size_t(resolution());
   float bestT = tmax;
   uint32_t bestQuad = UINT32_MAX;
   uint32_t bestX = 0, bestY = 0;
-  MicroQuadHit best;
+  MicroQuadHit bestQuadHit;
 
   StackEntry stack[kStackSize];
   int sp = 0;
@@ -128,24 +175,37 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   int level = 0;
   float tNode, tExit;
   {
-    const float* r = rootBox();
-    if (!intersectBox(query, Vec3{r[0], r[1], r[2]} - pad, Vec3{r[3], r[4], r[5]} + pad, tmin, tmax, tNode,
-                      tExit))
-      return false;
+    const float* r = nodesA + groupOffset(maxLevel_, 0);
+    Vec3 lo{r[0], r[1], r[2]}, hi{r[3], r[4], r[5]};
+    if constexpr (Moving) {
+      const float* rb = nodesB + groupOffset(maxLevel_, 0);
+      lo = lerpPoint(lo, Vec3{rb[0], rb[1], rb[2]}, w0, w1);
+      hi = lerpPoint(hi, Vec3{rb[3], rb[4], rb[5]}, w0, w1);
+    }
+    if (!intersectBox(query, lo - pad, hi + pad, tmin, tmax, tNode, tExit)) goto borders;
   }
   for (;;) {
     if (level == k) {
       const uint32_t x = detail::mortonX(node), y = detail::mortonY(node);
-      const Vec3* p = &positions_[size_t(y) * stride * res + size_t(x) * stride];
-      const Vec3 p00 = p[0], p10 = p[stride], p01 = p[stride * res], p11 = p[stride * res + stride];
+      const size_t i00 = size_t(y) * stride * res + size_t(x) * stride;
+      const Vec3* p = &positions_[i00];
+      Vec3 p00 = p[0], p10 = p[stride], p01 = p[stride * res], p11 = p[stride * res + stride];
+      if constexpr (Moving) {
+        const Vec3* q = &posB[i00];
+        p00 = lerpPoint(p00, q[0], w0, w1);
+        p10 = lerpPoint(p10, q[stride], w0, w1);
+        p01 = lerpPoint(p01, q[stride * res], w0, w1);
+        p11 = lerpPoint(p11, q[stride * res + stride], w0, w1);
+      }
       MicroQuadHit h;
       bool accept = intersectMicroQuad(wray, p00, p10, p01, p11, tmin, tmax, h);
       if (accept) {
         float tBox = tNode;
-        // At the finest level the node box *is* the corner box (same vmin/vmax), tested with
-        // the same arithmetic against tCull = bestT <= tmax, so tNode is already its entry
-        // distance. Coarser levels test the coarse quad's own corner box.
-        if (k != level_)
+        // At the finest level of a static dicing the node box *is* the corner box (same
+        // vmin/vmax), tested with the same arithmetic against tCull = bestT <= tmax, so tNode
+        // is already its entry distance. Coarser levels, and interpolated boxes, test the
+        // quad's own corner box.
+        if (Moving || k != level_)
           accept = intersectBox(query, vmin(vmin(p00, p10), vmin(p01, p11)) - pad,
                                 vmax(vmax(p00, p10), vmax(p01, p11)) + pad, tmin, tmax, tBox, tExit);
         if (accept) {
@@ -155,7 +215,15 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
       }
       if (accept && h.ng == Vec3{0, 0, 0}) {
         // Both triangles have zero area: the quad's vertex normals are the only direction left.
-        h.ng = blendedNormal(&normals_[size_t(y) * stride * res + size_t(x) * stride], stride, res, h.s, h.r);
+        if constexpr (Moving) {
+          const Vec3* n = &normals_[i00];
+          const Vec3* nb = &b_.normals[i00];
+          h.ng = blendNormals(lerpPoint(n[0], nb[0], w0, w1), lerpPoint(n[stride], nb[stride], w0, w1),
+                              lerpPoint(n[stride * res], nb[stride * res], w0, w1),
+                              lerpPoint(n[stride * res + stride], nb[stride * res + stride], w0, w1), h.s, h.r);
+        } else {
+          h.ng = blendedNormal(&normals_[i00], stride, res, h.s, h.r);
+        }
         accept = !(h.ng == Vec3{0, 0, 0});
       }
       if (accept) {
@@ -166,10 +234,10 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
           bestQuad = quad;
           bestX = x;
           bestY = y;
-          best = h;
+          bestQuadHit = h;
           // The shading normal is blended from this quad's vertex normals once the traversal
           // ends: start loading them now.
-          const Vec3* n = &normals_[size_t(y) * stride * res + size_t(x) * stride];
+          const Vec3* n = &normals_[i00];
           _mm_prefetch(reinterpret_cast<const char*>(n), _MM_HINT_T0);
           _mm_prefetch(reinterpret_cast<const char*>(n + stride + 1) - 1, _MM_HINT_T0);
           _mm_prefetch(reinterpret_cast<const char*>(n + stride * res), _MM_HINT_T0);
@@ -180,8 +248,12 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
       if (level + 1 < k) {
         // The 4 children's groups (384 contiguous bytes) are what the next step loads:
         // fetch them while this group is tested.
-        const char* next = reinterpret_cast<const char*>(nodeGroup(level + 1, 4 * node));
+        const char* next = reinterpret_cast<const char*>(nodesA + groupOffset(level + 1, 4 * node));
         for (int line = 0; line < 384; line += 64) _mm_prefetch(next + line, _MM_HINT_T0);
+        if constexpr (Moving) {
+          const char* nextB = reinterpret_cast<const char*>(nodesB + groupOffset(level + 1, 4 * node));
+          for (int line = 0; line < 384; line += 64) _mm_prefetch(nextB + line, _MM_HINT_T0);
+        }
       } else {
         // The children are micro-quads: fetch the 3 grid rows of their corners.
         const size_t x0 = 2 * size_t(detail::mortonX(node)) * stride, y0 = 2 * size_t(detail::mortonY(node)) * stride;
@@ -189,10 +261,19 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
           const Vec3* row = &positions_[(y0 + r * stride) * res + x0];
           _mm_prefetch(reinterpret_cast<const char*>(row), _MM_HINT_T0);
           _mm_prefetch(reinterpret_cast<const char*>(row + 2 * stride) + sizeof(Vec3) - 1, _MM_HINT_T0);
+          if constexpr (Moving) {
+            const Vec3* rowB = &posB[(y0 + r * stride) * res + x0];
+            _mm_prefetch(reinterpret_cast<const char*>(rowB), _MM_HINT_T0);
+            _mm_prefetch(reinterpret_cast<const char*>(rowB + 2 * stride) + sizeof(Vec3) - 1, _MM_HINT_T0);
+          }
         }
       }
       __m128 te;
-      int mask = gray.test(nodeGroup(level, node), bestT, te);
+      int mask;
+      if constexpr (Moving)
+        mask = gray.testLerp(nodesA + groupOffset(level, node), nodesB + groupOffset(level, node), w0v, w1v, bestT, te);
+      else
+        mask = gray.test(nodesA + groupOffset(level, node), bestT, te);
       if (mask != 0) {
         alignas(16) float t[4];
         _mm_store_ps(t, te);
@@ -224,7 +305,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
     // Pop the next node still entered no later than the best hit (equal stays: a tie may
     // still win on quad index).
     for (;;) {
-      if (sp == 0) goto done;
+      if (sp == 0) goto borders;
       const StackEntry& e = stack[--sp];
       if (e.tEntry > bestT) continue;
       node = e.node;
@@ -233,29 +314,175 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
       break;
     }
   }
-done:
-  if (bestQuad == UINT32_MAX) return false;
+borders:
+  Best best;
+  best.t = bestT;
+  best.quad = bestQuad;
+  best.x = bestX;
+  best.y = bestY;
+  best.s = bestQuadHit.s;
+  best.r = bestQuadHit.r;
+  best.ng = bestQuadHit.ng;
+  if (closeBorders && borders_) {
+    if (traverseBorders<AnyHit, Moving>(query, dir, pad, tmin, tmax, k, w0, w1, best) && AnyHit) return true;
+  }
+  if (best.quad == UINT32_MAX) return false;
 
   const float inv = 1.0f / float(1u << k);  // a power of two: the scaling below is exact
   GridHit& g = *out;
   g.t = best.t;
-  g.u = (float(bestX) + best.s) * inv;
-  g.v = (float(bestY) + best.r) * inv;
-  g.quad = bestQuad;
+  g.u = (float(best.x) + best.s) * inv;
+  g.v = (float(best.y) + best.r) * inv;
+  g.quad = best.quad;
   g.ng = best.ng;
-  const Vec3 ns = blendedNormal(&normals_[size_t(bestY) * stride * res + size_t(bestX) * stride],
-                                stride, res, best.s, best.r);
+  g.border = best.border;
+  const size_t i00 = size_t(best.y) * stride * res + size_t(best.x) * stride;
+  Vec3 ns;
+  if constexpr (Moving) {
+    const Vec3* n = &normals_[i00];
+    const Vec3* nb = &b_.normals[i00];
+    ns = blendNormals(lerpPoint(n[0], nb[0], w0, w1), lerpPoint(n[stride], nb[stride], w0, w1),
+                      lerpPoint(n[stride * res], nb[stride * res], w0, w1),
+                      lerpPoint(n[stride * res + stride], nb[stride * res + stride], w0, w1), best.s, best.r);
+  } else {
+    ns = blendedNormal(&normals_[i00], stride, res, best.s, best.r);
+  }
   g.ns = ns == Vec3{0, 0, 0} ? best.ng : ns;
   return true;
 }
 
-bool DiceBuffer::intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel,
-                           GridHit& hit) const {
-  return traverse<false>(org, dir, tmin, tmax, rayLevel, &hit);
+// The border boxes at the ray's level k (see DiceBuffer::intersect): per border, a depth-first
+// walk of its binary tree, pruned by the slab test against the best hit so far (inclusive, as
+// the quad-tree walk). Returns true when it improved `best` (for AnyHit: found any hit).
+template <bool AnyHit, bool Moving>
+bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
+                                 float tmax, int k, float w0, float w1, Best& best) const {
+  const uint32_t stride = 1u << (level_ - k);
+  const size_t res = size_t(resolution());
+  const uint32_t last = (1u << k) - 1;
+  const Vec3* const positions_ = a_.positions.data();
+  const Vec3* const normals_ = a_.normals.data();
+  bool found = false;
+  auto box = [&](int e, int lv, uint32_t j, Vec3& lo, Vec3& hi) {
+    const size_t o = borderOffset(e, lv, j);
+    const float* a = a_.borders.data() + o;
+    lo = Vec3{a[0], a[1], a[2]};
+    hi = Vec3{a[3], a[4], a[5]};
+    if constexpr (Moving) {
+      const float* b = b_.borders.data() + o;
+      lo = lerpPoint(lo, Vec3{b[0], b[1], b[2]}, w0, w1);
+      hi = lerpPoint(hi, Vec3{b[3], b[4], b[5]}, w0, w1);
+    }
+  };
+  auto vertex = [&](size_t i) {
+    if constexpr (Moving) return lerpPoint(positions_[i], b_.positions[i], w0, w1);
+    else return positions_[i];
+  };
+  for (int e = 0; e < 4; ++e) {
+    BorderEntry stack[2 * 13];
+    int sp = 0;
+    {
+      Vec3 lo, hi;
+      box(e, 0, 0, lo, hi);
+      float t0, t1;
+      if (!intersectBox(q, lo - pad, hi + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
+      stack[sp++] = {0, 0, t0};
+    }
+    while (sp > 0) {
+      const BorderEntry n = stack[--sp];
+      if (n.tEntry > best.t) continue;
+      if (n.level < k) {
+        BorderEntry c[2];
+        int nc = 0;
+        for (uint32_t d = 0; d < 2; ++d) {
+          Vec3 lo, hi;
+          box(e, n.level + 1, 2 * n.j + d, lo, hi);
+          float t0, t1;
+          if (intersectBox(q, lo - pad, hi + pad, tmin, AnyHit ? tmax : best.t, t0, t1))
+            c[nc++] = {2 * n.j + d, n.level + 1, t0};
+        }
+        if (nc == 2 && c[1].tEntry < c[0].tEntry) std::swap(c[0], c[1]);
+        for (int i = nc - 1; i >= 0; --i) stack[sp++] = c[i];
+        continue;
+      }
+      // A border box at the ray's level: its true exit, and it must be entered from outside.
+      Vec3 lo, hi;
+      box(e, k, n.j, lo, hi);
+      float t0, t1;
+      if (!intersectBox(q, lo - pad, hi + pad, tmin, tmax, t0, t1) || !(t0 > tmin) || t0 > best.t) continue;
+      // The border micro-quad and its triangle that holds the segment (micro_quad.h's split).
+      uint32_t x, y;
+      switch (e) {
+        case 0: x = n.j; y = 0; break;
+        case 1: x = last; y = n.j; break;
+        case 2: x = n.j; y = last; break;
+        default: x = 0; y = n.j; break;
+      }
+      const size_t i00 = size_t(y) * stride * res + size_t(x) * stride;
+      const Vec3 p00 = vertex(i00), p10 = vertex(i00 + stride), p01 = vertex(i00 + stride * res),
+                 p11 = vertex(i00 + stride * res + stride);
+      const bool first = e == 0 || e == 1;  // (p00, p10, p11) holds the v=0 and u=1 segments
+      Vec3 ng;
+      if (!detail::unitTriangleNormal(p00, first ? p10 : p11, first ? p11 : p01, ng) &&
+          !detail::unitTriangleNormal(p00, first ? p11 : p10, first ? p01 : p11, ng))
+        ng = Vec3{0, 0, 0};
+      const Vec3 a = e == 0 || e == 3 ? p00 : e == 1 ? p10 : p01;
+      const Vec3 b = e == 0 ? p10 : e == 3 ? p01 : p11;
+      // The crossing of the triangle's plane, kept inside the box.
+      float t = t0;
+      if (!(ng == Vec3{0, 0, 0})) {
+        const float tp = dot(a - q.org, ng) / dot(dir, ng);
+        if (std::isfinite(tp)) t = std::clamp(tp, t0, std::max(t0, t1));
+      }
+      if (!(t < tmax)) continue;
+      const Vec3 hitPoint = q.org + dir * t;
+      const Vec3 chord = b - a;
+      const float len2 = dot(chord, chord);
+      float lambda = len2 > 0 ? dot(hitPoint - a, chord) / len2 : 0.0f;
+      lambda = std::isfinite(lambda) ? std::clamp(lambda, 0.0f, 1.0f) : 0.0f;
+      const float s = e == 3 ? 0.0f : e == 1 ? 1.0f : lambda;
+      const float r = e == 0 ? 0.0f : e == 2 ? 1.0f : lambda;
+      if (ng == Vec3{0, 0, 0}) {
+        if constexpr (Moving) {
+          const Vec3* nn = &normals_[i00];
+          const Vec3* nb = &b_.normals[i00];
+          ng = blendNormals(lerpPoint(nn[0], nb[0], w0, w1), lerpPoint(nn[stride], nb[stride], w0, w1),
+                            lerpPoint(nn[stride * res], nb[stride * res], w0, w1),
+                            lerpPoint(nn[stride * res + stride], nb[stride * res + stride], w0, w1), s, r);
+        } else {
+          ng = blendedNormal(&normals_[i00], stride, res, s, r);
+        }
+        if (ng == Vec3{0, 0, 0}) continue;
+      }
+      if constexpr (AnyHit) return true;
+      const uint32_t quad = (y << k) | x;
+      if (t < best.t || (t == best.t && quad < best.quad)) {
+        best.t = t;
+        best.quad = quad;
+        best.x = x;
+        best.y = y;
+        best.s = s;
+        best.r = r;
+        best.ng = ng;
+        best.border = true;
+        found = true;
+      }
+    }
+  }
+  return found;
 }
 
-bool DiceBuffer::occluded(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel) const {
-  return traverse<true>(org, dir, tmin, tmax, rayLevel, nullptr);
+bool DiceBuffer::intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,
+                           BottomQuery query) const {
+  if (moving_ && query.alpha != 0.0f)
+    return traverse<false, true>(org, dir, tmin, tmax, rayLevel, query.alpha, query.closeBorders, &hit);
+  return traverse<false, false>(org, dir, tmin, tmax, rayLevel, 0.0f, query.closeBorders, &hit);
+}
+
+bool DiceBuffer::occluded(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, BottomQuery query) const {
+  if (moving_ && query.alpha != 0.0f)
+    return traverse<true, true>(org, dir, tmin, tmax, rayLevel, query.alpha, query.closeBorders, nullptr);
+  return traverse<true, false>(org, dir, tmin, tmax, rayLevel, 0.0f, query.closeBorders, nullptr);
 }
 
 }  // namespace rayes

@@ -59,6 +59,32 @@ class Patch {
 
   // Short name of the kind, for stats ("bezier", "bilinear", ...).
   virtual const char* kind() const = 0;
+
+  // --- Motion (thesis §6.3). A patch may carry K >= 1 time samples: the same surface (same
+  // kind, same parametrisation) at increasing times sampleTime(0) < ... < sampleTime(K-1).
+  // At time t in [t_i, t_i+1] the surface is the point-wise linear interpolation of samples i
+  // and i+1 at equal (u, v); outside the keyframe range the time clamps. bounds() and
+  // boundsOver() cover every sample (and so, by convexity, every interpolated time); dice()
+  // and evaluate() are sample 0. A static patch (the default) has one sample and pays nothing.
+  virtual int timeSamples() const { return 1; }
+  virtual float sampleTime(int sample) const { return 0.0f; }
+  // dice() / evaluate() / boundsOver() of one time sample (0 <= sample < timeSamples()).
+  virtual void diceAt(int sample, int level, Vec3* positions, Vec3* normals) const {
+    dice(level, positions, normals);
+  }
+  virtual SurfacePoint evaluateAt(int sample, float u, float v) const { return evaluate(u, v); }
+  virtual Box3 boundsOverAt(int sample, float u0, float u1, float v0, float v1) const {
+    return boundsOver(u0, u1, v0, v1);
+  }
+
+  // --- Crack-free level of detail (docs/architecture.md, "Crack-free and watertight").
+  // True when a dicing's border polyline can leave the true border curve, so neighbours diced
+  // at different levels can leave slits that the bottom level must close with conservative
+  // border boxes. Borders that are straight at every level (planar bilinear patches) need
+  // none. boundsOver() is then called with a degenerate rectangle (u0 == u1 or v0 == v1 on a
+  // border): it must bound the true border curve piece. A displaced kind must answer true
+  // (its default does, through a positive dicingErrorCoefficient()).
+  virtual bool needsBorderClosure() const { return dicingErrorCoefficient() > 0.0f; }
 };
 
 using PatchPtr = std::shared_ptr<const Patch>;

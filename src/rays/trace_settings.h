@@ -2,6 +2,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 #include "core/timer.h"
 
@@ -19,6 +20,12 @@ struct TraceSettings {
   size_t candidateCapacity = 1 << 20;
   int maxCandidatesPerRay = 100;    // Table 6.3 clips N at 100
   bool sortByLeaf = true;           // false: debug mode, every ray traced alone, unsorted
+  // Crack-free level of detail: curved patches are also intersected as their conservative
+  // border boxes (DiceBuffer::intersect). Off only to show, in tests, the slits it closes.
+  bool closeBorders = true;
+  // Test hook: replaces the level of ray `ray` (index in the batch) on `leaf`, given the level
+  // the rule chose; the result is clamped to [0, maxLod]. Empty in renders.
+  std::function<int(uint32_t ray, uint32_t leaf, int level)> levelHook;
 };
 
 struct IterationStats {
@@ -31,8 +38,10 @@ struct GenerationStats {
   uint64_t rays = 0;
   uint64_t shadowRays = 0;
   std::vector<IterationStats> iterations;
-  uint64_t leavesDiced = 0;
-  uint64_t micropolygonsCreated = 0;
+  uint64_t leavesDiced = 0;          // dicings (a moving leaf: one per time interval its rays need)
+  uint64_t micropolygonsCreated = 0; // a moving leaf's dicing counts both of its time samples
+  uint64_t movingDicings = 0;        // dicings of two time samples (motion blur)
+  uint64_t borderHits = 0;           // leaf intersections whose nearest hit was a border box
 };
 
 // Times of the tracing stages. toplevel and sort are wall clock; dice and bottom are summed

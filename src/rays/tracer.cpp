@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include "core/octahedral.h"
+#include "dicing/moving_patch.h"
 
 namespace rayes {
 namespace {
@@ -41,9 +42,15 @@ DiceBuffer& Tracer::localDiceBuffer() {
 }
 
 int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
-  if (leaf == b.originLeaf[ray]) return std::min<int>(b.originLevel[ray], settings_.maxLod);
-  const float width = b.coneWidth[ray] + std::max(entry, 0.0f) * b.coneSpread[ray];
-  return levelForFootprint(leafSize_[leaf], width, settings_.maxLod);
+  int level;
+  if (leaf == b.originLeaf[ray]) {
+    level = std::min<int>(b.originLevel[ray], settings_.maxLod);
+  } else {
+    const float width = b.coneWidth[ray] + std::max(entry, 0.0f) * b.coneSpread[ray];
+    level = levelForFootprint(leafSize_[leaf], width, settings_.maxLod);
+  }
+  if (settings_.levelHook) level = std::clamp(settings_.levelHook(ray, leaf, level), 0, settings_.maxLod);
+  return level;
 }
 
 void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
@@ -64,26 +71,32 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   else traceAlone(batch, stats, times);
 }
 
-// Bottom level for one candidate slot: the ray against the diced leaf at the ray's level,
-// the result into the slot (its only writer).
-void Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, int m) {
+// Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
+// its time, on a moving leaf), the result into the slot (its only writer). True when the
+// nearest hit was a border box.
+bool Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, int m) {
   const uint32_t i = slotRay_[s];
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, cand_.entry[s]);
   const float limit = searchLimit(b, i);
+  BottomQuery query;
+  query.alpha = dice.moving() ? timeInterval(*leaves_[leaf], b.time[i]).alpha : 0.0f;
+  query.closeBorders = closeBordersFor(b, i, leaf);
   if (b.kind[i] == RayKind::Shadow) {
-    if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level)) {
+    if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
       cand_.t[s] = 0;
       cand_.quadLevel[s] = uint32_t(level) << 24;
     }
-    return;
+    return false;
   }
   GridHit h;
-  if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h)) {
+  if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
     cand_.t[s] = h.t; cand_.u[s] = h.u; cand_.v[s] = h.v;
     cand_.quadLevel[s] = h.quad | (uint32_t(level) << 24);
     cand_.ng[s] = encodeOctahedral(h.ng);
     cand_.ns[s] = encodeOctahedral(h.ns);
+    return h.border;
   }
+  return false;
 }
 
 void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
@@ -148,13 +161,12 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     // buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
     // (which would re-dice its buffer) while it waits.
     const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
-    std::atomic<uint64_t> micropolygons{0};
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
       DiceBuffer& dice = localDiceBuffer();
-      for (size_t run = r.begin(); run != r.end(); ++run) {
-        const uint32_t* slots = sort_.order.data() + sort_.runs[run];
-        const size_t count = sort_.runs[run + 1] - sort_.runs[run];
-        const uint32_t leaf = cand_.leaf[slots[0]];
+      // Dices `leaf` (or its time interval) at the finest level of `count` slots and
+      // intersects them all.
+      auto diceAndIntersect = [&](const uint32_t* slots, size_t count, uint32_t leaf, int interval) {
         int m = 0;
         if (settings_.lod == LodRule::Density) {
           m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
@@ -164,12 +176,18 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
         }
         {
           ScopedTimer timer(times.dice);
-          dice.dice(*leaves_[leaf], m);
+          if (interval < 0) dice.dice(*leaves_[leaf], m);
+          else dice.diceInterval(*leaves_[leaf], interval, m);
         }
-        micropolygons.fetch_add(uint64_t(1) << (2 * m), std::memory_order_relaxed);
+        const uint64_t grids = interval < 0 ? 1 : 2;
+        micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
+        dicings.fetch_add(1, std::memory_order_relaxed);
+        if (interval >= 0) movingDicings.fetch_add(1, std::memory_order_relaxed);
         auto intersectRange = [&](size_t k0, size_t k1) {
           ScopedTimer timer(times.bottom);
-          for (size_t k = k0; k < k1; ++k) intersectSlot(b, dice, slots[k], leaf, m);
+          uint64_t borders = 0;
+          for (size_t k = k0; k < k1; ++k) borders += intersectSlot(b, dice, slots[k], leaf, m);
+          if (borders) borderHits.fetch_add(borders, std::memory_order_relaxed);
         };
         constexpr size_t kChunk = 1024;
         if (count <= 2 * kChunk) {
@@ -180,10 +198,42 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
                               [&](const auto& c) { intersectRange(c.begin(), c.end()); });
           });
         }
+      };
+      for (size_t run = r.begin(); run != r.end(); ++run) {
+        const uint32_t* slots = sort_.order.data() + sort_.runs[run];
+        const size_t count = sort_.runs[run + 1] - sort_.runs[run];
+        const uint32_t leaf = cand_.leaf[slots[0]];
+        const Patch& patch = *leaves_[leaf];
+        const int samples = patch.timeSamples();
+        if (samples < 2) {
+          diceAndIntersect(slots, count, leaf, -1);
+          continue;
+        }
+        // Motion: regroup the run by time interval (stable counting sort), one dicing each.
+        IntervalScratch& sc = intervals_.local();
+        const int intervals = samples - 1;
+        sc.interval.resize(count);
+        sc.start.assign(size_t(intervals) + 1, 0);
+        for (size_t k = 0; k < count; ++k) {
+          sc.interval[k] = uint32_t(timeInterval(patch, b.time[slotRay_[slots[k]]]).interval);
+          ++sc.start[sc.interval[k] + 1];
+        }
+        for (int iv = 0; iv < intervals; ++iv) sc.start[size_t(iv) + 1] += sc.start[size_t(iv)];
+        sc.slots.resize(count);
+        {
+          std::vector<uint32_t> next(sc.start.begin(), sc.start.end() - 1);
+          for (size_t k = 0; k < count; ++k) sc.slots[next[sc.interval[k]]++] = slots[k];
+        }
+        for (int iv = 0; iv < intervals; ++iv) {
+          const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
+          if (k1 > k0) diceAndIntersect(sc.slots.data() + k0, k1 - k0, leaf, iv);
+        }
       }
     });
-    stats.leavesDiced += nRuns;
+    stats.leavesDiced += dicings.load();
     stats.micropolygonsCreated += micropolygons.load();
+    stats.movingDicings += movingDicings.load();
+    stats.borderHits += borderHits.load();
 
     // 5. Reduce each ray's own slots in slot order, then decide termination.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 1024), [&](const auto& r) {
@@ -240,19 +290,24 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
           const uint32_t leaf = local[j].leaf;
           if (leaf == b.ignoreLeaf[i]) continue;
           const int level = levelFor(b, i, leaf, local[j].entry);
-          dice.dice(*leaves_[leaf], level);
+          const Patch& patch = *leaves_[leaf];
+          const TimeInterval when = timeInterval(patch, b.time[i]);
+          dice.diceInterval(patch, when.interval, level);
           diced.fetch_add(1, std::memory_order_relaxed);
-          micropolygons.fetch_add(uint64_t(1) << (2 * level), std::memory_order_relaxed);
+          micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
           const float limit = searchLimit(b, i);
+          BottomQuery query;
+          query.alpha = when.alpha;
+          query.closeBorders = closeBordersFor(b, i, leaf);
           if (b.kind[i] == RayKind::Shadow) {
-            if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level)) {
+            if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
               best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
               break;
             }
             continue;
           }
           GridHit h;
-          if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h) &&
+          if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) &&
               nearerHit(h.t, leaf, h.quad, best)) {
             best.t = h.t; best.u = h.u; best.v = h.v; best.leaf = leaf; best.quad = h.quad;
             best.level = static_cast<uint8_t>(level);

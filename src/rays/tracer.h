@@ -16,6 +16,12 @@
 // stop at their first occluder. Memory: the candidate buffer (fixed capacity), per-ray state
 // (bytesPerRayState() per ray of the largest batch) and one DiceBuffer per thread, allocated
 // on first use and kept. Not thread-safe: one trace() at a time; trace() itself is parallel.
+//
+// Motion blur (thesis §6.3): a leaf whose patch has K > 1 time samples has its rays regrouped,
+// within the leaf's run, by the time interval [t_i, t_i+1] their time falls in (a stable
+// counting sort); each interval present is diced once, both samples (DiceBuffer::diceInterval),
+// and its rays are intersected at their own time weight. A static leaf takes the static path
+// unchanged.
 #pragma once
 #include <memory>
 #include <vector>
@@ -53,7 +59,12 @@ class Tracer {
   void traceSorted(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
-  void intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, int m);
+  // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
+  // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
+  bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
+    return settings_.closeBorders && leaf != b.originLeaf[i];
+  }
+  bool intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, int m);
   DiceBuffer& localDiceBuffer();
 
   const TopLevelBvh& top_;
@@ -68,6 +79,11 @@ class Tracer {
   std::vector<uint32_t> resumeLeaf_, count_;
   tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_;
   tbb::enumerable_thread_specific<TraversalScratch> scratch_;
+  // Per thread: a moving leaf's slots regrouped by time interval (stable), and the counts.
+  struct IntervalScratch {
+    std::vector<uint32_t> slots, interval, start;
+  };
+  tbb::enumerable_thread_specific<IntervalScratch> intervals_;
 };
 
 // True when hit (t, leaf, quad) is nearer than `best` under the total order used everywhere:

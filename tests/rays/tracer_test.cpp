@@ -54,7 +54,9 @@ RayHit bruteForce(const World& w, const RayBatch& b, int i, DiceBuffer& dice) {
   for (uint32_t leaf = 0; leaf < w.leaves.size(); ++leaf) {
     dice.dice(*w.leaves[leaf], kLod);
     GridHit h;
-    if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], b.tmax[i], kLod, h) && nearerHit(h.t, leaf, h.quad, best)) {
+    BottomQuery q;
+    q.closeBorders = true;  // as the tracer does for rays that do not leave from this leaf
+    if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], b.tmax[i], kLod, h, q) && nearerHit(h.t, leaf, h.quad, best)) {
       best.t = h.t;
       best.leaf = leaf;
       best.quad = h.quad;

@@ -1,0 +1,69 @@
+// Closed surfaces for the crack-free level-of-detail tests: a camera inside must see a hit in
+// every direction, whatever level each ray gets on each patch.
+//
+// To add a kind (the issue asks for a strongly displaced subdivision surface): append a
+// ClosedSurface to closedSurfaces() whose patches enclose the origin; crack_test.cpp runs every
+// surface of the list.
+#pragma once
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+#include "dicing/bezier_patch.h"
+
+namespace rayes::test {
+
+struct ClosedSurface {
+  std::string name;
+  std::vector<PatchPtr> patches;  // closed, enclosing kInside
+};
+// A point well inside every surface of closedSurfaces() (not its centre: see bumpySphere).
+constexpr Vec3 kInside{0.12f, -0.07f, 0.09f};
+
+// A bumpy sphere of bicubic Bézier patches: each face of the cube [-1,1]^3 is cut into n x n
+// patches whose 4x4 control points lie on a lattice of spacing 1/(3n); every control point is
+// then pushed radially to r = 1 + amplitude * bump(direction) and swirled sideways. A control point on a border
+// comes from the same lattice point for both patches that share it (same float operations), so
+// neighbours share border rows exactly and the surface is closed; interior control points make
+// every patch strongly curved, with a different curvature on each side of a border.
+inline std::vector<PatchPtr> bumpySphere(int n, float amplitude) {
+  auto place = [&](int a, int b, int c) {  // lattice point -> displaced control point
+    const float s = 1.0f / float(3 * n);
+    const Vec3 p{float(a) * s, float(b) * s, float(c) * s};
+    const Vec3 d = normalize(p);
+    const float bump = std::sin(5.0f * d.x + 1.0f) * std::sin(4.0f * d.y + 2.0f) * std::sin(6.0f * d.z + 0.5f);
+    const Vec3 q = d * (1.0f + amplitude * bump);
+    // A tangential swirl as well: border curves are then no longer great circles, whose
+    // chords a ray from the centre would see edge-on (radially displaced borders hide slits).
+    return q + Vec3{std::sin(4.0f * q.y + 1.0f), std::sin(4.0f * q.z + 2.0f), std::sin(4.0f * q.x + 3.0f)} *
+                   (0.5f * amplitude);
+  };
+  std::vector<PatchPtr> out;
+  const int L = 3 * n;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2)
+      for (int pi = 0; pi < n; ++pi)
+        for (int pj = 0; pj < n; ++pj) {
+          std::array<Vec3, 16> cp;
+          for (int cj = 0; cj < 4; ++cj)
+            for (int ci = 0; ci < 4; ++ci) {
+              const int i = -L + 6 * pi + 2 * ci;  // lattice spacing 2 keeps faces at +-L exact
+              const int j = -L + 6 * pj + 2 * cj;
+              int q[3];
+              q[axis] = sign * L;
+              q[(axis + 1) % 3] = i;
+              q[(axis + 2) % 3] = j;
+              cp[size_t(cj * 4 + ci)] = place(q[0], q[1], q[2]);
+            }
+          out.push_back(std::make_shared<BezierPatch>(cp));
+        }
+  return out;
+}
+
+inline std::vector<ClosedSurface> closedSurfaces() {
+  return {
+      {"bumpy-bezier-sphere", bumpySphere(3, 0.25f)},
+  };
+}
+
+}  // namespace rayes::test
