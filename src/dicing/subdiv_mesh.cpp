@@ -146,7 +146,7 @@ void validate(const SubdivMeshDesc& d) {
 
 }  // namespace
 
-std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& d) {
+std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& d, bool regularAsBezier) {
   using Item = SubdivInputError::Item;
   validate(d);
   installFarCallbacks();
@@ -224,7 +224,8 @@ std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& 
     Bfr::Surface<float> s;
     if (!topo->factory->InitVertexSurface(f, &s)) return;
     topo->hasLimit[size_t(f)] = 1;
-    if (d.scheme != SubdivScheme::CatmullClark || !s.IsRegular() || s.GetNumControlPoints() != 16) return;
+    if (!regularAsBezier || d.scheme != SubdivScheme::CatmullClark || !s.IsRegular() || s.GetNumControlPoints() != 16)
+      return;
     std::array<int, 16> idx;
     s.GetControlPointIndices(idx.data());
     std::array<int, 16> sorted = idx;
@@ -298,6 +299,15 @@ struct BfrFace {
     float P[3], Du[3], Dv[3];
     surface.Evaluate(uv, points.data(), PointDesc(3), P, Du, Dv);
     return {{P[0], P[1], P[2]}, cross(Vec3{Du[0], Du[1], Du[2]}, Vec3{Dv[0], Dv[1], Dv[2]})};
+  }
+  // Position and the magnitudes of the second derivatives (uu, uv, vv) at face coordinates.
+  Vec3 eval2(const float uv[2], float second[3]) const {
+    float P[3], Du[3], Dv[3], Duu[3], Duv[3], Dvv[3];
+    surface.Evaluate(uv, points.data(), PointDesc(3), P, Du, Dv, Duu, Duv, Dvv);
+    second[0] = length(Vec3{Duu[0], Duu[1], Duu[2]});
+    second[1] = length(Vec3{Duv[0], Duv[1], Duv[2]});
+    second[2] = length(Vec3{Dvv[0], Dvv[1], Dvv[2]});
+    return {P[0], P[1], P[2]};
   }
 };
 
@@ -607,7 +617,38 @@ Box3 SubdivMesh::leafBoundsOver(int leaf, float u0, float u1, float v0, float v1
   const int f = topo_->leaves[size_t(leaf)].first;
   const MeshView view{*topo_, *impl_};
   if (const BezierPatch* b = view.regular(f)) return b->boundsOver(u0, u1, v0, v1);
-  return leafBounds(leaf);
+  // Bfr faces: a 3 x 3 grid of limit points over the rectangle (3 points along a degenerate
+  // one, a border piece), whose cells the surface leaves by at most the bilinear
+  // interpolation error h_s^2 |P_ss| / 8 + h_t^2 |P_tt| / 8. The second derivatives are taken
+  // at the samples with a safety factor of 2 (Bfr's patches are piecewise polynomial with
+  // smooth second derivatives over a leaf's small pieces), so this bound is sampled, not
+  // proven; it is intersected with bounds(), which is proven. Tests check it by sampling.
+  const BfrFace& bfr = faceCache().get(*topo_, *impl_, f);
+  const int sub = topo_->leaves[size_t(leaf)].second;
+  const LeafKind kind = topo_->leafKind(f);
+  const int gs = u1 > u0 ? 2 : 0, gt = v1 > v0 ? 2 : 0;
+  Box3 box;
+  float mss = 0, mtt = 0;
+  for (int j = 0; j <= gt; ++j)
+    for (int i = 0; i <= gs; ++i) {
+      float uv[2], d2[3];
+      const float s = gs ? u0 + (u1 - u0) * float(i) / float(gs) : u0, t = gt ? v0 + (v1 - v0) * float(j) / float(gt) : v0;
+      leafToFace(*topo_, f, sub, s, t, uv);
+      box.extend(bfr.eval2(uv, d2));
+      if (kind == LeafKind::Quad) {  // s = u, t = v
+        mss = std::max(mss, d2[0]);
+        mtt = std::max(mtt, d2[2]);
+      } else {  // |d(u,v)/ds|, |d(u,v)/dt| <= 1/2 per component (sub-face tiles, triangle sub-quads)
+        const float mixed = 0.25f * (d2[0] + 2.0f * d2[1] + d2[2]);
+        mss = std::max(mss, mixed);
+        mtt = std::max(mtt, mixed);
+      }
+    }
+  const float hs = gs ? (u1 - u0) / float(gs) : 0.0f, ht = gt ? (v1 - v0) / float(gt) : 0.0f;
+  const float margin = 2.0f * (hs * hs * mss + ht * ht * mtt) / 8.0f;
+  box = Box3{box.lo - Vec3{margin, margin, margin}, box.hi + Vec3{margin, margin, margin}}.padded();
+  const Box3 all = leafBounds(leaf);
+  return {vmax(box.lo, all.lo), vmin(box.hi, all.hi)};
 }
 
 float SubdivMesh::leafSizeBound(int leaf) const { return impl_->leafSize[size_t(leaf)]; }

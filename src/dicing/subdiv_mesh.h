@@ -74,7 +74,9 @@ class SubdivTopology;
 // existing edges, finite non-negative sharpness, Loop only on triangles) and builds the
 // refiner and the surface factory. Throws SubdivInputError; also for topology OpenSubdiv
 // itself rejects. Positions are only used for their count.
-std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& desc);
+// regularAsBezier: evaluate regular faces (16 distinct B-spline control points) in Bézier form
+// instead of through Bfr; false only to measure the difference (bench/dicing_subdiv.cpp).
+std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& desc, bool regularAsBezier = true);
 
 struct SubdivStats {
   int faces = 0, leaves = 0, regularFaces = 0, irregularFaces = 0, facesWithoutLimit = 0;

@@ -14,7 +14,9 @@ class SubdivFacePatch final : public Patch {
   // box of Bfr's control points and patch points (the limit surface is a convex combination
   // of the control points). Padded for float rounding.
   Box3 bounds() const override { return bounds_; }
-  // Regular faces: the Bézier sub-patch hull (as BezierPatch). Irregular: bounds().
+  // Regular faces: the Bézier sub-patch hull (as BezierPatch). Irregular: sampled limit points
+  // plus a bilinear-interpolation margin from sampled second derivatives (x2), intersected
+  // with bounds() (see SubdivMesh::leafBoundsOver; sampled, not proven).
   Box3 boundsOver(float u0, float u1, float v0, float v1) const override;
   // Regular faces: the Bézier control polylines (a true bound). Irregular: 1.25 x the longest
   // iso-polyline through a 5 x 5 grid of limit points (an estimate, which is all LOD needs).

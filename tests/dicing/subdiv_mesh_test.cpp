@@ -306,6 +306,21 @@ void expectBoundsContain(const SubdivMeshDesc& d, int randomPerLeaf) {
         ASSERT_TRUE(sub.contains(p));
       }
     }
+    // Degenerate rectangles on the borders (the dicing's crack-closure boxes): they hold the
+    // border points, which are the canonical (owner-evaluated) ones, at every dyadic level.
+    for (int level = 0; level <= 6; ++level) {
+      const int segs = 1 << level;
+      for (int side = 0; side < 4; ++side)
+        for (int j = 0; j < segs; ++j) {
+          const float t0 = float(j) / float(segs), t1 = float(j + 1) / float(segs), c = float(side & 1);
+          const Box3 sub = side < 2 ? patch->boundsOver(t0, t1, c, c) : patch->boundsOver(c, c, t0, t1);
+          for (int k = 0; k <= 16; ++k) {
+            const float t = t0 + (t1 - t0) * float(k) / 16.0f;
+            const Vec3 p = (side < 2 ? patch->evaluate(t, c) : patch->evaluate(c, t)).p;
+            ASSERT_TRUE(sub.contains(p)) << "level " << level << " side " << side << " segment " << j;
+          }
+        }
+    }
   }
 }
 
