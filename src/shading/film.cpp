@@ -5,7 +5,8 @@ namespace rayes {
 Film::Film(int width, int height) : width_(width), height_(height) {
   const size_t n = size_t(width) * size_t(height);
   rgb_.assign(3 * n, 0.0); alpha_.assign(n, 0.0); depth_.assign(n, 0.0); normal_.assign(3 * n, 0.0);
-  lod_.assign(n, 0.0); count_.assign(n, 0); hits_.assign(n, 0);
+  lod_.assign(n, 0.0); count_.assign(n, 0); hits_.assign(n, 0); albedo_.assign(3 * n, 0.0);
+  material_.assign(n, -1);
 }
 
 void Film::add(uint32_t p, const PixelSample& s) {
@@ -16,6 +17,8 @@ void Film::add(uint32_t p, const PixelSample& s) {
   depth_[p] += s.depth;
   normal_[3 * p] += s.normal.x; normal_[3 * p + 1] += s.normal.y; normal_[3 * p + 2] += s.normal.z;
   lod_[p] += s.lod;
+  albedo_[3 * p] += s.albedo.x; albedo_[3 * p + 1] += s.albedo.y; albedo_[3 * p + 2] += s.albedo.z;
+  if (!hits_[p]) material_[p] = s.materialId;
   ++hits_[p];
 }
 
@@ -44,5 +47,8 @@ std::vector<float> meanOverHits(const std::vector<double>& sum, const std::vecto
 std::vector<float> Film::depth() const { return meanOverHits(depth_, hits_, 1); }
 std::vector<float> Film::normal() const { return meanOverHits(normal_, hits_, 3); }
 std::vector<float> Film::lod() const { return meanOverHits(lod_, hits_, 1); }
+std::vector<float> Film::albedo() const { return meanOverHits(albedo_, hits_, 3); }
+std::vector<float> Film::materialId() const { return std::vector<float>(material_.begin(), material_.end()); }
+std::vector<float> Film::sampleCount() const { return std::vector<float>(count_.begin(), count_.end()); }
 
 }  // namespace rayes

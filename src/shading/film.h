@@ -16,6 +16,8 @@ struct PixelSample {
   float depth = 0;          // camera-ray hit distance
   Vec3 normal;              // shading normal at the first hit, facing the camera
   float lod = 0;            // level of detail at the first hit
+  Rgb albedo;               // the first hit's BSDF reflectance (Bsdf::reflectance)
+  int32_t materialId = -1;  // the first hit's material index
 };
 
 class Film {
@@ -32,10 +34,14 @@ class Film {
   std::vector<float> depth() const;
   std::vector<float> normal() const;  // xyz per pixel
   std::vector<float> lod() const;
+  std::vector<float> albedo() const;      // rgb per pixel
+  std::vector<float> materialId() const;  // of the first sample (in sample order) that hit; -1: none
+  std::vector<float> sampleCount() const;
 
  private:
   int width_, height_;
-  std::vector<double> rgb_, alpha_, depth_, normal_, lod_;
+  std::vector<double> rgb_, alpha_, depth_, normal_, lod_, albedo_;
+  std::vector<int32_t> material_;
   std::vector<uint32_t> count_, hits_;
 };
 

@@ -1,20 +1,42 @@
-// Lights for next-event estimation. A PointLight is a delta light; a PatchLight is any patch
-// with an emissive material, sampled uniformly in its (u, v) square: the area density is then
-// 1 / |dP/du x dP/dv|, exact for any patch shape (planar rectangles get uniform area sampling).
-// Shading knows nothing of patches: the scene hands each PatchLight a function evaluating its
-// surface. LightSampler picks a light with probability proportional to its estimated power.
-// Immutable after construction; all methods const and thread-safe.
+// Lights for next-event estimation and for the emission that paths find by themselves.
+//   PointLight, SpotLight: delta lights (intensity in W/sr).
+//   PatchLight: any patch with an emitting material (rect and disk lights are such patches),
+//     sampled uniformly in its (u, v) square: area density 1 / |dP/du x dP/dv|, exact for any
+//     parametrisation (uniform area sampling for parallelograms, the concentric disk and the
+//     sphere). Shading knows nothing of patches: the scene hands each a surface function.
+//   DistantLight: a direction with an irradiance; with an angular radius it is a uniform disk
+//     of that angular size (the sun), sampled uniformly in its cone, otherwise a delta.
+//   Environment: radiance from every direction at infinity: a constant, or a lat-long map
+//     (nearest texel: the map is piecewise constant, exactly what its importance sampling
+//     distribution assumes) sampled by a 2D piecewise-constant distribution over
+//     luminance x sin θ. Direction (x, y, z) maps to u = atan2(y, x) / 2π (wrapped to [0, 1)),
+//     v = θ / π with θ measured from +z: the map's top row is the +z sky.
+// LightSampler picks one light with probability proportional to its estimated power and
+// answers the densities multiple importance sampling needs. Immutable after construction;
+// every method const and thread-safe.
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 #include "core/vec.h"
+#include "shading/distribution.h"
+#include "shading/texture.h"
 
 namespace rayes {
 
 struct PointLight {
   Vec3 position;
   Rgb intensity;  // W / sr
+};
+
+struct SpotLight {
+  Vec3 position;
+  Vec3 direction;          // unit, the axis of the cone
+  Rgb intensity;           // W / sr on the axis
+  float cosFalloffStart;   // full intensity inside this cone
+  float cosFalloffEnd;     // zero outside; smoothstep in cos between (pbrt-v4)
+  float falloff(float cosTheta) const;
 };
 
 struct PatchLight {
@@ -25,35 +47,93 @@ struct PatchLight {
   uint32_t leaf = 0;
 };
 
-struct LightSample {
-  Vec3 position;      // point on the light
-  Vec3 normal;        // unit, zero for point lights
-  Rgb radiance;       // radiance toward the receiver (or intensity for a point light)
-  float pdfArea = 0;  // area density of the point given the light; 0 for point lights
-  float pickPdf = 0;  // probability of having chosen this light
-  bool delta = false;
-  bool twoSided = false;
-  uint32_t leaf = 0xffffffffu;
+struct DistantLight {
+  Vec3 direction;        // unit, toward the light
+  Rgb irradiance;        // W / m^2 on a surface facing the light
+  double oneMinusCos = 0;  // 1 - cos(angular radius), 0 for a delta light (kept in double: the sun's is 1e-5)
+  Rgb radiance() const;    // irradiance / (π sin² radius) for a disk, unused for a delta
 };
+
+class Environment {
+ public:
+  explicit Environment(Rgb constant) : constant_(constant) {}
+  // A lat-long map (see the header comment), radiance = scale x texel.
+  Environment(std::shared_ptr<const Image> map, Rgb scale);
+  Rgb eval(Vec3 dir) const;
+  float pdf(Vec3 dir) const;  // solid angle
+  // Returns false when the sample is degenerate (a pole).
+  bool sample(float u1, float u2, Vec3& dir, float& pdf) const;
+  Rgb averageRadiance() const { return average_; }
+  const Image* map() const { return map_.get(); }
+
+ private:
+  Rgb constant_;
+  std::shared_ptr<const Image> map_;
+  Rgb scale_{1, 1, 1};
+  Distribution2D dist_;
+  Rgb average_;
+};
+
+// The lights a scene has besides point lights and emissive patches.
+struct SceneLights {
+  std::vector<SpotLight> spots;
+  std::vector<DistantLight> distants;
+  std::shared_ptr<const Environment> environment;
+};
+
+struct LightSample {
+  Vec3 wi;              // unit, from the receiver toward the light
+  float distance = 0;   // to the sampled point; +inf for lights at infinity
+  Rgb radiance;         // arriving along -wi (intensity / distance² for point and spot lights)
+  float pdf = 0;        // solid-angle density including the pick probability; for a delta
+                        // light, the pick probability alone
+  bool delta = false;
+  uint32_t leaf = 0xffffffffu;  // the emitter's leaf (a shadow ray must not hit it), or none
+};
+
+// The power heuristic (β = 2) weight of a strategy with density a against one with density b.
+inline float powerHeuristic(float a, float b) {
+  if (!(a > 0)) return 0;
+  if (!std::isfinite(a)) return 1;
+  const float r = b / a;
+  return 1.0f / (1.0f + r * r);
+}
 
 class LightSampler {
  public:
   LightSampler() = default;
-  LightSampler(std::vector<PointLight> points, std::vector<PatchLight> patches);
+  // sceneRadius: of a sphere holding the scene, for the power of lights at infinity.
+  LightSampler(std::vector<PointLight> points, std::vector<PatchLight> patches, SceneLights more = {},
+               float sceneRadius = 1);
   bool empty() const { return cdf_.empty(); }
   size_t size() const { return cdf_.size(); }
-  // Picks a light with u0 and a point on it with (u1, u2). Returns false if there is no light
-  // or the sampled point is degenerate (zero Jacobian).
-  bool sample(float u0, float u1, float u2, LightSample& out) const;
+  // Picks a light with u0 and a point or direction on it with (u1, u2), as seen from ref.
+  // Returns false if there is no light, the receiver is behind a one-sided emitter, or the
+  // sample is degenerate.
+  bool sample(Vec3 ref, float u0, float u1, float u2, LightSample& out) const;
   // Index of the PatchLight on `leaf`, or -1.
   int patchLightOfLeaf(uint32_t leaf) const;
+  // Solid-angle density (pick included) with which sample() from ref would produce the point
+  // hit at (u, v) on the emissive leaf, reached along unit direction wi at distance dist.
+  float patchPdf(int patchLight, float u, float v, Vec3 wi, float dist) const;
+  // Radiance from the lights at infinity along unit dir, each weighted by the power heuristic
+  // against a BSDF sample of density bsdfPdf (bsdfDelta: weight 1).
+  Rgb escaped(Vec3 dir, float bsdfPdf, bool bsdfDelta) const;
+  // Something a BSDF-sampled ray can find: an emissive patch or a non-delta light at infinity.
+  bool hasHittable() const { return hittable_; }
+  bool hasInfinite() const { return !more_.distants.empty() || more_.environment; }
   const std::vector<PatchLight>& patchLights() const { return patches_; }
 
  private:
+  float pick(size_t k) const { return cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f); }
   std::vector<PointLight> points_;
   std::vector<PatchLight> patches_;
-  std::vector<float> cdf_;  // over points_ then patches_, last entry 1
+  SceneLights more_;
+  // Pick order: points, spots, patches, distants, environment.
+  std::vector<float> cdf_;
   std::vector<int> leafToPatchLight_;
+  size_t spot0_ = 0, patch0_ = 0, distant0_ = 0, env_ = 0;
+  bool hittable_ = false;
 };
 
 }  // namespace rayes

@@ -1,18 +1,57 @@
-// Materials of the v1 scene format: a Lambertian reflectance and an emitted radiance (either
-// may be zero). Emission leaves the side the surface normal dP/du x dP/dv points to, or both
-// sides when twoSided is set.
+// Materials are data: a model name and its parameters, each colour optionally a texture of
+// the hit's (u, v). bsdfAt() turns one into a Bsdf at a hit. Any material may also emit
+// (emission radiance, leaving the side the patch normal dP/du x dP/dv points to, or both
+// sides when twoSided). Parameter meanings and units: docs/scene-format.md, "materials".
 #pragma once
+#include <memory>
 #include <string>
 #include "core/vec.h"
+#include "shading/bsdf.h"
+#include "shading/texture.h"
 
 namespace rayes {
 
+// A colour parameter: value, times the texture when there is one.
+struct ColorParam {
+  Rgb value{0, 0, 0};
+  std::shared_ptr<const Texture> texture;
+  ColorParam() = default;
+  ColorParam(Rgb v) : value(v) {}
+  Rgb at(float u, float v) const { return texture ? value * texture->eval(u, v) : value; }
+};
+
+enum class MaterialType : uint8_t { Diffuse, Conductor, Dielectric, Plastic, Phong, Glossy };
+
 struct Material {
   std::string name;
-  Rgb albedo{0, 0, 0};
-  Rgb emission{0, 0, 0};  // radiance, W / (m^2 sr) per channel
+  MaterialType type = MaterialType::Diffuse;
+  ColorParam albedo;         // diffuse: reflectance; plastic: base; phong: kd
+  ColorParam specular;       // phong: ks; glossy: ρs
+  Rgb eta{1.5f, 1.5f, 1.5f};  // conductor: real part per channel; dielectric, plastic: eta.x
+  Rgb k{0, 0, 0};            // conductor: imaginary part
+  float roughness = 0;       // GGX alpha (conductor, dielectric)
+  float exponent = 20;       // phong
+  float sigma = 0.1f;        // glossy lobe width, radians
+  float plasticFdrIn = 0;    // precomputed by Plastic::internalDiffuseReflectance(eta.x)
+  Rgb emission{0, 0, 0};     // radiance, W / (m^2 sr) per channel
   bool twoSided = false;
   bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
+
+  Bsdf bsdfAt(float u, float v) const {
+    switch (type) {
+      case MaterialType::Diffuse: return Lambert{albedo.at(u, v)};
+      case MaterialType::Conductor: return Conductor{eta, k, roughness};
+      case MaterialType::Dielectric: return Dielectric{eta.x, roughness};
+      case MaterialType::Plastic: return Plastic{albedo.at(u, v), eta.x, plasticFdrIn};
+      case MaterialType::Phong: return Phong{albedo.at(u, v), specular.at(u, v), exponent};
+      case MaterialType::Glossy: return GaussianLobe{specular.at(u, v), sigma};
+    }
+    return Lambert{};
+  }
+  // A black diffuse material reflects nothing: no BSDF work at all.
+  bool reflectsNothing() const {
+    return type == MaterialType::Diffuse && !albedo.texture && isBlack(albedo.value);
+  }
 };
 
 }  // namespace rayes

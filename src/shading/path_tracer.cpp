@@ -6,16 +6,16 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 #include "core/rng.h"
+#include "shading/bsdf.h"
 #include "shading/sampling.h"
 
 namespace rayes {
 namespace {
-constexpr float kInvPi = std::numbers::inv_pi_v<float>;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Random-number dimensions of one path vertex.
 enum Dim : uint32_t { kPixelX = 0, kPixelY = 1, kLightPick = 2, kLightU = 3, kLightV = 4,
-                      kBsdfU = 5, kBsdfV = 6, kRoulette = 7, kLensU = 8, kLensV = 9, kTime = 10 };
+                      kBsdfU = 5, kBsdfV = 6, kRoulette = 7, kLensU = 8, kLensV = 9, kTime = 10, kBsdfLobe = 11 };
 
 struct PathIds { uint32_t pixel, sample; };
 PathIds idsOf(uint64_t id, uint32_t pixels) {
@@ -30,6 +30,12 @@ float PathTracer::originOffset(float side, float errorCoefficient, int level, Ve
   const float floor = 1e-5f * side + 1e-6f * maxComponent(vabs(p));
   const float offset = std::max(floor, std::min(thesis, bound));
   return std::isfinite(offset) ? offset : floor;
+}
+
+float PathTracer::spreadAfterBounce(float incoming, float pdf, bool delta) {
+  if (delta) return incoming;
+  const float lobe = pdf > 0 ? std::sqrt(1.0f / pdf) : kDiffuseSpread;
+  return std::max(incoming, std::min(kDiffuseSpread, lobe));
 }
 
 void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const {
@@ -50,6 +56,9 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.shadowContribution[k] = {0, 0, 0};
       paths.alive[k] = 1;
       paths.aov[k] = PixelSample{};
+      paths.bsdfPdf[k] = 0;
+      paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
+      paths.etaScale[k] = 1;
       rays.set(2 * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, k, kNoLeaf,
                kNoLeaf, 0, cr.time);
       rays.kind[2 * size_t(k) + 1] = RayKind::Inactive;
@@ -81,6 +90,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
   }
 
   std::atomic<size_t> emitted{0};
+  const LightSampler& lights = scene_.lights;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, order_.size(), 256), [&](const auto& r) {
     size_t localEmitted = 0;
     for (size_t o = r.begin(); o != r.end(); ++o) {
@@ -95,7 +105,18 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
 
       const RayHit h = rays.hit[cs];
       const Vec3 wo = -normalize(rays.dir[cs]);
-      if (!h.valid()) { paths.alive[k] = 0; continue; }  // v1 has no environment light
+      Rgb& T = paths.throughput[k];
+      const bool prevDelta = paths.bsdfDelta[k] != 0;
+      if (!h.valid()) {
+        // Escaped: the lights at infinity (only if the scene has any).
+        if (lights.hasInfinite()) {
+          const Rgb c = T * lights.escaped(-wo, paths.bsdfPdf[k], prevDelta);
+          if (isFinite(c)) paths.radiance[k] += c;
+          else stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+        }
+        paths.alive[k] = 0;
+        continue;
+      }
       const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
       // A broken hit (non-finite point or normals) ends the path here, before it can reach
       // the film or the AOVs (DESIGN invariant 5).
@@ -106,64 +127,93 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
       }
       stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
 
-      const Material& mat = scene_.materials[scene_.leafMaterial[h.leaf]];
+      const uint32_t matId = scene_.leafMaterial[h.leaf];
+      const Material& mat = scene_.materials[matId];
       const bool front = dot(h.ns, wo) > 0;
-      const Vec3 ns = front ? h.ns : -h.ns;
-      const Vec3 ng = dot(h.ng, wo) >= 0 ? h.ng : -h.ng;
-      Rgb& T = paths.throughput[k];
+      const float woNg = dot(h.ng, wo);
 
+      // Emission found by this ray: MIS-weighted against light sampling unless the ray came
+      // from the camera or a delta lobe.
+      if (mat.emits() && (front || mat.twoSided)) {
+        float w = 1;
+        if (!prevDelta) {
+          const float dist = h.t * length(rays.dir[cs]);
+          w = powerHeuristic(paths.bsdfPdf[k], lights.patchPdf(lights.patchLightOfLeaf(h.leaf), h.u, h.v, -wo, dist));
+        }
+        const Rgb c = T * mat.emission * w;
+        if (isFinite(c)) paths.radiance[k] += c;
+        else stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+      }
+      const bool reflects = !mat.reflectsNothing();
+      const Bsdf bsdf = reflects ? mat.bsdfAt(h.u, h.v) : Bsdf{};
       if (bounce == 0) {
         paths.aov[k].hitSurface = true;
         paths.aov[k].depth = h.t;
-        paths.aov[k].normal = ns;
+        paths.aov[k].normal = front ? h.ns : -h.ns;
         paths.aov[k].lod = h.level;
-        if (mat.emits() && (front || mat.twoSided)) paths.radiance[k] += T * mat.emission;
+        paths.aov[k].albedo = reflects ? bsdf.reflectance() : Rgb{};
+        paths.aov[k].materialId = int32_t(matId);
       }
-      if (int(bounce) >= scene_.integrator.maxDepth) { paths.alive[k] = 0; continue; }
+      if (int(bounce) >= scene_.integrator.maxDepth || !reflects) { paths.alive[k] = 0; continue; }
 
-      const RngKey key{idsOf(paths.first + k, pixels).pixel, idsOf(paths.first + k, pixels).sample,
-                       bounce + 1, scene_.integrator.seed};
+      const PathIds ids = idsOf(paths.first + k, pixels);
+      const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
       const float offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p);
-      const Vec3 origin = p + ng * offset;
       const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
-      const Rgb f = mat.albedo * kInvPi;
+      // Reflection-only models see the side the viewer is on; a transmitting one keeps the
+      // patch normal as "outside".
+      const ShadingFrame frame(bsdf.transmits() ? h.ns : (front ? h.ns : -h.ns));
+      const Vec3 woL = frame.toLocal(wo);
+      // A direction must leave on the true surface's side that its local frame claims:
+      // reflection stays on the viewer's side of the geometric normal, transmission crosses.
+      // Otherwise it is the light leak of shading normals at silhouettes: no contribution.
+      auto consistent = [&](Vec3 wi, Vec3 wiL) {
+        const float a = dot(h.ng, wi) * woNg;
+        return wiL.z * woL.z > 0 ? a > 0 : a < 0;
+      };
+      auto originToward = [&](Vec3 wi) { return p + (dot(h.ng, wi) >= 0 ? h.ng : -h.ng) * offset; };
 
       // Next-event estimation.
       LightSample ls;
-      if ((f.x > 0 || f.y > 0 || f.z > 0) &&
-          scene_.lights.sample(sampleUniform(key, kLightPick), sampleUniform(key, kLightU),
-                               sampleUniform(key, kLightV), ls)) {
-        const Vec3 d = ls.position - origin;
-        const float dist2 = dot(d, d);
-        const float dist = std::sqrt(dist2);
-        const Vec3 wi = dist > 0 ? d * (1.0f / dist) : Vec3{};
-        const float cosX = dot(ns, wi);
-        float cosY = ls.delta ? 1.0f : -dot(ls.normal, wi);
-        if (ls.twoSided) cosY = std::fabs(cosY);
-        if (dist > 0 && cosX > 0 && dot(ng, wi) > 0 && cosY > 0) {
-          const float pdf = ls.delta ? ls.pickPdf : ls.pickPdf * ls.pdfArea;
-          const Rgb c = T * f * ls.radiance * (cosX * cosY / (dist2 * pdf));
+      if (!bsdf.isDelta() &&
+          lights.sample(p, sampleUniform(key, kLightPick), sampleUniform(key, kLightU), sampleUniform(key, kLightV), ls)) {
+        const Vec3 wiL = frame.toLocal(ls.wi);
+        const Rgb f = bsdf.eval(woL, wiL);
+        if (!isBlack(f) && !isBlack(ls.radiance) && consistent(ls.wi, wiL)) {
+          const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(woL, wiL));
+          const Rgb c = T * f * ls.radiance * (std::fabs(wiL.z) * w / ls.pdf);
           if (!isFinite(c)) {
             stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-          } else if (c.x > 0 || c.y > 0 || c.z > 0) {
+          } else if (!isBlack(c)) {
+            const Vec3 origin = originToward(ls.wi);
+            const float tmax = std::isfinite(ls.distance) ? ls.distance * (1.0f - 1e-4f) : kInf;
             paths.shadowContribution[k] = c;
-            rays.set(ss, RayKind::Shadow, origin, wi, 0.0f, dist * (1.0f - 1e-4f), width,
-                     kDiffuseSpread, k, ls.leaf, h.leaf, h.level, rays.time[cs]);
+            rays.set(ss, RayKind::Shadow, origin, ls.wi, 0.0f, tmax, width, kDiffuseSpread, k, ls.leaf, h.leaf,
+                     h.level, rays.time[cs]);
             ++localEmitted;
             stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
           }
         }
       }
 
-      // Continuation.
-      if (int(bounce) + 1 >= scene_.integrator.maxDepth) { paths.alive[k] = 0; continue; }
-      const Vec3 wi = toWorld(sampleCosineHemisphere(sampleUniform(key, kBsdfU), sampleUniform(key, kBsdfV)), ns);
-      // Below the true surface though above the shading normal's horizon: the light leak
-      // shading normals cause at silhouettes. Ending the path is the unbiased choice.
-      if (!(dot(wi, ng) > 0)) { paths.alive[k] = 0; continue; }
-      T *= mat.albedo;  // f cos / pdf for a cosine-sampled Lambertian
+      // Continuation. At the last vertex it only looks for emission, so it is not traced
+      // when there is nothing such a ray could find.
+      if (int(bounce) + 1 >= scene_.integrator.maxDepth && !lights.hasHittable()) { paths.alive[k] = 0; continue; }
+      BsdfSample bs;
+      if (!bsdf.sample(woL, sampleUniform(key, kBsdfU), sampleUniform(key, kBsdfV), sampleUniform(key, kBsdfLobe), bs)) {
+        paths.alive[k] = 0;
+        continue;
+      }
+      const Vec3 wi = normalize(frame.toWorld(bs.wi));
+      if (!consistent(wi, bs.wi) || wi == Vec3{}) { paths.alive[k] = 0; continue; }
+      T *= bs.weight;
+      paths.bsdfPdf[k] = bs.pdf;
+      paths.bsdfDelta[k] = bs.delta ? 1 : 0;
+      paths.etaScale[k] *= bs.etaRel * bs.etaRel;
       if (int(bounce) + 1 >= scene_.integrator.rouletteDepth) {
-        const float q = std::min(1.0f, maxComponent(T));
+        // Survival by throughput with the radiance scaling of refraction undone, so a path
+        // inside glass is not killed for the factor it will regain on the way out.
+        const float q = std::min(1.0f, maxComponent(T) * paths.etaScale[k]);
         if (!(sampleUniform(key, kRoulette) < q)) {
           paths.alive[k] = 0;
           stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
@@ -172,8 +222,9 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
         T = T * (1.0f / q);
       }
       if (!isFinite(T)) { stats.nonFinite.fetch_add(1, std::memory_order_relaxed); paths.alive[k] = 0; continue; }
-      rays.set(cs, RayKind::Closest, origin, wi, 0.0f, kInf, width, std::max(rays.coneSpread[cs], kDiffuseSpread), k,
-               kNoLeaf, h.leaf, h.level, rays.time[cs]);
+      if (isBlack(T)) { paths.alive[k] = 0; continue; }
+      rays.set(cs, RayKind::Closest, originToward(wi), wi, 0.0f, kInf, width,
+               spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), k, kNoLeaf, h.leaf, h.level, rays.time[cs]);
       ++localEmitted;
       stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
     }

@@ -9,10 +9,17 @@
 // (material, leaf) so each material's data is touched in one block (the thesis's second
 // sorting step); the result does not depend on that order.
 //
-// Estimator: next-event estimation at every diffuse vertex (emission found by continuation
-// rays is counted only for camera rays, which NEE cannot reach), cosine-weighted continuation,
-// Russian roulette on the throughput. Random numbers are keyed by (pixel, sample, bounce,
-// dimension). Non-finite contributions are dropped and counted (DESIGN invariant 5).
+// Estimator: a path tracer with next-event estimation and multiple importance sampling (power
+// heuristic) between light sampling and BSDF sampling. At every non-delta vertex one light is
+// sampled (shadow ray, slot 2k+1, MIS-weighted against the BSDF's density); the BSDF is sampled
+// for the continuation ray (slot 2k), and when that ray finds an emitter -- an emissive patch,
+// or nothing at all, so the environment or the sun -- the emission is weighted against the
+// light-sampling density of that point (PathBatch keeps the previous vertex's BSDF density).
+// Camera rays and delta bounces see emission unweighted. A path ends at max_depth vertices
+// (the last continuation ray only gathers emission, and is not traced when the scene has
+// nothing a ray could find) or by Russian roulette on throughput x eta². Random numbers are
+// keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
+// Non-finite contributions are dropped and counted (DESIGN invariant 5).
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -49,13 +56,17 @@ struct ShadingScene {
 struct PathBatch {
   uint64_t first = 0;
   std::vector<Rgb> throughput, radiance, shadowContribution;
+  std::vector<float> bsdfPdf;     // density of the BSDF sample that made the continuation ray
+  std::vector<float> etaScale;    // product of etaRel² over refractions (for roulette)
+  std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
   std::vector<uint8_t> alive;
   std::vector<PixelSample> aov;
   size_t size() const { return alive.size(); }
   void resize(size_t n) {
     throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
+    bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n);
   }
-  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 1 + sizeof(PixelSample); }
+  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 2 + sizeof(PixelSample); }
 };
 
 struct ShadeStats {
@@ -81,7 +92,10 @@ class PathTracer {
   // Cone spread given to rays leaving a diffuse surface (radians per unit distance). A
   // Lambertian lobe spreads rays over the hemisphere, so its rays want coarse geometry; the
   // constant is the footprint of one of ~64 directions covering the cosine lobe (pi / 64 sr).
+  // A narrower lobe gives a narrower cone: sqrt(1 / pdf) of the sampled direction, the angle
+  // of the solid angle it stands for; a delta bounce keeps the incoming spread.
   static constexpr float kDiffuseSpread = 0.22f;
+  static float spreadAfterBounce(float incoming, float pdf, bool delta);
 
   // How far a secondary ray's origin is pushed off a hit at `level` on a leaf (along the
   // geometric normal, to the side the ray leaves). The thesis's l / 2^m, but never more than

@@ -21,6 +21,15 @@ inline Vec3 toWorld(Vec3 local, Vec3 n) {
   return t * local.x + b * local.y + n * local.z;
 }
 
+// The direction at polar angle (cosA, sinA) and azimuth phi about the unit axis a.
+inline Vec3 aroundAxis(Vec3 a, float cosA, float sinA, float phi) {
+  Vec3 t, b;
+  orthonormalBasis(a, t, b);
+  return normalize(t * (sinA * std::cos(phi)) + b * (sinA * std::sin(phi)) + a * cosA);
+}
+
+inline bool isBlack(Rgb c) { return !(c.x > 0 || c.y > 0 || c.z > 0); }
+
 inline float luminance(Rgb c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 }  // namespace rayes

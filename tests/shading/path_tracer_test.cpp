@@ -31,7 +31,7 @@ struct OneLightScene {
     scene.width = scene.height = 2;
     scene.integrator.maxDepth = 4;
     Material m;
-    m.albedo = {0.5f, 0.5f, 0.5f};
+    m.albedo = Rgb{0.5f, 0.5f, 0.5f};
     scene.materials = {m};
     scene.leafMaterial = {0};
     scene.leafSide = {2};

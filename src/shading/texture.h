@@ -1,0 +1,33 @@
+// Textures: colour functions of the patch parameters (u, v) of a hit (RayHit::u, v).
+// An image (bilinear filtering, repeat wrapping, image row 0 at v = 1 so the image appears
+// upright when v points up), a checkerboard, or fractal value noise blending two colours.
+// Images are decoded by the scene loader (src/scene/texture_reader.cpp) into linear RGB.
+// Immutable after construction; eval() is const and thread-safe.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <vector>
+#include "core/vec.h"
+
+namespace rayes {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<Rgb> texels;  // row-major, row 0 at the top
+  Rgb at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
+};
+
+struct Texture {
+  enum class Kind { Image, Checker, Noise };
+  Kind kind = Kind::Checker;
+  Rgb color0{0, 0, 0}, color1{1, 1, 1};  // checker squares / noise 0 and 1
+  float scale = 1;                       // repetitions per unit of (u, v)
+  int octaves = 4;                       // noise
+  std::shared_ptr<const Image> image;
+
+  Rgb eval(float u, float v) const;
+  // Fractal value noise in [0, 1] (public for tests).
+  static float noise(float x, float y, int octaves);
+};
+
+}  // namespace rayes
