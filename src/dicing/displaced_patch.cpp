@@ -201,21 +201,21 @@ SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
   const SurfacePoint c = base_->evaluate(u, v);
   const Vec3 n = unitOrZero(c.n);
   const float h = kDifferenceStep;
-  // Finite differences of the base at a fixed step, one-sided at the borders.
-  const float ua = u + h <= 1.0f ? u + h : u, ub = u - h >= 0.0f ? u - h : u;
-  const float va = v + h <= 1.0f ? v + h : v, vb = v - h >= 0.0f ? v - h : v;
-  const SurfacePoint pua = ua == u ? c : base_->evaluate(ua, v), pub = ub == u ? c : base_->evaluate(ub, v);
-  const SurfacePoint pva = va == v ? c : base_->evaluate(u, va), pvb = vb == v ? c : base_->evaluate(u, vb);
-  const float iu = 1.0f / (ua - ub), iv = 1.0f / (va - vb);
-  const Vec3 pu = (pua.p - pub.p) * iu, pv = (pva.p - pvb.p) * iv;
-  const Vec3 nu = (unitOrZero(pua.n) - unitOrZero(pub.n)) * iu, nv = (unitOrZero(pva.n) - unitOrZero(pvb.n)) * iv;
+  // One-sided differences of the base at a fixed step: forward, backward where the step
+  // would leave the patch. Two extra base evaluations per point (central differences took
+  // four, for no visible gain in a shading normal).
+  const float ua = u + h <= 1.0f ? u + h : u - h, va = v + h <= 1.0f ? v + h : v - h;
+  const SurfacePoint pua = base_->evaluate(ua, v), pva = base_->evaluate(u, va);
+  const float iu = 1.0f / (ua - u), iv = 1.0f / (va - v);
+  const Vec3 pu = (pua.p - c.p) * iu, pv = (pva.p - c.p) * iv;
+  const Vec3 nu = (unitOrZero(pua.n) - n) * iu, nv = (unitOrZero(pva.n) - n) * iv;
   HeightSample s;
   if (reference_ == base_) {
     s = displacement_->sample(c.p, pu, pv, u, v);
   } else {
     const Vec3 r = reference_->evaluate(u, v).p;
-    const Vec3 ru = (reference_->evaluate(ua, v).p - reference_->evaluate(ub, v).p) * iu;
-    const Vec3 rv = (reference_->evaluate(u, va).p - reference_->evaluate(u, vb).p) * iv;
+    const Vec3 ru = (reference_->evaluate(ua, v).p - r) * iu;
+    const Vec3 rv = (reference_->evaluate(u, va).p - r) * iv;
     s = displacement_->sample(r, ru, rv, u, v);
   }
   SurfacePoint out;

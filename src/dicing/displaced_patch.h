@@ -12,8 +12,8 @@
 // component is taken in [-1, 1]. bounds() is boundsOver(0, 1, 0, 1).
 //
 // Normals. The displaced normal is P'_u x P'_v with P'_u = P_u + N_u h + N h_u: the base's
-// P_u and N_u by finite differences of base evaluations at a fixed parameter step (2^-10,
-// one-sided at the borders), h_u analytically from the displacement. A fixed step (not the
+// P_u and N_u by one-sided finite differences of base evaluations at a fixed parameter step
+// (2^-10, forward, backward at u or v = 1), h_u analytically from the displacement. A fixed step (not the
 // dicing's grid spacing) keeps a vertex's normal independent of the dicing level, so dice()
 // equals evaluate() bit for bit and the level-k subgrid of a level-m dicing is a level-k
 // dicing, normals included (invariant 2). Where that cross product is not finite or vanishes,
