@@ -40,10 +40,12 @@ uint8_t toSrgb8(float v) {
 void writeExr(const std::string& path, const Film& film) {
   const int w = film.width(), h = film.height();
   const std::vector<float> rgba = film.beautyRgba(), depth = film.depth(), normal = film.normal(), lod = film.lod();
+  const std::vector<float> albedo = film.albedo(), material = film.materialId(), samples = film.sampleCount();
   const std::string tmp = temporaryName(path);
   try {
     Imf::Header header(w, h);
-    const char* names[] = {"R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "lod.Y"};
+    const char* names[] = {"R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "lod.Y",
+                           "albedo.R", "albedo.G", "albedo.B", "materialId.Y", "samples.Y"};
     for (const char* c : names) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     Imf::FrameBuffer fb;
     const size_t f = sizeof(float);
@@ -59,6 +61,11 @@ void writeExr(const std::string& path, const Film& film) {
     fb.insert("normal.Y", slice(normal.data() + 1, 3));
     fb.insert("normal.Z", slice(normal.data() + 2, 3));
     fb.insert("lod.Y", slice(lod.data(), 1));
+    fb.insert("albedo.R", slice(albedo.data() + 0, 3));
+    fb.insert("albedo.G", slice(albedo.data() + 1, 3));
+    fb.insert("albedo.B", slice(albedo.data() + 2, 3));
+    fb.insert("materialId.Y", slice(material.data(), 1));
+    fb.insert("samples.Y", slice(samples.data(), 1));
     Imf::OutputFile file(tmp.c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(h);

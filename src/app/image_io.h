@@ -7,8 +7,11 @@
 
 namespace rayes {
 
-// Multi-layer OpenEXR: beauty R,G,B,A; depth.Z; normal.X/Y/Z; lod.Y. All channels are 32-bit
-// float so that the AOVs keep full precision.
+// Multi-layer OpenEXR: beauty R,G,B,A; depth.Z; normal.X/Y/Z (shading normal, facing the
+// camera); lod.Y; albedo.R/G/B (the first hit's BSDF reflectance); materialId.Y (index of the
+// first hit's material in the scene, of the first sample that hit; -1: none); samples.Y
+// (samples taken in the pixel). All channels are 32-bit float so that the AOVs keep full
+// precision (ids and counts are exact below 2^24).
 void writeExr(const std::string& path, const Film& film);
 // 8-bit sRGB preview of the beauty pass (clamped, no tone curve beyond the sRGB transfer).
 void writePngPreview(const std::string& path, const Film& film);

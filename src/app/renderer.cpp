@@ -59,7 +59,11 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
                            },
                            m.emission, m.twoSided, uint32_t(i)});
   }
-  shading_.lights = LightSampler(scene.pointLights, std::move(patchLights));
+  // Lights at infinity are picked by power through a disk of the scene's bounding radius.
+  Box3 all;
+  for (const Box3& b : leafBoxes_) all.extend(b);
+  const float radius = all.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(all.extent()));
+  shading_.lights = LightSampler(scene.pointLights, std::move(patchLights), scene.moreLights, radius);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
   stats_.bytesPerPath = bytesPerPath();

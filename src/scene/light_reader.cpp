@@ -1,34 +1,155 @@
-#include "scene/scene_sections.h"
+#include <cmath>
+#include <numbers>
 #include "dicing/bilinear_patch.h"
+#include "scene/scene_sections.h"
+#include "scene/texture_reader.h"
+#include "shading/sampling.h"
 
 namespace rayes {
+namespace {
+
+// A disk light's surface: the concentric map of the unit square onto the disk (exactly the
+// disk, constant |dP/du x dP/dv| = π R², so next-event estimation samples its area uniformly
+// and exactly). Camera and BSDF rays see its dicing: at level m an inscribed polygon of
+// 2^(m+2) sides (area 2R² at m = 0, 0.99 πR² at m = 3). Planar: dicing error 0.
+class DiskPatch final : public Patch {
+ public:
+  DiskPatch(Vec3 centre, Vec3 normal, float radius) : c_(centre), n_(normalize(normal)), r_(radius) {
+    orthonormalBasis(n_, t_, b_);
+    Box3 box;
+    for (int i = 0; i < 3; ++i) {
+      const float e = r_ * std::sqrt(std::max(0.0f, 1.0f - n_[i] * n_[i]));
+      box.lo[i] = c_[i] - e;
+      box.hi[i] = c_[i] + e;
+    }
+    bounds_ = box.padded();
+  }
+  Box3 bounds() const override { return bounds_; }
+  float sizeBound() const override { return 2 * std::numbers::pi_v<float> * r_; }
+  SurfacePoint evaluate(float u, float v) const override {
+    float x, y;
+    concentricDisk(u, v, x, y);
+    return {c_ + (t_ * x + b_ * y) * r_, n_ * (std::numbers::pi_v<float> * r_ * r_)};
+  }
+  float dicingErrorCoefficient() const override { return 0; }
+  const char* kind() const override { return "disk"; }
+
+ private:
+  Vec3 c_, n_, t_, b_;
+  float r_;
+  Box3 bounds_;
+};
+
+float degrees(const JsonReader& r, const json& j, const std::string& ptr, float lo, float hi) {
+  const float d = float(r.number(j, ptr));
+  if (!(d >= lo && d <= hi)) r.fail(ptr, "must be in [" + std::to_string(int(lo)) + ", " + std::to_string(int(hi)) + "] degrees");
+  return d * std::numbers::pi_v<float> / 180;
+}
+
+Vec3 unitVector(const JsonReader& r, const json& j, const std::string& ptr) {
+  const Vec3 v = r.vec3(j, ptr);
+  if (!(length(v) > 0)) r.fail(ptr, "must not be the zero vector");
+  return normalize(v);
+}
+
+uint32_t emissiveMaterial(Scene& scene, const std::string& name, Rgb radiance, bool twoSided) {
+  Material m;
+  m.name = name;
+  m.emission = radiance;
+  m.twoSided = twoSided;
+  scene.materials.push_back(m);
+  return uint32_t(scene.materials.size() - 1);
+}
+
+}  // namespace
 
 void readLights(const JsonReader& r, const json& j, Scene& scene) {
   if (!j.is_array()) r.fail("/lights", "expected an array of lights");
+  const std::filesystem::path dir = std::filesystem::path(scene.path).parent_path();
   for (size_t l = 0; l < j.size(); ++l) {
     const std::string p = "/lights/" + std::to_string(l);
     const json& light = j[l];
     if (!light.is_object()) r.fail(p, "expected an object");
     const std::string type = r.string(r.member(light, p, "type"), p + "/type");
+    auto twoSided = [&] { return light.contains("two_sided") && r.boolean(light["two_sided"], p + "/two_sided"); };
     if (type == "point") {
       r.object(light, p, {"type", "position", "intensity"});
       scene.pointLights.push_back({r.vec3(r.member(light, p, "position"), p + "/position"),
                                    r.color(r.member(light, p, "intensity"), p + "/intensity", false)});
+    } else if (type == "spot") {
+      r.object(light, p, {"type", "position", "direction", "look_at", "intensity", "cone_angle", "falloff_start"});
+      SpotLight s;
+      s.position = r.vec3(r.member(light, p, "position"), p + "/position");
+      if (light.contains("direction") == light.contains("look_at")) r.fail(p, "give exactly one of 'direction' and 'look_at'");
+      if (light.contains("direction")) {
+        s.direction = unitVector(r, light["direction"], p + "/direction");
+      } else {
+        const Vec3 d = r.vec3(light["look_at"], p + "/look_at") - s.position;
+        if (!(length(d) > 0)) r.fail(p + "/look_at", "look_at equals position");
+        s.direction = normalize(d);
+      }
+      s.intensity = r.color(r.member(light, p, "intensity"), p + "/intensity", false);
+      const float outer = degrees(r, r.member(light, p, "cone_angle"), p + "/cone_angle", 0, 180);
+      if (!(outer > 0)) r.fail(p + "/cone_angle", "the cone angle must be positive");
+      const float inner = light.contains("falloff_start")
+                              ? degrees(r, light["falloff_start"], p + "/falloff_start", 0, 180) : outer;
+      if (inner > outer) r.fail(p + "/falloff_start", "the falloff must start inside the cone");
+      s.cosFalloffEnd = std::cos(outer);
+      s.cosFalloffStart = std::cos(inner);
+      if (s.cosFalloffStart <= s.cosFalloffEnd) s.cosFalloffStart = std::nextafter(s.cosFalloffEnd, 2.0f);
+      scene.moreLights.spots.push_back(s);
     } else if (type == "rect") {
       r.object(light, p, {"type", "corner", "edge_u", "edge_v", "radiance", "two_sided"});
       const Vec3 c = r.vec3(r.member(light, p, "corner"), p + "/corner");
       const Vec3 eu = r.vec3(r.member(light, p, "edge_u"), p + "/edge_u");
       const Vec3 ev = r.vec3(r.member(light, p, "edge_v"), p + "/edge_v");
       if (!(length(cross(eu, ev)) > 0)) r.fail(p, "edge_u and edge_v span no area");
-      Material m;
-      m.name = "rect light " + std::to_string(l);
-      m.emission = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
-      if (light.contains("two_sided")) m.twoSided = r.boolean(light["two_sided"], p + "/two_sided");
-      scene.materials.push_back(m);
-      addPatch(scene, std::make_shared<BilinearPatch>(c, c + eu, c + ev, c + eu + ev),
-               uint32_t(scene.materials.size() - 1));
+      const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
+      const uint32_t m = emissiveMaterial(scene, "rect light " + std::to_string(l), le, twoSided());
+      addPatch(scene, std::make_shared<BilinearPatch>(c, c + eu, c + ev, c + eu + ev), m);
+    } else if (type == "disk") {
+      r.object(light, p, {"type", "center", "normal", "radius", "radiance", "two_sided"});
+      const Vec3 c = r.vec3(r.member(light, p, "center"), p + "/center");
+      const Vec3 n = unitVector(r, r.member(light, p, "normal"), p + "/normal");
+      const float radius = float(r.number(r.member(light, p, "radius"), p + "/radius"));
+      if (!(radius > 0)) r.fail(p + "/radius", "the radius must be positive");
+      const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
+      const uint32_t m = emissiveMaterial(scene, "disk light " + std::to_string(l), le, twoSided());
+      addPatch(scene, std::make_shared<DiskPatch>(c, n, radius), m);
+    } else if (type == "distant") {
+      r.object(light, p, {"type", "direction", "irradiance", "angular_radius"});
+      DistantLight d;
+      d.direction = unitVector(r, r.member(light, p, "direction"), p + "/direction");
+      d.irradiance = r.color(r.member(light, p, "irradiance"), p + "/irradiance", false);
+      if (light.contains("angular_radius")) {
+        const double a = degrees(r, light["angular_radius"], p + "/angular_radius", 0, 90);
+        const double s = std::sin(0.5 * a);
+        d.oneMinusCos = 2 * s * s;  // 1 - cos a without cancellation (the sun's is 1e-5)
+      }
+      scene.moreLights.distants.push_back(d);
+    } else if (type == "environment") {
+      r.object(light, p, {"type", "radiance", "file", "scale"});
+      if (light.contains("radiance") == light.contains("file")) r.fail(p, "give exactly one of 'radiance' and 'file'");
+      if (scene.moreLights.environment) r.fail(p, "a scene has at most one environment");
+      if (light.contains("radiance")) {
+        if (light.contains("scale")) r.fail(p + "/scale", "'scale' goes with 'file'");
+        scene.moreLights.environment =
+            std::make_shared<Environment>(r.color(light["radiance"], p + "/radiance", false));
+      } else {
+        const std::string f = r.string(light["file"], p + "/file");
+        const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : dir / f;
+        std::shared_ptr<const Image> im;
+        try {
+          im = readImageFile(fp);
+        } catch (const InputError& e) {
+          r.fail(p + "/file", e.message());
+        }
+        const Rgb scale = light.contains("scale") ? r.color(light["scale"], p + "/scale", false) : Rgb{1, 1, 1};
+        scene.moreLights.environment = std::make_shared<Environment>(im, scale);
+      }
     } else {
-      r.fail(p + "/type", "unknown light type '" + type + "' (expected point or rect)");
+      r.fail(p + "/type", "unknown light type '" + type +
+                              "' (expected point, spot, rect, disk, distant or environment)");
     }
   }
 }

@@ -30,6 +30,7 @@ struct Scene {
   std::vector<PatchPtr> patches;          // leaf id = index
   std::vector<uint32_t> patchMaterial;    // per patch
   std::vector<PointLight> pointLights;
+  SceneLights moreLights;                 // spot, distant and environment lights
 };
 
 }  // namespace rayes

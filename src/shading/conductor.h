@@ -11,7 +11,7 @@
 namespace rayes {
 
 struct Conductor {
-  Rgb eta{0.2f, 0.92f, 1.1f}, k{3.9f, 2.45f, 2.14f};  // gold by default
+  Rgb eta{0.2f, 0.92f, 1.1f}, k{3.9f, 2.45f, 2.14f};  // copper by default
   float alpha = 0;
 
   bool smooth() const { return alpha < Ggx::kSmoothAlpha; }
