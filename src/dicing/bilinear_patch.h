@@ -21,6 +21,9 @@ class BilinearPatch final : public Patch {
   // Each micro-quad is itself bilinear with twist h^2 w, w = p00 - p10 - p01 + p11; its two
   // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Zero for planar quads.
   float dicingErrorCoefficient() const override { return 0.25f * length(p00_ - p10_ - p01_ + p11_); }
+  // Every border is the straight segment between two corners at every level (twisted or not):
+  // neighbours at different levels leave no slit to close (up to rounding).
+  bool needsBorderClosure() const override { return false; }
   // A bilinear patch over a sub-rectangle is the bilinear patch of its four corners, inside
   // their box.
   Box3 boundsOver(float u0, float u1, float v0, float v1) const override {

@@ -14,6 +14,7 @@ using detail::morton;
 DiceBuffer::DiceBuffer(int maxLevel) : maxLevel_(maxLevel) {
   if (maxLevel < 0 || maxLevel > 12) throw std::invalid_argument("DiceBuffer: maxLevel not in 0..12");
   allocate(a_);
+  radius_ = std::make_unique<std::atomic<double>[]>(borderOffset(4, 0, 0) / 6);
 }
 
 void DiceBuffer::allocate(Sample& s) const {
@@ -29,13 +30,20 @@ void DiceBuffer::diceSample(const Patch& patch, int sample, int level, Sample& o
   const size_t count = size_t(resolution()) * resolution();
   for (size_t k = 0; k < count; ++k) out.normals[k] = detail::unitOrZero(out.normals[k]);
   buildTree(out.positions, out.nodes);
-  if (borders_) buildBorders(patch, sample, out, out.borders);  // only for the patches that need them
+  if (borders_) {  // only for the patches that need them
+    buildBorders(patch, sample, out, out.borders);
+    for (int e = 0; e < 4; ++e)
+      for (size_t i = borderOffset(e, 0, 0) / 6, end = borderOffset(e, level + 1, 0) / 6; i < end; ++i)
+        radius_[i].store(-1.0, std::memory_order_relaxed);
+  }
 }
 
 void DiceBuffer::dice(const Patch& patch, int level) {
   if (level < 0 || level > maxLevel_) throw std::invalid_argument("DiceBuffer::dice: level > maxLevel");
   level_ = level;
   moving_ = false;
+  patch_ = &patch;
+  sampleA_ = 0;
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();
   diceSample(patch, 0, level, a_);
@@ -48,6 +56,8 @@ void DiceBuffer::diceInterval(const Patch& patch, int interval, int level) {
     throw std::invalid_argument("DiceBuffer::diceInterval: no such time interval");
   level_ = level;
   moving_ = true;
+  patch_ = &patch;
+  sampleA_ = interval;
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();  // the union over all samples: the margin is per patch, not per interval
   if (b_.positions.empty()) allocate(b_);
@@ -227,7 +237,7 @@ size_t DiceBuffer::bytesAllocated() const {
   for (const Sample* s : {&a_, &b_})
     b += s->positions.capacity() * sizeof(Vec3) + s->normals.capacity() * sizeof(Vec3) +
          s->nodes.capacity() * sizeof(float) + s->borders.capacity() * sizeof(float);
-  return b;
+  return b + borderOffset(4, 0, 0) / 6 * sizeof(double);  // radius_
 }
 
 }  // namespace rayes

@@ -24,12 +24,16 @@
 //
 // Crack-free borders (docs/architecture.md): for a patch whose borders are curved
 // (Patch::needsBorderClosure) the buffer also builds, per border, a binary tree over the
-// border segments of every level, whose leaf at level k is the box of the true border curve
-// over that segment (Patch::boundsOver on the degenerate rectangle) and of its chord. A query
-// with closeBorders also hits these boxes: whatever level a neighbour was intersected at, the
-// slit between the two dicings lies in them. See intersect().
+// border segments of every level, whose node at level k bounds the true border curve over
+// that segment (Patch::boundsOver on the degenerate rectangle) and its chord. A query with
+// closeBorders also hits the border region of each segment at the ray's level: that box cut
+// down to a cylinder about the chord that still holds the true curve. Whatever level a
+// neighbour was intersected at, the slit between the two dicings lies in these regions. The
+// patch must outlive the queries of its dicing. See intersect().
 #pragma once
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 #include "core/box.h"
 #include "dicing/micro_quad.h"
@@ -83,14 +87,15 @@ class DiceBuffer {
   // traversal order. Watertight: a ray through a shared edge or vertex hits at least one of
   // the micro-quads that share it.
   //
-  // Border boxes (query.closeBorders, on a patch that needs them): the box of border segment
-  // j at the ray's level k is hit when the ray enters it within (tmin, tmax) from outside (a
-  // ray starting inside a border box -- a secondary ray leaving the surface near a seam -- is
-  // not stopped by it). The hit distance is the ray's crossing of the adjacent micro-triangle's
-  // plane clamped to the box's entry/exit, so the point lies as close to the surface as the
-  // box allows; the normals are that quad's; quad is the border micro-quad; border is set.
-  // The result is still a pure function of (ray, patch, k, alpha): the border tree's boxes
-  // contain every finer level's.
+  // Border regions (query.closeBorders, on a patch that needs them): the region of border
+  // segment j at the ray's level k -- its box intersected with a cylinder about its chord
+  // (traverseBorders) -- is hit when the ray enters it within (tmin, tmax) from outside (a
+  // ray starting inside one -- a secondary ray leaving the surface near a seam -- is not
+  // stopped by it). The hit distance is the ray's crossing of the adjacent micro-triangle's
+  // plane clamped to the region's entry/exit, so the point lies as close to the surface as
+  // the region allows; the normals are that quad's; quad is the border micro-quad; border is
+  // set. The result is still a pure function of (ray, patch, k, alpha): the border tree's
+  // boxes contain every finer level's, and a region depends on k and j only.
   bool intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,
                  BottomQuery query = {}) const;
 
@@ -129,6 +134,9 @@ class DiceBuffer {
   template <bool AnyHit, bool Moving>
   bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
                        float tmax, int k, float w0, float w1, Best& best) const;
+  // Radius about the chord's line that holds the true border curve of segment j of border e
+  // at level k (at time weights w0, w1): see traverseBorders.
+  double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool moving) const;
   size_t borderOffset(int e, int level, uint32_t j) const {
     return 6 * (size_t(e) * ((size_t(2) << maxLevel_) - 1) + ((size_t(1) << level) - 1) + j);
   }
@@ -136,7 +144,13 @@ class DiceBuffer {
   int maxLevel_ = 0;
   int level_ = 0;
   bool moving_ = false;   // the second sample (b_) holds this dicing's other time sample
+  const Patch* patch_ = nullptr;  // the diced patch (border regions query it; must outlive the queries)
+  int sampleA_ = 0;       // its time samples in a_ and b_
   bool borders_ = false;  // this dicing has border trees
+  // Border radii of a static dicing (borderRadius at alpha 0), per (border, level, segment),
+  // filled on first use (-1: not yet): many rays near a border share one. Idempotent writes of
+  // a pure function, so concurrent queries of one dicing may race on an entry harmlessly.
+  std::unique_ptr<std::atomic<double>[]> radius_;
   Sample a_;              // first (or only) time sample
   Sample b_;              // second time sample: allocated by the first diceInterval()
   // The tree, stored by sibling groups: group g of level i (i < level_) holds the boxes of the

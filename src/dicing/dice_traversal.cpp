@@ -29,6 +29,8 @@
 // root box test.
 #include <xmmintrin.h>
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
 #include "dicing/morton.h"
@@ -114,6 +116,54 @@ Vec3 blendNormals(Vec3 n00, Vec3 n10, Vec3 n01, Vec3 n11, float s, float r) {
 }
 Vec3 blendedNormal(const Vec3* n00, uint32_t stride, size_t res, float s, float r) {
   return blendNormals(n00[0], n00[stride], n00[stride * res], n00[stride * res + stride], s, r);
+}
+
+// float bounds of a double, outward.
+float roundDown(double x) {
+  const float f = float(x);
+  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float roundUp(double x) {
+  const float f = float(x);
+  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+// The ray's parameter interval [c0, c1] inside the infinite cylinder of radius r about the
+// line through a and b, in double (false: it misses). A degenerate chord (a == b) bounds
+// nothing: the whole line. A ray parallel to the axis is inside everywhere or nowhere.
+bool rayCylinder(Vec3 org, Vec3 dir, Vec3 a, Vec3 b, double r, double& c0, double& c1) {
+  constexpr double kInfD = std::numeric_limits<double>::infinity();
+  const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+  const double len = std::sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+  if (!(len > 0) || !std::isfinite(len)) {
+    c0 = -kInfD;
+    c1 = kInfD;
+    return true;
+  }
+  const double u[3] = {ax[0] / len, ax[1] / len, ax[2] / len};
+  const double w[3] = {double(org.x) - a.x, double(org.y) - a.y, double(org.z) - a.z};
+  const double d[3] = {dir.x, dir.y, dir.z};
+  const double wu = w[0] * u[0] + w[1] * u[1] + w[2] * u[2], du = d[0] * u[0] + d[1] * u[1] + d[2] * u[2];
+  double A = 0, B = 0, C = -r * r, dd = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double wp = w[i] - wu * u[i], dp = d[i] - du * u[i];
+    A += dp * dp;
+    B += wp * dp;
+    C += wp * wp;
+    dd += d[i] * d[i];
+  }
+  if (!(A > 1e-24 * dd)) {  // along the axis
+    if (!(C <= 0)) return false;
+    c0 = -kInfD;
+    c1 = kInfD;
+    return true;
+  }
+  const double disc = B * B - A * C;
+  if (!(disc >= 0)) return false;
+  const double sq = std::sqrt(disc);
+  c0 = (-B - sq) / A;
+  c1 = (-B + sq) / A;
+  return true;
 }
 
 struct BorderEntry {
@@ -405,11 +455,11 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         for (int i = nc - 1; i >= 0; --i) stack[sp++] = c[i];
         continue;
       }
-      // A border box at the ray's level: its true exit, and it must be entered from outside.
+      // A border box at the ray's level, with its true exit.
       Vec3 lo, hi;
       box(e, k, n.j, lo, hi);
       float t0, t1;
-      if (!intersectBox(q, lo - pad, hi + pad, tmin, tmax, t0, t1) || !(t0 > tmin) || t0 > best.t) continue;
+      if (!intersectBox(q, lo - pad, hi + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
       // The border micro-quad and its triangle that holds the segment (micro_quad.h's split).
       uint32_t x, y;
       switch (e) {
@@ -428,6 +478,28 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         ng = Vec3{0, 0, 0};
       const Vec3 a = e == 0 || e == 3 ? p00 : e == 1 ? p10 : p01;
       const Vec3 b = e == 0 ? p10 : e == 3 ? p01 : p11;
+      // The region is the box cut down to the cylinder about the chord's line that holds the
+      // true curve (a box alone, about a diagonal chord, would reach far off the surface).
+      // Its entry must come after the ray's start: a ray starting inside is not stopped.
+      {
+        double c0, c1;
+        double radius;
+        if constexpr (Moving) {
+          radius = borderRadius(e, k, n.j, a, b, w0, w1, true);
+        } else {
+          std::atomic<double>& cached = radius_[borderOffset(e, k, n.j) / 6];
+          radius = cached.load(std::memory_order_relaxed);
+          if (radius < 0) {
+            radius = borderRadius(e, k, n.j, a, b, w0, w1, false);
+            cached.store(radius, std::memory_order_relaxed);
+          }
+        }
+        if (!rayCylinder(q.org, dir, a, b, radius + double(pad.x), c0, c1))
+          continue;
+        t0 = std::max(t0, roundDown(c0));
+        t1 = std::min(t1, roundUp(c1));
+        if (!(t0 <= t1) || !(t0 > tmin) || t0 > best.t) continue;
+      }
       // The crossing of the triangle's plane, kept inside the box.
       float t = t0;
       if (!(ng == Vec3{0, 0, 0})) {
@@ -470,6 +542,48 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
     }
   }
   return found;
+}
+
+// The radius about the line through the chord (a, b) of segment j of border e at level k that
+// holds the true border curve: the curve lies in the boxes of its 2^kBorderSplit pieces
+// (Patch::boundsOverAt; at time weights w0, w1 the blend of both samples' boxes, which holds
+// the blended curve), and the distance to a line, a convex function, is largest over a box at
+// one of its corners. Computed per query from k and j alone, so the region does not depend on
+// the level the patch was diced at.
+double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool moving) const {
+  constexpr int kBorderSplit = 3;
+  const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+  const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
+  if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
+  const uint32_t pieces = 1u << kBorderSplit;
+  const float inv = 1.0f / float(1u << (k + kBorderSplit));  // a power of two: exact parameters
+  double worst = 0;
+  for (uint32_t i = 0; i < pieces; ++i) {
+    const float t0 = float(j * pieces + i) * inv, t1 = float(j * pieces + i + 1) * inv;
+    auto over = [&](int sample) {
+      switch (e) {
+        case 0: return patch_->boundsOverAt(sample, t0, t1, 0.0f, 0.0f);
+        case 1: return patch_->boundsOverAt(sample, 1.0f, 1.0f, t0, t1);
+        case 2: return patch_->boundsOverAt(sample, t0, t1, 1.0f, 1.0f);
+        default: return patch_->boundsOverAt(sample, 0.0f, 0.0f, t0, t1);
+      }
+    };
+    Box3 box = over(sampleA_);
+    if (moving) {
+      const Box3 other = over(sampleA_ + 1);
+      box.lo = lerpPoint(box.lo, other.lo, w0, w1);
+      box.hi = lerpPoint(box.hi, other.hi, w0, w1);
+    }
+    for (int c = 0; c < 8; ++c) {
+      const double p[3] = {double((c & 1) ? box.hi.x : box.lo.x) - a.x, double((c & 2) ? box.hi.y : box.lo.y) - a.y,
+                           double((c & 4) ? box.hi.z : box.lo.z) - a.z};
+      // |p x axis|^2 / |axis|^2
+      const double x = p[1] * ax[2] - p[2] * ax[1], y = p[2] * ax[0] - p[0] * ax[2], z = p[0] * ax[1] - p[1] * ax[0];
+      worst = std::max(worst, (x * x + y * y + z * z) / len2);
+    }
+  }
+  // Relative slack for the rounding of the above (double, on float inputs).
+  return std::sqrt(worst) * (1.0 + 1e-9);
 }
 
 bool DiceBuffer::intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,

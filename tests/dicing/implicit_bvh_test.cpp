@@ -55,7 +55,8 @@ TEST(ImplicitBvh, MemoryIsAllocatedOnceForTheMaxLevel) {
     const size_t verts = size_t((1 << maxLevel) + 1) * ((1 << maxLevel) + 1);
     // Grid, tree, and the 4 border trees of the crack-free borders (2^(maxLevel+1) - 1 boxes each).
     const size_t borderBoxes = 4 * ((size_t(2) << maxLevel) - 1);
-    const size_t expected = 2 * verts * sizeof(Vec3) + (sumOfPowersOf4(maxLevel) + borderBoxes) * sizeof(Box3);
+    const size_t expected = 2 * verts * sizeof(Vec3) + (sumOfPowersOf4(maxLevel) + borderBoxes) * sizeof(Box3) +
+                            borderBoxes * sizeof(double);  // and a radius per border box
     EXPECT_EQ(buffer.bytesAllocated(), expected);
     const auto patches = test::loadTeapot();
     for (int m = maxLevel; m >= 0; m -= 2) {

@@ -7,9 +7,13 @@
 #pragma once
 #include <array>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 #include "dicing/bezier_patch.h"
+#include "dicing/displaced_patch.h"
+#include "dicing/displacement.h"
+#include "dicing/subdiv_mesh.h"
 
 namespace rayes::test {
 
@@ -60,9 +64,51 @@ inline std::vector<PatchPtr> bumpySphere(int n, float amplitude) {
   return out;
 }
 
+// The surface: a closed Catmull-Clark mesh (the surface of a cube cut into n x n
+// faces per side, swirled like bumpySphere so no border is a plane curve), its limit surface
+// displaced along the normal by fractal noise of the given amplitude.
+inline std::vector<PatchPtr> displacedSubdivBlob(int n, float amplitude) {
+  SubdivMeshDesc desc;
+  std::map<std::array<int, 3>, int> index;
+  auto vertex = [&](int a, int b, int c) {
+    const auto [it, added] = index.try_emplace({a, b, c}, int(desc.positions.size()));
+    if (added) {
+      const Vec3 p = Vec3{float(a), float(b), float(c)} * (1.0f / float(n));
+      desc.positions.push_back(p + Vec3{std::sin(2.0f * p.y), std::sin(2.0f * p.z), std::sin(2.0f * p.x)} * 0.15f);
+    }
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2)
+      for (int i = -n; i < n; i += 2)
+        for (int j = -n; j < n; j += 2) {
+          auto at = [&](int di, int dj) {
+            int q[3];
+            q[axis] = sign * n;
+            q[(axis + 1) % 3] = i + di;
+            q[(axis + 2) % 3] = j + dj;
+            return vertex(q[0], q[1], q[2]);
+          };
+          // Counter-clockwise seen from outside: (axis+1, axis+2) is right-handed about +axis.
+          const int quad[4] = {at(0, 0), at(2, 0), at(2, 2), at(0, 2)};
+          desc.faceSizes.push_back(4);
+          for (int k = 0; k < 4; ++k) desc.faceVertices.push_back(quad[sign > 0 ? k : 3 - k]);
+        }
+  NoiseParams noise;
+  noise.amplitude = amplitude;
+  noise.frequency = 2.0f;
+  noise.octaves = 3;
+  noise.seed = 7;
+  const auto displacement = std::make_shared<NoiseDisplacement>(noise);
+  std::vector<PatchPtr> out;
+  for (const auto& base : makeSubdivPatches(desc)) out.push_back(std::make_shared<DisplacedPatch>(base, displacement));
+  return out;
+}
+
 inline std::vector<ClosedSurface> closedSurfaces() {
   return {
       {"bumpy-bezier-sphere", bumpySphere(3, 0.25f)},
+      {"displaced-subdiv-blob", displacedSubdivBlob(6, 0.12f)},
   };
 }
 
