@@ -36,6 +36,19 @@ ShapeSource readSubdivShape(const ShapeContext& ctx);
 // The "transform" modifier: an array of steps (docs/scene-format.md).
 Transform readTransform(const JsonReader& r, const json& j, const std::string& ptr);
 
+// The "motion" modifier of ctx.shape (motion_reader.cpp; the shape must have it): K >= 2
+// strictly increasing times and one transform keyframe per time; a count that disagrees
+// between the two is an InputError naming the file, line and JSON pointer.
+struct Motion {
+  std::vector<float> times;
+  std::vector<Transform> keyframes;  // applied after the shape's own transform
+};
+Motion readMotion(const ShapeContext& ctx);
+// The shape built once per keyframe (build(keyframe * xf)), patch i of every sample wrapped in
+// one MovingPatch. Keyframes that are all equal give the static patches (one time sample).
+std::vector<PatchPtr> movingPatches(const Motion& m, const Transform& xf,
+                                    const std::function<std::vector<PatchPtr>(const Transform&)>& build);
+
 // The "displacement" modifier of ctx.shape (displacement_reader.cpp; the shape must have it).
 DisplacementPtr readDisplacement(const ShapeContext& ctx);
 // `patches` = source.build(xf), each wrapped in a DisplacedPatch when `d` is not null. The

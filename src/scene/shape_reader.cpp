@@ -37,7 +37,7 @@ const std::map<std::string, KindReader>& shapeKinds() {
 }
 
 // Keys every shape may carry, whatever its kind.
-const std::vector<const char*> kCommonKeys = {"type", "material", "transform", "displacement"};
+const std::vector<const char*> kCommonKeys = {"type", "material", "transform", "displacement", "motion"};
 
 }  // namespace
 
@@ -63,7 +63,10 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     const uint32_t mat = materialRef(r, shape, p, materials);
     const Transform xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : Transform{};
     const DisplacementPtr disp = shape.contains("displacement") ? readDisplacement(ctx) : nullptr;
-    for (auto& patch : displacePatches(disp, source, xf, source.build(xf))) addPatch(scene, std::move(patch), mat);
+    const auto build = [&](const Transform& t) { return displacePatches(disp, source, t, source.build(t)); };
+    // With "motion": one set of patches per time sample, each patch a MovingPatch of its versions.
+    for (auto& patch : shape.contains("motion") ? movingPatches(readMotion(ctx), xf, build) : build(xf))
+      addPatch(scene, std::move(patch), mat);
   }
 }
 
