@@ -545,18 +545,21 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
 }
 
 // The radius about the line through the chord (a, b) of segment j of border e at level k that
-// holds the true border curve: the curve lies in the boxes of its 2^kBorderSplit pieces
-// (Patch::boundsOverAt; at time weights w0, w1 the blend of both samples' boxes, which holds
-// the blended curve), and the distance to a line, a convex function, is largest over a box at
-// one of its corners. Computed per query from k and j alone, so the region does not depend on
-// the level the patch was diced at.
+// holds the true border curve: the curve lies in the boxes of its pieces (Patch::boundsOverAt;
+// at time weights w0, w1 the blend of both samples' boxes, which holds the blended curve), and
+// the distance to a line, a convex function, is largest over a box at one of its corners. The
+// radius exceeds the curve's true distance by about a piece's size, so the pieces are those of
+// level max(k + 3, 7) (at most 128; a moving dicing, computed per query, k + 3): coarse
+// segments, which secondary rays with wide footprints use, would otherwise make curved objects
+// visibly fatter for them. A function of (e, k, j) alone, so the region does not depend on the
+// level the patch was diced at.
 double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool moving) const {
-  constexpr int kBorderSplit = 3;
+  const int split = moving ? 3 : std::max(3, 7 - k);
   const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
   const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
   if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
-  const uint32_t pieces = 1u << kBorderSplit;
-  const float inv = 1.0f / float(1u << (k + kBorderSplit));  // a power of two: exact parameters
+  const uint32_t pieces = 1u << split;
+  const float inv = 1.0f / float(1u << (k + split));  // a power of two: exact parameters
   double worst = 0;
   for (uint32_t i = 0; i < pieces; ++i) {
     const float t0 = float(j * pieces + i) * inv, t1 = float(j * pieces + i + 1) * inv;
