@@ -271,7 +271,7 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
 // Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at
 // that ray's level. No sorting, no sharing: the reference the sorted pipeline must match.
 void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
-  std::atomic<uint64_t> diced{0}, micropolygons{0};
+  std::atomic<uint64_t> diced{0}, micropolygons{0}, moving{0};
   ScopedTimer timer(times.bottom);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
     auto& scratch = scratch_.local();
@@ -295,6 +295,7 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
           dice.diceInterval(patch, when.interval, level);
           diced.fetch_add(1, std::memory_order_relaxed);
           micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
+          if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);
           const float limit = searchLimit(b, i);
           BottomQuery query;
           query.alpha = when.alpha;
@@ -325,6 +326,7 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
   });
   stats.leavesDiced += diced.load();
   stats.micropolygonsCreated += micropolygons.load();
+  stats.movingDicings += moving.load();
   stats.iterations.push_back({active_.size(), 16.0, 0});
 }
 
