@@ -88,7 +88,7 @@ void writePngPreview(const std::string& path, const Film& film) {
   if (!fp) throw InputError(path, "", "cannot open for writing");
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
-  bool ok = png && info;
+  volatile bool ok = png && info;  // volatile: survives libpng's longjmp
   if (ok && setjmp(png_jmpbuf(png))) ok = false;
   else if (ok) {
     png_init_io(png, fp);

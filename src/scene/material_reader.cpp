@@ -15,12 +15,6 @@ constexpr Metal kMetals[] = {
     {"aluminium", {1.657f, 0.880f, 0.521f}, {9.224f, 6.270f, 4.837f}},
 };
 
-float positive(const JsonReader& r, const json& j, const std::string& ptr, const char* what) {
-  const float v = float(r.number(j, ptr));
-  if (!(v > 0)) r.fail(ptr, std::string(what) + " must be positive");
-  return v;
-}
-
 float roughness(const JsonReader& r, const json& m, const std::string& mp) {
   if (!m.contains("roughness")) return 0;
   const float a = float(r.number(m["roughness"], mp + "/roughness"));

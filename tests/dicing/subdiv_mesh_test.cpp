@@ -265,8 +265,9 @@ void expectBitwiseSeams(const SubdivMeshDesc& d, int level) {
     else ++lonely;
   }
   EXPECT_EQ(lonely, 0) << "border vertices without a bitwise twin on another leaf, level " << level;
-  if (d.scheme == SubdivScheme::Loop || std::all_of(d.faceSizes.begin(), d.faceSizes.end(), [](int s) { return s == 4; }))
+  if (d.scheme == SubdivScheme::Loop || std::all_of(d.faceSizes.begin(), d.faceSizes.end(), [](int s) { return s == 4; })) {
     EXPECT_EQ(viaFiner, 0) << "uniform meshes have their twins at the same level";
+  }
 }
 
 TEST(SubdivMesh, SeamsAreBitwiseIdentical) {
@@ -391,7 +392,9 @@ TEST(SubdivMesh, InfinitelySharpCreaseIsAnEdgeOfTheCage) {
       for (int side = 0; side < 4; ++side) {
         const float t = float(k) / 8.0f;
         const Vec3 p = patch->evaluate(side < 2 ? t : float(side & 1), side < 2 ? float(side) : t).p;
-        if (std::fabs(p.z + 1.0f) < 1e-3f) EXPECT_NEAR(p.z, -1.0f, 1e-6f);  // a point of the rim
+        if (std::fabs(p.z + 1.0f) < 1e-3f) {
+          EXPECT_NEAR(p.z, -1.0f, 1e-6f);  // a point of the rim
+        }
       }
     }
   }

@@ -24,8 +24,12 @@ void expectSortedLikeStdSort(size_t n, uint32_t leaves, bool sparseSlots) {
   ASSERT_EQ(sort.runs.back(), n);
   for (size_t r = 0; r + 1 < sort.runs.size(); ++r) {
     const uint32_t leaf = leafOf[sort.order[sort.runs[r]]];
-    for (uint32_t i = sort.runs[r]; i < sort.runs[r + 1]; ++i) ASSERT_EQ(leafOf[sort.order[i]], leaf);
-    if (r + 2 < sort.runs.size()) ASSERT_NE(leafOf[sort.order[sort.runs[r + 1]]], leaf);
+    for (uint32_t i = sort.runs[r]; i < sort.runs[r + 1]; ++i) {
+      ASSERT_EQ(leafOf[sort.order[i]], leaf);
+    }
+    if (r + 2 < sort.runs.size()) {
+      ASSERT_NE(leafOf[sort.order[sort.runs[r + 1]]], leaf);
+    }
   }
 }
 

@@ -95,7 +95,9 @@ void expectMatchesBruteForce(size_t capacity, bool sorted) {
   }
   EXPECT_GT(hits, 1500);  // most rays hit the teapot, the floor or the wall
   EXPECT_EQ(stats.rays, 3000u);
-  if (sorted && capacity < 3000) EXPECT_GT(stats.iterations.size(), 1u);
+  if (sorted && capacity < 3000) {
+    EXPECT_GT(stats.iterations.size(), 1u);
+  }
 }
 
 TEST(Tracer, SortedPipelineEqualsBruteForce) { expectMatchesBruteForce(1 << 16, true); }

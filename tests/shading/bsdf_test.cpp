@@ -87,7 +87,9 @@ TEST(BsdfEnergy, AtMostOneAndOneForLosslessWithinFourSigma) {
         // (a few ulps, < 1e-6 relative) is the bound instead.
         const double tol = std::max(4 * std::sqrt(var / (n - 1)), 1e-6);
         EXPECT_LE(mean, 1 + tol) << c.name << " wo.z " << wo.z << " channel " << ch;
-        if (c.lossless) EXPECT_NEAR(mean, 1.0, tol) << c.name << " wo.z " << wo.z << " channel " << ch;
+        if (c.lossless) {
+          EXPECT_NEAR(mean, 1.0, tol) << c.name << " wo.z " << wo.z << " channel " << ch;
+        }
       }
       ++dirIndex;
     }
@@ -178,7 +180,9 @@ TEST(BsdfSampling, WeightIsEvalCosOverPdf) {
       for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(s.weight[ch], expect[ch], 1e-3f * std::max(1.0f, expect[ch])) << c.name;
       ++checked;
     }
-    if (!c.bsdf.isDelta()) EXPECT_GT(checked, 500) << c.name;
+    if (!c.bsdf.isDelta()) {
+      EXPECT_GT(checked, 500) << c.name;
+    }
   }
 }
 
