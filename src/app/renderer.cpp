@@ -25,10 +25,20 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
   const size_t n = scene.patches.size();
   leafBoxes_.resize(n);
   std::map<std::string, uint64_t> kinds;
+  SceneFeatures& f = stats_.features;
   for (size_t i = 0; i < n; ++i) {
-    leafBoxes_[i] = scene.patches[i]->bounds();
-    ++kinds[scene.patches[i]->kind()];
+    const Patch& patch = *scene.patches[i];
+    leafBoxes_[i] = patch.bounds();
+    const std::string kind = patch.kind();
+    ++kinds[kind];
+    f.movingLeaves += patch.timeSamples() > 1;
+    f.displacedLeaves += kind.rfind("displaced", 0) == 0;
+    f.subdivisionLeaves += kind.find("subdiv") != std::string::npos;
+    f.borderClosureLeaves += patch.needsBorderClosure();
   }
+  f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
+  f.environment = scene.moreLights.environment != nullptr;
+  f.distantLights = scene.moreLights.distants.size();
   stats_.leafKinds.assign(kinds.begin(), kinds.end());
   top_.build(leafBoxes_);
   stats_.topLevelBytes = top_.bytes();

@@ -44,7 +44,20 @@ struct ErrorSample {
   double rmse;
 };
 
+// What the scene uses, counted once at setup: the stats say what was done and what was left
+// out because nothing needed it (DESIGN invariant 4).
+struct SceneFeatures {
+  uint64_t movingLeaves = 0;         // leaves with more than one time sample
+  bool shutterOpen = false;          // the camera's shutter has an interval
+  uint64_t displacedLeaves = 0;
+  uint64_t subdivisionLeaves = 0;
+  uint64_t borderClosureLeaves = 0;  // leaves whose borders need crack-closing regions
+  bool environment = false;
+  uint64_t distantLights = 0;
+};
+
 struct RenderStats {
+  SceneFeatures features;
   std::vector<GenerationRecord> generations;
   double timeSetup = 0, timeTotal = 0, timeFilm = 0;
   TraceTimes trace;

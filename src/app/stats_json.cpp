@@ -67,13 +67,33 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                  {"candidate_capacity", s.candidateCapacity},
                  {"toplevel_bytes", s.topLevelBytes},
                  {"dice_buffer_bytes", s.diceBufferBytes}};
-  // DESIGN invariant 4: say what this scene did not need and was therefore not done.
-  j["skipped"] = {
-      {"motion_blur", "no moving shapes: one time sample stored and diced"},
-      {"displacement", "no displaced shapes: no interval evaluation"},
-      {"beams", "light beam tracing not enabled: no beams traced"},
-      {"volumes", "no volumes: OpenVDB not used"},
+  // DESIGN invariant 4: what this scene used, and what it did not need and was not done.
+  const SceneFeatures& f = s.features;
+  uint64_t movingDicings = 0, borderHits = 0;
+  for (const auto& g : s.generations) {
+    movingDicings += g.stats.movingDicings;
+    borderHits += g.stats.borderHits;
+  }
+  j["features"] = {
+      {"motion_blur", f.movingLeaves > 0 && f.shutterOpen},
+      {"moving_leaves", f.movingLeaves},
+      {"moving_dicings", movingDicings},
+      {"displacement", f.displacedLeaves > 0},
+      {"displaced_leaves", f.displacedLeaves},
+      {"subdivision_leaves", f.subdivisionLeaves},
+      {"border_closure_leaves", f.borderClosureLeaves},
+      {"border_region_hits", borderHits},
+      {"environment_light", f.environment},
   };
+  json skipped = json::object();
+  if (f.movingLeaves == 0) skipped["motion_blur"] = "no moving shapes: one time sample stored and diced";
+  else if (!f.shutterOpen) skipped["motion_blur"] = "the shutter has no interval: moving shapes seen at the opening time";
+  if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
+  if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";
+  if (!f.environment) skipped["environment"] = "no environment light: escaping rays gather nothing";
+  skipped["beams"] = "light beam tracing is not built yet: no beams traced";
+  skipped["volumes"] = "volumes are not built yet: OpenVDB not used";
+  j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {
     json curve = json::array();
     for (const auto& e : s.errorCurve) curve.push_back({{"spp", e.spp}, {"time_s", e.seconds}, {"rmse", e.rmse}});

@@ -1,0 +1,48 @@
+// The stats say what a scene used and what was left out because nothing needed it
+// (DESIGN invariant 4): a static, undisplaced scene skips motion and displacement work; a
+// scene with moving shapes and an open shutter dices two time samples and says so.
+#include <gtest/gtest.h>
+#include "app/stats_json.h"
+#include "render_fixtures.h"
+
+namespace rayes {
+namespace {
+
+nlohmann::json statsOf(const std::string& sceneFile) {
+  Scene s = loadScene(testing::sourcePath(sceneFile));
+  s.width = 16;
+  s.height = 12;
+  s.samplesPerPixel = 1;
+  ThreadLimit limit(2);
+  RenderOptions o;
+  Renderer r(s, o);
+  r.render();
+  return statsToJson(s, o, r.stats(), RunInfo{sceneFile, 2, 16, 12, 1, 0, 0});
+}
+
+TEST(StatsFeatures, StaticSceneSkipsMotionAndDisplacement) {
+  const auto j = statsOf("scenes/teapot.json");
+  EXPECT_FALSE(j["features"]["motion_blur"].get<bool>());
+  EXPECT_EQ(j["features"]["moving_dicings"].get<uint64_t>(), 0u);
+  EXPECT_TRUE(j["skipped"].contains("motion_blur"));
+  EXPECT_TRUE(j["skipped"].contains("displacement"));
+  EXPECT_TRUE(j["skipped"].contains("volumes"));
+  EXPECT_FALSE(j["skipped"].contains("border_closure"));  // the teapot's borders are curved
+}
+
+TEST(StatsFeatures, MovingSceneDicesTwoTimeSamplesAndSaysSo) {
+  const auto j = statsOf("scenes/motion-cubes.json");
+  EXPECT_TRUE(j["features"]["motion_blur"].get<bool>());
+  EXPECT_GT(j["features"]["moving_dicings"].get<uint64_t>(), 0u);
+  EXPECT_FALSE(j["skipped"].contains("motion_blur"));
+  EXPECT_TRUE(j["skipped"].contains("border_closure"));  // cubes of flat quads
+}
+
+TEST(StatsFeatures, DisplacedSceneSaysDisplacementWasActive) {
+  const auto j = statsOf("scenes/displaced-teapot.json");
+  EXPECT_TRUE(j["features"]["displacement"].get<bool>());
+  EXPECT_FALSE(j["skipped"].contains("displacement"));
+}
+
+}  // namespace
+}  // namespace rayes
