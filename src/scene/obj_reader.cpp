@@ -1,4 +1,5 @@
 #include "scene/obj_reader.h"
+#include "core/text_file.h"
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -188,14 +189,7 @@ class ObjParser {
 
 ObjMesh parseObj(const std::string& text, const std::string& file) { return ObjParser(file).parse(text); }
 
-ObjMesh loadObj(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path, "", "cannot read file");
-  return parseObj(ss.str(), path);
-}
+ObjMesh loadObj(const std::string& path) { return parseObj(readTextFile(path, "OBJ file"), path); }
 
 int objLineOf(const ObjMesh& obj, const SubdivInputError& e) {
   using Item = SubdivInputError::Item;

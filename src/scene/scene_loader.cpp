@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include "core/text_file.h"
 #include "scene/scene_sections.h"
 
 namespace rayes {
@@ -106,13 +107,6 @@ Scene parseScene(const std::string& text, const std::string& path) {
   return scene;
 }
 
-Scene loadScene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot open scene file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw InputError(path, "", "cannot read scene file");
-  return parseScene(ss.str(), path);
-}
+Scene loadScene(const std::string& path) { return parseScene(readTextFile(path, "scene file"), path); }
 
 }  // namespace rayes

@@ -7,22 +7,15 @@
 #include <gmock/gmock.h>
 #include <nlohmann/json.hpp>
 #include "app/command_line.h"
+#include "render_fixtures.h"
 
 namespace rayes {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct RunResult { int code; std::string err; };
-
-RunResult run(std::vector<std::string> args) {
-  args.insert(args.begin(), "rayes");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  ::testing::internal::CaptureStderr();
-  const int code = runCommandLine(int(argv.size()), argv.data());
-  return {code, ::testing::internal::GetCapturedStderr()};
-}
+using testing::RunResult;
+RunResult run(std::vector<std::string> args) { return testing::runRayes(std::move(args)); }
 
 class CommandLine : public ::testing::Test {
  protected:

@@ -2,6 +2,8 @@
 #pragma once
 #include <string>
 #include <vector>
+#include <gtest/gtest.h>
+#include "app/command_line.h"
 #include "app/renderer.h"
 #include "core/parallel.h"
 #include "scene/scene_loader.h"
@@ -29,6 +31,20 @@ inline std::vector<float> renderBeauty(const Scene& scene, const RenderOptions& 
     statsOut->batches = r.stats().batches;
   }
   return film.beautyRgba();
+}
+
+// Runs `rayes ARGS...` in process and captures what it printed on stderr.
+struct RunResult {
+  int code;
+  std::string err;
+};
+inline RunResult runRayes(std::vector<std::string> args) {
+  args.insert(args.begin(), "rayes");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  ::testing::internal::CaptureStderr();
+  const int code = runCommandLine(int(argv.size()), argv.data());
+  return {code, ::testing::internal::GetCapturedStderr()};
 }
 
 }  // namespace rayes::testing

@@ -115,15 +115,8 @@ TEST(ShadingTextures, ExrAndPngImagesReadBack) {
   fs::remove_all(dir);
 }
 
-struct RunResult { int code; std::string err; };
-RunResult run(std::vector<std::string> args) {
-  args.insert(args.begin(), "rayes");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  ::testing::internal::CaptureStderr();
-  const int code = runCommandLine(int(argv.size()), argv.data());
-  return {code, ::testing::internal::GetCapturedStderr()};
-}
+using testing::RunResult;
+RunResult run(std::vector<std::string> args) { return testing::runRayes(std::move(args)); }
 
 TEST(ShadingInput, BadMaterialsLightsAndTexturesAreExit2) {
   const fs::path dir = tempDir();

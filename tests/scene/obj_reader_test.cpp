@@ -83,7 +83,7 @@ TEST(ObjReader, MissingFileIsNamed) {
     loadObj("/nonexistent/x.obj");
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_THAT(e.message(), HasSubstr("/nonexistent/x.obj: cannot open file"));
+    EXPECT_THAT(e.message(), HasSubstr("/nonexistent/x.obj: cannot open OBJ file"));
   }
 }
 
