@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <iostream>
 #include <CLI/CLI.hpp>
+#include "app/html_report.h"
 #include "app/image_io.h"
 #include "app/progress.h"
 #include "app/renderer.h"
@@ -44,7 +45,7 @@ void ensureParentDir(const std::string& path, const char* what) {
 }
 
 struct RenderArgs {
-  std::string scene, out, stats, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted";
+  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted";
   int spp = 0, threads = 0, maxLod = 10, seed = -1;
   bool quiet = false;
 };
@@ -86,6 +87,7 @@ int render(const RenderArgs& a) {
   const std::string png = std::filesystem::path(out).replace_extension(".png").string();
   ensureParentDir(out, "the image");
   if (!a.stats.empty()) ensureParentDir(a.stats, "the stats");
+  if (!a.report.empty()) ensureParentDir(a.report, "the report");
 
   Renderer renderer(scene, options);
   ProgressReporter progress(!a.quiet, scene.samplesPerPixel);
@@ -94,10 +96,17 @@ int render(const RenderArgs& a) {
 
   writeExr(out, film);
   writePngPreview(png, film);
-  if (!a.stats.empty()) {
-    RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
-                secondsSince(wall0)};
-    writeTextAtomically(a.stats, statsToJson(scene, options, renderer.stats(), run).dump(2) + "\n");
+  if (!a.stats.empty() || !a.report.empty()) {
+    const RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
+                      secondsSince(wall0)};
+    const auto stats = statsToJson(scene, options, renderer.stats(), run);
+    if (!a.stats.empty()) writeTextAtomically(a.stats, stats.dump(2) + "\n");
+    if (!a.report.empty()) {
+      const auto rel = std::filesystem::proximate(png, std::filesystem::path(a.report).parent_path().empty()
+                                                           ? std::filesystem::path(".")
+                                                           : std::filesystem::path(a.report).parent_path());
+      writeTextAtomically(a.report, htmlReport(stats, rel.string()));
+    }
   }
   if (!a.quiet) std::fprintf(stderr, "rayes: wrote %s and %s (%.2fs)\n", out.c_str(), png.c_str(), secondsSince(wall0));
   return 0;
@@ -118,6 +127,8 @@ int runCommandLine(int argc, char** argv) {
   r->add_option("--res", a.res, "resolution WIDTHxHEIGHT (default: the scene's)");
   r->add_option("--threads", a.threads, "worker threads (default: all cores)");
   r->add_option("--stats", a.stats, "write render statistics as JSON to this file (docs/stats.md)");
+  r->add_option("--report", a.report, "write a readable HTML report of the same statistics: time and memory "
+                                      "breakdown, dicing per generation, what was used and skipped");
   r->add_option("--max-lod", a.maxLod, "finest dicing level m: a patch has at most 4^m micropolygons (0..12, default 10)");
   r->add_option("--ray-memory", a.rayMemory,
                 "memory for ray, path and candidate buffers, e.g. 512M or 2G (default 1G); a smaller budget "

@@ -71,6 +71,19 @@ TEST_F(CommandLine, RenderWritesExrPngAndStats) {
   EXPECT_TRUE(j["skipped"].contains("volumes"));
 }
 
+TEST_F(CommandLine, ReportIsReadableHtmlOfTheSameStats) {
+  const RunResult r = run({"render", kScene, "--spp", "1", "--res", "16x12", "-o", path("img/t.exr"), "--report",
+                           path("r.html"), "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(path("r.html"));
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* section : {"Where the time went", "Dicing", "Memory", "Generations", "Used and skipped"})
+    EXPECT_THAT(html, HasSubstr(section));
+  EXPECT_THAT(html, HasSubstr("src=\"img/t.png\""));  // the preview, relative to the report
+  EXPECT_THAT(html, HasSubstr("skipped: volumes"));
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+}
+
 TEST_F(CommandLine, ReferenceGivesErrorAgainstTime) {
   ASSERT_EQ(run({"render", kScene, "--spp", "4", "--res", "16x12", "-o", path("ref.exr"), "-q"}).code, 0);
   const RunResult r = run({"render", kScene, "--spp", "4", "--seed", "3", "--res", "16x12", "-o", path("x.exr"),
