@@ -15,14 +15,7 @@ TEST_P(GeometryOrderIndependence, SameBitsForAnyThreadsModeAndBudget) {
   s.width = 24;
   s.height = 18;
   s.samplesPerPixel = 1;
-  const auto ref = testing::renderBeauty(s, RenderOptions{}, 2);
-  EXPECT_EQ(testing::renderBeauty(s, RenderOptions{}, 1), ref);
-  RenderOptions alone;
-  alone.sortByLeaf = false;
-  EXPECT_EQ(testing::renderBeauty(s, alone, 2), ref);
-  RenderOptions small;
-  small.rayMemoryBytes = 97 * Renderer::bytesPerPath();
-  EXPECT_EQ(testing::renderBeauty(s, small, 2), ref);
+  testing::expectOrderIndependent(s, 97);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GeometryOrderIndependence,

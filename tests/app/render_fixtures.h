@@ -33,6 +33,19 @@ inline std::vector<float> renderBeauty(const Scene& scene, const RenderOptions& 
   return film.beautyRgba();
 }
 
+// DESIGN invariant 2 on one scene: the image with 2 threads equals, bit for bit, the image
+// with 1 thread, with every ray traced alone, and with a ray budget of `budgetPaths` paths.
+inline void expectOrderIndependent(const Scene& scene, size_t budgetPaths) {
+  const auto ref = renderBeauty(scene, RenderOptions{}, 2);
+  EXPECT_EQ(renderBeauty(scene, RenderOptions{}, 1), ref) << "1 thread";
+  RenderOptions alone;
+  alone.sortByLeaf = false;
+  EXPECT_EQ(renderBeauty(scene, alone, 2), ref) << "every ray alone";
+  RenderOptions small;
+  small.rayMemoryBytes = budgetPaths * Renderer::bytesPerPath();
+  EXPECT_EQ(renderBeauty(scene, small, 2), ref) << budgetPaths << " paths per batch";
+}
+
 // Runs `rayes ARGS...` in process and captures what it printed on stderr.
 struct RunResult {
   int code;

@@ -54,15 +54,7 @@ TEST(ShadingScenes, ShippedScenesRenderFiniteAndNotBlack) {
 }
 
 TEST(ShadingScenes, OrderIndependenceWithGlassTexturesAndEnvironment) {
-  const Scene s = small("materials.json", 24, 10, 2);
-  const auto ref = testing::renderBeauty(s, RenderOptions{}, 2);
-  EXPECT_EQ(testing::renderBeauty(s, RenderOptions{}, 1), ref);
-  RenderOptions alone;
-  alone.sortByLeaf = false;
-  EXPECT_EQ(testing::renderBeauty(s, alone, 2), ref);
-  RenderOptions tiny;
-  tiny.rayMemoryBytes = 200 * Renderer::bytesPerPath();
-  EXPECT_EQ(testing::renderBeauty(s, tiny, 2), ref);
+  testing::expectOrderIndependent(small("materials.json", 24, 10, 2), 200);
 }
 
 TEST(ShadingScenes, ExrHasAovs) {
