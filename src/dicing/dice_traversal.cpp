@@ -77,28 +77,33 @@ struct GroupRay {
 
   // Bit c set: child c is crossed within [tmin, tCull]; tEntry[c] its entry distance.
   int test(const float* group, float tCull, __m128& tEntry) const {
-    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    __m128 n[3], f[3];
     for (int a = 0; a < 3; ++a) {
-      const __m128 n = _mm_loadu_ps(group + nearOff[a]);
-      const __m128 f = _mm_loadu_ps(group + farOff[a]);
-      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n, nearPad[a]), org[a]), inv[a]);
-      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f, farPad[a]), org[a]), inv[a]), scale);
-      t0 = _mm_max_ps(tn, t0);
-      t1 = _mm_min_ps(tf, t1);
+      n[a] = _mm_loadu_ps(group + nearOff[a]);
+      f[a] = _mm_loadu_ps(group + farOff[a]);
     }
-    tEntry = t0;
-    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+    return slabs(n, f, tCull, tEntry);
   }
 
   // The same test on the group interpolated between two time samples, w0 * a + w1 * b lane by
   // lane (monotone in a and b: the blended box contains the blended points).
   int testLerp(const float* a, const float* b, __m128 w0, __m128 w1, float tCull, __m128& tEntry) const {
-    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    __m128 n[3], f[3];
     for (int k = 0; k < 3; ++k) {
-      const __m128 n = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(a + nearOff[k]), w0), _mm_mul_ps(_mm_loadu_ps(b + nearOff[k]), w1));
-      const __m128 f = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(a + farOff[k]), w0), _mm_mul_ps(_mm_loadu_ps(b + farOff[k]), w1));
-      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n, nearPad[k]), org[k]), inv[k]);
-      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f, farPad[k]), org[k]), inv[k]), scale);
+      n[k] = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(a + nearOff[k]), w0), _mm_mul_ps(_mm_loadu_ps(b + nearOff[k]), w1));
+      f[k] = _mm_add_ps(_mm_mul_ps(_mm_loadu_ps(a + farOff[k]), w0), _mm_mul_ps(_mm_loadu_ps(b + farOff[k]), w1));
+    }
+    return slabs(n, f, tCull, tEntry);
+  }
+
+ private:
+  // The slab arithmetic of intersectBox, 4 lanes at once, on the near and far planes of each
+  // axis: the one place its conservative rounding lives for both box tests.
+  int slabs(const __m128 n[3], const __m128 f[3], float tCull, __m128& tEntry) const {
+    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    for (int a = 0; a < 3; ++a) {
+      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n[a], nearPad[a]), org[a]), inv[a]);
+      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f[a], farPad[a]), org[a]), inv[a]), scale);
       t0 = _mm_max_ps(tn, t0);
       t1 = _mm_min_ps(tf, t1);
     }
