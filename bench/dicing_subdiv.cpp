@@ -13,6 +13,7 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 #include "dicing/subdiv_mesh.h"
+#include "../tests/dicing/subdiv_test_meshes.h"
 #include "dicing_bench_setup.h"
 
 namespace {
@@ -34,29 +35,8 @@ SubdivMeshDesc grid() {
   return d;
 }
 
-SubdivMeshDesc cube() {
-  SubdivMeshDesc d;
-  for (int k = 0; k < 8; ++k) d.positions.push_back({k & 1 ? 1.0f : -1.0f, k & 2 ? 1.0f : -1.0f, k & 4 ? 1.0f : -1.0f});
-  d.faceSizes = {4, 4, 4, 4, 4, 4};
-  d.faceVertices = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
-  return d;
-}
-
-SubdivMeshDesc prism() {
-  SubdivMeshDesc d;
-  for (int z = 0; z < 2; ++z)
-    for (int k = 0; k < 5; ++k) {
-      const float a = 6.2831853f * float(k) / 5.0f;
-      d.positions.push_back({std::cos(a), std::sin(a), z ? 1.0f : -1.0f});
-    }
-  d.faceSizes = {5, 5, 4, 4, 4, 4, 4};
-  d.faceVertices = {4, 3, 2, 1, 0, 5, 6, 7, 8, 9};
-  for (int k = 0; k < 5; ++k) {
-    const int n = (k + 1) % 5;
-    for (int v : {k, n, n + 5, k + 5}) d.faceVertices.push_back(v);
-  }
-  return d;
-}
+using test::cube;
+const auto prism = test::pentagonalPrism;
 
 SubdivMeshDesc octahedron() {
   SubdivMeshDesc d;

@@ -11,37 +11,15 @@
 #include "dicing/subdiv_mesh.h"
 #include "dicing/subdiv_patch.h"
 #include "dicing_test_util.h"
+#include "subdiv_test_meshes.h"
 
 namespace rayes {
 namespace {
 
 using test::Random;
 using test::sameBits;
-
-SubdivMeshDesc cube(float h = 1.0f) {
-  SubdivMeshDesc d;
-  for (int k = 0; k < 8; ++k) d.positions.push_back({k & 1 ? h : -h, k & 2 ? h : -h, k & 4 ? h : -h});
-  d.faceSizes = {4, 4, 4, 4, 4, 4};
-  d.faceVertices = {0, 2, 3, 1, 4, 5, 7, 6, 0, 1, 5, 4, 2, 6, 7, 3, 0, 4, 6, 2, 1, 3, 7, 5};
-  return d;
-}
-
-// A pentagonal prism: two pentagons (QUAD_SUBFACES) and five quads.
-SubdivMeshDesc pentagonalPrism() {
-  SubdivMeshDesc d;
-  for (int z = 0; z < 2; ++z)
-    for (int k = 0; k < 5; ++k) {
-      const float a = 6.2831853f * float(k) / 5.0f;
-      d.positions.push_back({std::cos(a), std::sin(a), z ? 1.0f : -1.0f});
-    }
-  d.faceSizes = {5, 5, 4, 4, 4, 4, 4};
-  d.faceVertices = {4, 3, 2, 1, 0, 5, 6, 7, 8, 9};
-  for (int k = 0; k < 5; ++k) {
-    const int n = (k + 1) % 5;
-    for (int v : {k, n, n + 5, k + 5}) d.faceVertices.push_back(v);
-  }
-  return d;
-}
+using test::cube;
+using test::pentagonalPrism;
 
 // An n x n open grid of quads with a wavy height: interior faces are regular.
 SubdivMeshDesc wavyGrid(int n) {
