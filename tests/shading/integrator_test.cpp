@@ -234,18 +234,25 @@ TEST(IntegratorAnalytic, DiskLuminaireWithGlossyReceiverAgrees) {
   expectWithin4Sigma(s.render(), ref, "phong floor under a disk");
 }
 
+// A white Lambertian floor (the plane z = 0) seen from (0, -3, 2), direct light only: the
+// receiver of the light tests below, whose radiance is its irradiance / pi.
+TestScene whiteFloor(float fovDegrees, int resolution, int spp) {
+  TestScene s;
+  s.shading.materials = {lambert({1, 1, 1})};
+  s.addShape({Shape::Plane, {0, 0, 0}, 1, {0, 0, 1}}, 0);
+  s.shading.camera = PerspectiveCamera({0, -3, 2}, {0, 0, 0}, {0, 0, 1}, fovDegrees, resolution, resolution);
+  s.shading.width = s.shading.height = resolution;
+  s.shading.samplesPerPixel = spp;
+  s.shading.integrator.maxDepth = 1;
+  return s;
+}
+
 // Sun: a uniform disk of angular radius 3 degrees and irradiance E, 40 degrees from the
 // zenith, over a white Lambertian floor: irradiance E cos 40° exactly (the cap's first moment
 // is along its axis), radiance E cos 40° / pi. NEE samples the cone, BSDF samples that escape
 // into it are MIS-weighted.
 TEST(IntegratorAnalytic, SunDiskOnLambertianFloor) {
-  TestScene s;
-  s.shading.materials = {lambert({1, 1, 1})};
-  s.addShape({Shape::Plane, {0, 0, 0}, 1, {0, 0, 1}}, 0);
-  s.shading.camera = PerspectiveCamera({0, -3, 2}, {0, 0, 0}, {0, 0, 1}, 30, 8, 8);
-  s.shading.width = s.shading.height = 8;
-  s.shading.samplesPerPixel = 256;
-  s.shading.integrator.maxDepth = 1;
+  TestScene s = whiteFloor(30, 8, 256);
   const float theta = 40 * kPiF / 180, radius = 3 * kPiF / 180, e = 3;
   SceneLights more;
   more.distants.push_back({{std::sin(theta), 0, std::cos(theta)}, {e, e, e}, 2 * std::pow(std::sin(0.5 * radius), 2)});
@@ -273,13 +280,7 @@ TEST(IntegratorAnalytic, EnvironmentMapIrradianceOnFloor) {
                     (std::pow(std::sin(t1), 2) - std::pow(std::sin(t0), 2)) / 2;
     }
   for (bool constant : {false, true}) {
-    TestScene s;
-    s.shading.materials = {lambert({1, 1, 1})};
-    s.addShape({Shape::Plane, {0, 0, 0}, 1, {0, 0, 1}}, 0);
-    s.shading.camera = PerspectiveCamera({0, -3, 2}, {0, 0, 0}, {0, 0, 1}, 30, 8, 8);
-    s.shading.width = s.shading.height = 8;
-    s.shading.samplesPerPixel = 256;
-    s.shading.integrator.maxDepth = 1;
+    TestScene s = whiteFloor(30, 8, 256);
     SceneLights more;
     more.environment = constant ? std::make_shared<Environment>(Rgb{0.7f, 0.7f, 0.7f})
                                 : std::make_shared<Environment>(image, Rgb{1, 1, 1});
@@ -291,13 +292,7 @@ TEST(IntegratorAnalytic, EnvironmentMapIrradianceOnFloor) {
 
 // Delta lights have zero-variance direct lighting: a spot light over a white floor.
 TEST(IntegratorAnalytic, SpotAndPointLightsAreExact) {
-  TestScene s;
-  s.shading.materials = {lambert({1, 1, 1})};
-  s.addShape({Shape::Plane, {0, 0, 0}, 1, {0, 0, 1}}, 0);
-  s.shading.camera = PerspectiveCamera({0, -3, 2}, {0, 0, 0}, {0, 0, 1}, 0.002f, 4, 4);
-  s.shading.width = s.shading.height = 4;
-  s.shading.samplesPerPixel = 4;
-  s.shading.integrator.maxDepth = 1;
+  TestScene s = whiteFloor(0.002f, 4, 4);
   SceneLights more;
   const Vec3 pos{1, 0, 2};
   const Vec3 axis = normalize(Vec3{-0.3f, 0, -1});
