@@ -11,29 +11,13 @@
 #include "core/error.h"
 #include "dicing/displaced_patch.h"
 #include "scene/scene_loader.h"
+#include "scene_text.h"
 
 namespace rayes {
 namespace {
 using ::testing::HasSubstr;
 
-std::string sceneWith(const std::string& shapeExtra) {
-  return R"({
-  "camera": {"position": [0, -3, 1], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 40},
-  "film": {"resolution": [32, 24], "spp": 4},
-  "materials": {"m": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
-  "shapes": [{"type": "bilinear", "material": "m", "quads": [[[-1,-1,0],[1,-1,0],[-1,1,0],[1,1,0]]])" +
-         shapeExtra + R"(}]
-})";
-}
-
-std::string errorOf(const std::string& text) {
-  try {
-    parseScene(text, "bad.json");
-  } catch (const InputError& e) {
-    return e.message();
-  }
-  return "no error";
-}
+using test::errorOf;
 
 std::filesystem::path tempDir() {
   const auto d = std::filesystem::temp_directory_path() / ("rayes_displacement_test_" + std::to_string(getpid()));
@@ -52,7 +36,7 @@ void writeExr(const std::string& path, int w, int h, const char* channel, const 
 }
 
 TEST(DisplacementReader, NoiseWrapsEveryPatch) {
-  const Scene s = parseScene(sceneWith(R"(, "displacement": {"type": "noise", "amplitude": 0.5, "frequency": 2,
+  const Scene s = parseScene(test::minimalScene(R"(, "displacement": {"type": "noise", "amplitude": 0.5, "frequency": 2,
       "octaves": 3, "ridged": true, "seed": 4})"), "ok.json");
   ASSERT_EQ(s.patches.size(), 1u);
   EXPECT_STREQ(s.patches[0]->kind(), "displaced-bilinear");
@@ -64,8 +48,8 @@ TEST(DisplacementReader, NoiseWrapsEveryPatch) {
 
 TEST(DisplacementReader, TransformedShapeKeepsItsPattern) {
   const std::string d = R"(, "displacement": {"type": "noise", "amplitude": 0.3, "frequency": 3})";
-  const Scene a = parseScene(sceneWith(d), "a.json");
-  const Scene b = parseScene(sceneWith(R"(, "transform": [{"translate": [50, 0, 0]}])" + d), "b.json");
+  const Scene a = parseScene(test::minimalScene(d), "a.json");
+  const Scene b = parseScene(test::minimalScene(R"(, "transform": [{"translate": [50, 0, 0]}])" + d), "b.json");
   for (float u : {0.2f, 0.6f}) {
     const Vec3 pa = a.patches[0]->evaluate(u, 0.4f).p, pb = b.patches[0]->evaluate(u, 0.4f).p;
     EXPECT_NEAR(pa.z, pb.z, 1e-5f);
@@ -76,7 +60,7 @@ TEST(DisplacementReader, TransformedShapeKeepsItsPattern) {
 TEST(DisplacementReader, HeightMapFromExr) {
   const auto dir = tempDir();
   writeExr((dir / "h.exr").string(), 4, 3, "Y", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
-  const Scene s = parseScene(sceneWith(R"(, "displacement": {"type": "image", "file": ")" + (dir / "h.exr").string() +
+  const Scene s = parseScene(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + (dir / "h.exr").string() +
                                        R"(", "amplitude": 0.1, "offset": -0.5})"),
                              "ok.json");
   ASSERT_EQ(s.patches.size(), 1u);
@@ -89,7 +73,7 @@ TEST(DisplacementReader, HeightMapFromExr) {
   // A relative name is relative to the scene file.
   const std::string scenePath = (dir / "scene.json").string();
   FILE* f = std::fopen(scenePath.c_str(), "w");
-  const std::string text = sceneWith(R"(, "displacement": {"type": "image", "file": "h.exr", "channel": "Y"})");
+  const std::string text = test::minimalScene(R"(, "displacement": {"type": "image", "file": "h.exr", "channel": "Y"})");
   std::fwrite(text.data(), 1, text.size(), f);
   std::fclose(f);
   EXPECT_STREQ(loadScene(scenePath).patches[0]->kind(), "displaced-bilinear");
@@ -97,7 +81,7 @@ TEST(DisplacementReader, HeightMapFromExr) {
 }
 
 TEST(DisplacementReader, MissingHeightMapNamesTheFileAndPlace) {
-  const std::string e = errorOf(sceneWith(R"(, "displacement": {"type": "image", "file": "no-such-map.exr"})"));
+  const std::string e = errorOf(test::minimalScene(R"(, "displacement": {"type": "image", "file": "no-such-map.exr"})"));
   EXPECT_THAT(e, HasSubstr("bad.json:"));
   EXPECT_THAT(e, HasSubstr("/shapes/0/displacement/file"));
   EXPECT_THAT(e, HasSubstr("no-such-map.exr"));
@@ -109,26 +93,26 @@ TEST(DisplacementReader, UnreadableHeightMapNamesTheFile) {
   FILE* f = std::fopen(path.c_str(), "w");
   std::fputs("not an exr", f);
   std::fclose(f);
-  const std::string e = errorOf(sceneWith(R"(, "displacement": {"type": "image", "file": ")" + path + R"("})"));
+  const std::string e = errorOf(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + path + R"("})"));
   EXPECT_THAT(e, HasSubstr("cannot read height map"));
   EXPECT_THAT(e, HasSubstr("broken.exr"));
   writeExr((dir / "rgb.exr").string(), 2, 2, "G", {0, 1, 2, 3});
-  const std::string e2 = errorOf(sceneWith(R"(, "displacement": {"type": "image", "file": ")" + (dir / "rgb.exr").string() +
+  const std::string e2 = errorOf(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + (dir / "rgb.exr").string() +
                                            R"(", "channel": "Z"})"));
   EXPECT_THAT(e2, HasSubstr("no channel 'Z'"));
   std::filesystem::remove_all(dir);
 }
 
 TEST(DisplacementReader, BadParametersAreInputErrors) {
-  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "noise", "frequency": 0})")),
+  EXPECT_THAT(errorOf(test::minimalScene(R"(, "displacement": {"type": "noise", "frequency": 0})")),
               HasSubstr("/shapes/0/displacement/frequency"));
-  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "noise", "octaves": 40})")),
+  EXPECT_THAT(errorOf(test::minimalScene(R"(, "displacement": {"type": "noise", "octaves": 40})")),
               HasSubstr("/shapes/0/displacement/octaves"));
-  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "noise", "amplitud": 1})")),
+  EXPECT_THAT(errorOf(test::minimalScene(R"(, "displacement": {"type": "noise", "amplitud": 1})")),
               HasSubstr("unknown key 'amplitud'"));
-  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": {"type": "bumps"})")),
+  EXPECT_THAT(errorOf(test::minimalScene(R"(, "displacement": {"type": "bumps"})")),
               HasSubstr("unknown displacement type 'bumps'"));
-  EXPECT_THAT(errorOf(sceneWith(R"(, "displacement": 3)")), HasSubstr("/shapes/0/displacement"));
+  EXPECT_THAT(errorOf(test::minimalScene(R"(, "displacement": 3)")), HasSubstr("/shapes/0/displacement"));
 }
 
 }  // namespace

@@ -4,26 +4,14 @@
 #include <gmock/gmock.h>
 #include "core/error.h"
 #include "scene/scene_loader.h"
+#include "scene_text.h"
 
 namespace rayes {
 namespace {
 using ::testing::HasSubstr;
 
-const char* kMinimal = R"({
-  "camera": {"position": [0, -3, 1], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 40},
-  "film": {"resolution": [32, 24], "spp": 4},
-  "materials": {"m": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
-  "shapes": [{"type": "bilinear", "material": "m", "quads": [[[-1,-1,0],[1,-1,0],[-1,1,0],[1,1,0]]]}]
-})";
-
-std::string errorOf(const std::string& text) {
-  try {
-    parseScene(text, "bad.json");
-  } catch (const InputError& e) {
-    return e.message();
-  }
-  return "no error";
-}
+using test::errorOf;
+const std::string kMinimal = test::minimalScene();
 
 std::string replaced(std::string s, const std::string& from, const std::string& to) {
   const auto at = s.find(from);
