@@ -34,8 +34,6 @@ struct Box3 {
   }
 };
 
-inline Box3 unionOf(const Box3& a, const Box3& b) { Box3 r = a; r.extend(b); return r; }
-
 // gamma(n) of Higham / pbrt: bound on the relative error of n float operations.
 constexpr float gammaBound(int n) {
   constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;

@@ -21,5 +21,4 @@ uint64_t readStatusKb(const char* key) {
 }
 }  // namespace
 uint64_t peakRssBytes() { return readStatusKb("VmHWM:"); }
-uint64_t currentRssBytes() { return readStatusKb("VmRSS:"); }
 }  // namespace rayes

@@ -72,9 +72,7 @@ class PerspectiveCamera {
     return r;
   }
 
-  float pixelSpread() const { return pixelSpread_; }
   float apertureRadius() const { return aperture_; }
-  bool hasMotionShutter() const { return close_ > open_; }
   Vec3 position() const { return pos_; }
   Vec3 forward() const { return forward_; }
 
