@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 #include "core/rng.h"
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 
 namespace rayes::bench {
 

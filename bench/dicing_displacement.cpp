@@ -5,7 +5,7 @@
 #include <benchmark/benchmark.h>
 #include <memory>
 #include "dicing/dice_buffer.h"
-#include "dicing/displaced_patch.h"
+#include "geometry/displaced_patch.h"
 #include "dicing_bench_setup.h"
 
 namespace rayes::bench {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 #include "core/rng.h"
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
 #include "dicing_bench_setup.h"
 

@@ -12,8 +12,8 @@
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
-#include "dicing/subdiv_mesh.h"
-#include "../tests/dicing/subdiv_test_meshes.h"
+#include "geometry/subdiv_mesh.h"
+#include "support/subdiv_test_meshes.h"
 #include "dicing_bench_setup.h"
 
 namespace {

@@ -56,8 +56,8 @@
 #include "core/ray_batch.h"
 #include "core/rng.h"
 #include "core/timer.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/bilinear_patch.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "rays/tracer.h"
 #include "toplevel/toplevel_bvh.h"
 

@@ -4,7 +4,7 @@
 // outward with nextafter, which makes the result conservative without touching the FPU's
 // rounding mode (the rest of the program must keep round-to-nearest for bit-identical images).
 //
-// Used by displacement bounds (dicing/displacement.h): the range of a noise function or a
+// Used by displacement bounds (geometry/displacement.h): the range of a noise function or a
 // height map over a parameter box, times the range of the normal, added to a position box.
 #pragma once
 #include <algorithm>

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include "dicing/morton.h"
-#include "dicing/patch_math.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 

@@ -37,7 +37,7 @@
 #include <vector>
 #include "core/box.h"
 #include "dicing/micro_quad.h"
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

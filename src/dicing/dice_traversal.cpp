@@ -34,7 +34,7 @@
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
 #include "dicing/morton.h"
-#include "dicing/patch_math.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 

@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include "core/octahedral.h"
-#include "dicing/moving_patch.h"
+#include "geometry/moving_patch.h"
 
 namespace rayes {
 namespace {

@@ -28,7 +28,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include "core/ray_batch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
 #include "rays/trace_settings.h"

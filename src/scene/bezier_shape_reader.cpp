@@ -1,5 +1,5 @@
 #include <array>
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include "scene/shape_kinds.h"
 
 namespace rayes {

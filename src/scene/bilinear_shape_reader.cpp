@@ -1,5 +1,5 @@
 #include <array>
-#include "dicing/bilinear_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "scene/shape_kinds.h"
 
 namespace rayes {

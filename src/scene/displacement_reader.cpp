@@ -11,8 +11,8 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <cstring>
-#include "dicing/displaced_patch.h"
-#include "dicing/displacement.h"
+#include "geometry/displaced_patch.h"
+#include "geometry/displacement.h"
 #include "scene/shape_kinds.h"
 
 namespace rayes {

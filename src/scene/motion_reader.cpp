@@ -4,7 +4,7 @@
 // built once per keyframe (displacement included) and each patch becomes a MovingPatch of its
 // K versions; between keyframes positions are interpolated linearly (thesis §6.3).
 #include <cstring>
-#include "dicing/moving_patch.h"
+#include "geometry/moving_patch.h"
 #include "scene/shape_kinds.h"
 
 namespace rayes {

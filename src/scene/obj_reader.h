@@ -18,7 +18,7 @@
 #pragma once
 #include <string>
 #include <vector>
-#include "dicing/subdiv_mesh.h"
+#include "geometry/subdiv_mesh.h"
 
 namespace rayes {
 

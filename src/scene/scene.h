@@ -6,7 +6,7 @@
 #pragma once
 #include <string>
 #include <vector>
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 #include "shading/light.h"
 #include "shading/material.h"
 #include "shading/path_tracer.h"

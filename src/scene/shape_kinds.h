@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 #include "core/transform.h"
-#include "dicing/displacement.h"
-#include "dicing/patch.h"
+#include "geometry/displacement.h"
+#include "geometry/patch.h"
 #include "scene/json_reader.h"
 
 namespace rayes {

@@ -1,7 +1,7 @@
 #include <memory>
 #include <optional>
 #include "core/error.h"
-#include "dicing/subdiv_mesh.h"
+#include "geometry/subdiv_mesh.h"
 #include "scene/obj_reader.h"
 #include "scene/shape_kinds.h"
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <cmath>
 #include <numbers>
+#include "core/disk_mapping.h"
 #include "core/vec.h"
 
 namespace rayes {
@@ -15,19 +16,8 @@ inline Vec3 sampleCosineHemisphere(float u1, float u2) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
-// Shirley-Chiu concentric map of [0,1]^2 onto the unit disk (x, y): area preserving (constant
-// Jacobian π), continuous, no degenerate point; (0.5, 0.5) is the centre.
-inline void concentricDisk(float u, float v, float& x, float& y) {
-  const float a = 2 * u - 1, b = 2 * v - 1;
-  x = y = 0;
-  if (a == 0 && b == 0) return;
-  const float q = std::numbers::pi_v<float> / 4;
-  float r, phi;
-  if (std::fabs(a) > std::fabs(b)) { r = a; phi = q * (b / a); }
-  else { r = b; phi = 2 * q - q * (a / b); }
-  x = r * std::cos(phi);
-  y = r * std::sin(phi);
-}
+// concentricDisk (core/disk_mapping.h) maps [0,1]^2 onto the unit disk: area preserving
+// (constant Jacobian π), continuous; (0.5, 0.5) is the centre.
 
 inline Vec3 toWorld(Vec3 local, Vec3 n) {
   Vec3 t, b;

@@ -2,9 +2,9 @@
 // bit-identical shared borders (the base of watertight seams).
 #include <gtest/gtest.h>
 #include <cmath>
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing_test_util.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

@@ -1,9 +1,9 @@
 // Specification of BilinearPatch: exact corners, bilinear interior, canonical borders,
 // degenerate corners.
 #include <gtest/gtest.h>
-#include "dicing/bilinear_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing_test_util.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

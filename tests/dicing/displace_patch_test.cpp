@@ -1,4 +1,4 @@
-// DisplacedPatch (dicing/displaced_patch.h): DESIGN invariant 1 with displacement. For each
+// DisplacedPatch (geometry/displaced_patch.h): DESIGN invariant 1 with displacement. For each
 // test shape (a teapot body patch, a teapot pole patch, a twisted bilinear patch) and each
 // displacement (moderate noise, extreme noise -- amplitude the patch's own size, frequency up to
 // past the dicing resolution --, a height map), 10^6 displaced points all lie inside bounds(),
@@ -9,11 +9,11 @@
 #include <cstdio>
 #include <memory>
 #include <vector>
-#include "dicing/bilinear_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing/patch_math.h"
-#include "dicing/displaced_patch.h"
-#include "dicing_test_util.h"
+#include "geometry/patch_math.h"
+#include "geometry/displaced_patch.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

@@ -1,8 +1,8 @@
 // Specification of the implicit quad-tree: exact node count, nesting of boxes, memory.
 #include <gtest/gtest.h>
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing_test_util.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

@@ -2,9 +2,9 @@
 // exactly the hit of a level-k dicing (DESIGN invariant 2), and the level rules.
 #include <gtest/gtest.h>
 #include <limits>
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing_test_util.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

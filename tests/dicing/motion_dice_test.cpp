@@ -8,12 +8,12 @@
 #include <limits>
 #include "core/box.h"
 #include "core/transform.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/bilinear_patch.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
-#include "dicing/moving_patch.h"
-#include "dicing_test_util.h"
+#include "geometry/moving_patch.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

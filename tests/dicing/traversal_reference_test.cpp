@@ -9,12 +9,12 @@
 #include <cmath>
 #include <limits>
 #include "core/box.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/bilinear_patch.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
-#include "dicing/patch_math.h"
-#include "dicing_test_util.h"
+#include "geometry/patch_math.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

@@ -19,9 +19,9 @@
 #include <algorithm>
 #include <limits>
 #include <tuple>
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
-#include "dicing_test_util.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

@@ -10,10 +10,10 @@
 #include <map>
 #include <string>
 #include <vector>
-#include "dicing/bezier_patch.h"
-#include "dicing/displaced_patch.h"
-#include "dicing/displacement.h"
-#include "dicing/subdiv_mesh.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/displaced_patch.h"
+#include "geometry/displacement.h"
+#include "geometry/subdiv_mesh.h"
 
 namespace rayes::test {
 

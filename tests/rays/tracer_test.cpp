@@ -5,8 +5,8 @@
 #include <limits>
 #include <gtest/gtest.h>
 #include "core/rng.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/bilinear_patch.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
 #include "rays/tracer.h"
 
 namespace rayes {

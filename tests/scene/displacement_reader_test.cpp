@@ -9,7 +9,7 @@
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
 #include "core/error.h"
-#include "dicing/displaced_patch.h"
+#include "geometry/displaced_patch.h"
 #include "scene/scene_loader.h"
 #include "scene_text.h"
 

@@ -6,11 +6,11 @@
 #include <cstring>
 #include <map>
 #include "dicing/dice_buffer.h"
-#include "dicing/subdiv_mesh.h"
-#include "dicing/subdiv_patch.h"
+#include "geometry/subdiv_mesh.h"
+#include "geometry/subdiv_patch.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_loader.h"
-#include "../dicing/dicing_test_util.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

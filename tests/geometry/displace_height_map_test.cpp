@@ -1,8 +1,8 @@
-// Height maps: bilinear filtering and the min-max MIP pyramid (dicing/displacement.h).
+// Height maps: bilinear filtering and the min-max MIP pyramid (geometry/displacement.h).
 #include <gtest/gtest.h>
 #include <memory>
-#include "dicing/displacement.h"
-#include "dicing_test_util.h"
+#include "geometry/displacement.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

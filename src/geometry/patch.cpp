@@ -1,4 +1,4 @@
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

@@ -27,8 +27,8 @@
 #include <string>
 #include <vector>
 #include "core/box.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/patch.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

@@ -1,5 +1,5 @@
-#include "dicing/bilinear_patch.h"
-#include "dicing/patch_math.h"
+#include "geometry/bilinear_patch.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 

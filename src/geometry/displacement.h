@@ -1,6 +1,6 @@
 // Displacement functions: a scalar height h over a patch, with a conservative range over a box
 // (thesis §6.1: "min-max MIP maps on textures and interval arithmetic on procedural noise").
-// DisplacedPatch (dicing/displaced_patch.h) moves each point of its base surface by h along the
+// DisplacedPatch (geometry/displaced_patch.h) moves each point of its base surface by h along the
 // base's unit normal and bounds the result with range().
 //
 // Two kinds:
@@ -13,7 +13,7 @@
 // Contract of range(): it contains sample(...).h as computed in float, for every float point p
 // inside pBox and every (u, v) inside [u0,u1] x [v0,v1], whatever the other arguments. The
 // exact-arithmetic range is computed with outward rounding and then widened by a bound on the
-// float evaluation's own rounding; tests/dicing/displace_*_test.cpp check it by sampling.
+// float evaluation's own rounding; tests/geometry/displace_*_test.cpp and tests/dicing/displace_patch_test.cpp check it by sampling.
 #pragma once
 #include <cstdint>
 #include <memory>

@@ -8,7 +8,7 @@
 // level needs no motion of its own. Immutable and thread-safe like every Patch.
 #pragma once
 #include <vector>
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

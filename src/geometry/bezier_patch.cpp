@@ -1,6 +1,6 @@
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 #include <algorithm>
-#include "dicing/patch_math.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 

@@ -1,4 +1,4 @@
-#include "dicing/moving_patch.h"
+#include "geometry/moving_patch.h"
 #include <algorithm>
 #include <cmath>
 #include <cstring>

@@ -1,11 +1,11 @@
-#include "dicing/displaced_patch.h"
+#include "geometry/displaced_patch.h"
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include "core/interval.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/bilinear_patch.h"
-#include "dicing/patch_math.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 

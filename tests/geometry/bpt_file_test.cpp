@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <fstream>
 #include "core/error.h"
-#include "dicing/bezier_patch.h"
-#include "dicing_test_util.h"
+#include "geometry/bezier_patch.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

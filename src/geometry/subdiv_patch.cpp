@@ -1,4 +1,4 @@
-#include "dicing/subdiv_patch.h"
+#include "geometry/subdiv_patch.h"
 
 namespace rayes {
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <gtest/gtest.h>
 #include "core/rng.h"
-#include "dicing/bezier_patch.h"
-#include "dicing/bilinear_patch.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
 
 namespace rayes {
 namespace {

@@ -2,7 +2,7 @@
 // bench/dicing_subdiv.cpp (which must dice exactly the faces the tests check).
 #pragma once
 #include <cmath>
-#include "dicing/subdiv_mesh.h"
+#include "geometry/subdiv_mesh.h"
 
 namespace rayes::test {
 

@@ -1,4 +1,4 @@
-// Fractal value noise and its interval extension (see dicing/displacement.h).
+// Fractal value noise and its interval extension (see geometry/displacement.h).
 //
 // Why value noise rather than gradient noise: its value at a point is a convex combination of
 // lattice values with monotone weights, which gives an interval extension that is both
@@ -9,7 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 #include "core/rng.h"
-#include "dicing/displacement.h"
+#include "geometry/displacement.h"
 
 namespace rayes {
 

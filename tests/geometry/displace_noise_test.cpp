@@ -1,11 +1,11 @@
-// Interval arithmetic on value noise and on the fractal displacement (dicing/displacement.h):
+// Interval arithmetic on value noise and on the fractal displacement (geometry/displacement.h):
 // every sampled point value lies in the interval of its box, and the interval is not absurdly
 // loose (the mean ratio of interval width to the sampled spread is printed and bounded).
 #include <gtest/gtest.h>
 #include <cstdio>
 #include "core/interval.h"
-#include "dicing/displacement.h"
-#include "dicing_test_util.h"
+#include "geometry/displacement.h"
+#include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {

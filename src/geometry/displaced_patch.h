@@ -25,8 +25,8 @@
 // the teapot does (its shared borders differ by rounding in the normal).
 #pragma once
 #include <string>
-#include "dicing/displacement.h"
-#include "dicing/patch.h"
+#include "geometry/displacement.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

@@ -4,14 +4,14 @@
 // thread-safe like every Patch. Evaluation is O(1) (16 control points); dice() is O(4^level).
 //
 // Watertight seams: a border (u or v exactly 0 or 1) is evaluated as the cubic Bézier curve of
-// its 4 border control points in canonical orientation (dicing/patch_math.h), both in dice()
+// its 4 border control points in canonical orientation (geometry/patch_math.h), both in dice()
 // and in evaluate(), so neighbours sharing a border row of control points produce identical
 // border vertices at the same level, and dice() equals evaluate() bit for bit everywhere.
 #pragma once
 #include <array>
 #include <string>
 #include <vector>
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

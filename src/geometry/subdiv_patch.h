@@ -2,7 +2,7 @@
 // over the unit square. Holds its mesh (shared, immutable) and its leaf index; everything is
 // delegated to SubdivMesh (subdiv_mesh.h), which keeps the seams between leaves watertight.
 #pragma once
-#include "dicing/subdiv_mesh.h"
+#include "geometry/subdiv_mesh.h"
 
 namespace rayes {
 

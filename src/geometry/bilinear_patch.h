@@ -2,11 +2,11 @@
 //
 // u runs along p00 -> p10, v along p00 -> p01. Immutable and thread-safe like every Patch.
 // Each border is the straight segment between two corners, evaluated in canonical orientation
-// (dicing/patch_math.h), so bilinear patches sharing two corners -- in either order -- produce
+// (geometry/patch_math.h), so bilinear patches sharing two corners -- in either order -- produce
 // bit-identical border vertices at the same level. The default Patch::dice() is used: it calls
 // evaluate(), which already routes borders through the canonical segment.
 #pragma once
-#include "dicing/patch.h"
+#include "geometry/patch.h"
 
 namespace rayes {
 

@@ -1,4 +1,4 @@
-#include "dicing/subdiv_mesh.h"
+#include "geometry/subdiv_mesh.h"
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -13,8 +13,8 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 #include <tbb/parallel_for.h>
-#include "dicing/patch_math.h"
-#include "dicing/subdiv_patch.h"
+#include "geometry/patch_math.h"
+#include "geometry/subdiv_patch.h"
 
 namespace rayes {
 

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string_view>
 #include "core/error.h"
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 
 namespace rayes {
 namespace {

@@ -1,8 +1,8 @@
-// Height maps with a min-max MIP pyramid (see dicing/displacement.h).
+// Height maps with a min-max MIP pyramid (see geometry/displacement.h).
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include "dicing/displacement.h"
+#include "geometry/displacement.h"
 
 namespace rayes {
 

@@ -3,7 +3,7 @@
 //
 // Contract (DESIGN invariant 1): bounds() contains every point that dice() can produce at any
 // level and any shutter time, displacement included. The top level, early ray termination and
-// crack-free level of detail all rest on this; tests/dicing checks it by sampling.
+// crack-free level of detail all rest on this; tests/geometry and tests/dicing check it by sampling.
 //
 // Patches are immutable after construction and all methods are const and thread-safe: many
 // threads dice different patches (or the same one) at once, each into its own DiceBuffer.

@@ -1,4 +1,4 @@
-// Helpers shared by the dicing tests: deterministic random numbers, the teapot, and the
+// Helpers shared by the geometry, dicing and scene tests: deterministic random numbers, the teapot, and the
 // search for teapot patches that share a border.
 #pragma once
 #include <array>
@@ -7,7 +7,7 @@
 #include "core/box.h"
 #include "core/rng.h"
 #include "core/vec.h"
-#include "dicing/bezier_patch.h"
+#include "geometry/bezier_patch.h"
 
 namespace rayes::test {
 

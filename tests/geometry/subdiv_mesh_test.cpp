@@ -1,4 +1,4 @@
-// Subdivision surfaces (dicing/subdiv_mesh.h): limit points against OpenSubdiv's own
+// Subdivision surfaces (geometry/subdiv_mesh.h): limit points against OpenSubdiv's own
 // evaluation and an analytic limit, dice() against evaluate() bit for bit, conservative
 // bounds, normals at extraordinary vertices, Loop, creases, holes, n-gons, bad topology.
 #include <gtest/gtest.h>
@@ -8,10 +8,10 @@
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
-#include "dicing/subdiv_mesh.h"
-#include "dicing/subdiv_patch.h"
-#include "dicing_test_util.h"
-#include "subdiv_test_meshes.h"
+#include "geometry/subdiv_mesh.h"
+#include "geometry/subdiv_patch.h"
+#include "support/patch_test_util.h"
+#include "support/subdiv_test_meshes.h"
 
 namespace rayes {
 namespace {
