@@ -119,7 +119,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
       }
       const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
       // A broken hit (non-finite point or normals) ends the path here, before it can reach
-      // the film or the AOVs (DESIGN invariant 5).
+      // the film or the AOVs (docs/design.md, invariant 5).
       if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wo)) {
         stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
         paths.alive[k] = 0;

@@ -1,5 +1,5 @@
 // The path-tracer kernels at their edges: secondary-ray offsets stay finite and scale with the
-// geometry, and a non-finite hit never reaches the film (DESIGN invariant 5).
+// geometry, and a non-finite hit never reaches the film (docs/design.md, invariant 5).
 #include <cmath>
 #include <limits>
 #include <gtest/gtest.h>
