@@ -35,12 +35,25 @@ constexpr std::array<uint32_t, 32> sobolPascalColumns() {
 }
 inline constexpr std::array<uint32_t, 32> kSobolPascalColumns = sobolPascalColumns();
 
-// Sobol point `index` in dimension 0 (van der Corput: the bit reversal) or 1, unscrambled.
-constexpr uint32_t sobolPoint(uint32_t index, int dimension) {
-  if (dimension == 0) return reverseBits(index);
+// The product of the Pascal generator matrix with `index`, column by column (the definition).
+constexpr uint32_t sobolPascalProduct(uint32_t index) {
   uint32_t x = 0;
   for (; index != 0; index &= index - 1) x ^= kSobolPascalColumns[std::countr_zero(index)];
   return x;
+}
+
+// Sobol point `index` in dimension 0 (van der Corput: the bit reversal) or 1, unscrambled.
+// Dimension 1 is the same product in five steps instead of one per set bit: by Lucas's theorem
+// C(k, j) is odd iff the bits of j are a subset of those of k, so output bit 31 - j is the XOR
+// of the index bits k that are supersets of j: a superset-sum transform over the 5 bits of j.
+constexpr uint32_t sobolPoint(uint32_t index, int dimension) {
+  if (dimension == 0) return reverseBits(index);
+  index ^= (index >> 1) & 0x55555555u;
+  index ^= (index >> 2) & 0x33333333u;
+  index ^= (index >> 4) & 0x0f0f0f0fu;
+  index ^= (index >> 8) & 0x00ff00ffu;
+  index ^= (index >> 16) & 0x0000ffffu;
+  return reverseBits(index);
 }
 
 // Laine and Karras's permutation with Burley's constants: x + seed and x ^= x * even keep bit j

@@ -58,6 +58,12 @@ TEST(Sobol, UnscrambledPointsAreTheKnownSobolSequence) {
   EXPECT_EQ(kSobolPascalColumns[3], 0xF0000000u);
   EXPECT_EQ(kSobolPascalColumns[4], 0x88000000u);
   EXPECT_EQ(kSobolPascalColumns[31], 0xFFFFFFFFu);  // row 31 of Pascal's triangle is all odd
+  // The fast form equals the matrix product. Both are linear over GF(2), so agreeing on the 32
+  // single bits proves it for every index; random indices check the linearity of the fast form.
+  for (uint32_t i = 0; i < 100000; ++i) {
+    const uint32_t index = i < 32 ? 1u << i : uint32_t(mix64(i));
+    ASSERT_EQ(sobolPoint(index, 1), sobolPascalProduct(index)) << index;
+  }
   EXPECT_EQ(reverseBits(1u), 0x80000000u);
   EXPECT_EQ(reverseBits(0x12345678u), 0x1E6A2C48u);
 }
