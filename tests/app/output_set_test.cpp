@@ -1,0 +1,89 @@
+// OutputSet: the outputs of a run appear together or not at all, and a failure names the
+// target with the system's reason.
+#include <filesystem>
+#include <fstream>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include "app/output_set.h"
+#include "core/error.h"
+#include "support/temp_folder.h"
+
+namespace rayes {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+std::string contentOf(const std::string& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(OutputSet, NothingAppearsBeforeCommitAndEverythingAfter) {
+  const testing::TempFolder temp;
+  {
+    OutputSet out;
+    out.add(temp.path("a.txt"), "stats");
+    out.add(temp.path("sub/b.txt"), "report");
+    out.writeText(temp.path("a.txt"), "A");
+    out.writeText(temp.path("sub/b.txt"), "B");
+    EXPECT_FALSE(fs::exists(temp.path("a.txt")));
+    EXPECT_FALSE(fs::exists(temp.path("sub/b.txt")));
+    out.commit();
+  }
+  EXPECT_EQ(contentOf(temp.path("a.txt")), "A");
+  EXPECT_EQ(contentOf(temp.path("sub/b.txt")), "B");
+  EXPECT_EQ(temp.entries(), (std::vector<std::string>{"a.txt", "sub", "sub/b.txt"}));  // no temporaries
+}
+
+TEST(OutputSet, AnUncommittedSetLeavesNothingNotEvenItsFolders) {
+  const testing::TempFolder temp;
+  {
+    OutputSet out;
+    out.add(temp.path("x/y/a.txt"), "image");
+    out.writeText(temp.path("x/y/a.txt"), "A");
+  }  // e.g. a later write threw
+  EXPECT_TRUE(temp.entries().empty());
+}
+
+TEST(OutputSet, AFailedRenameRemovesTheOutputsAlreadyRenamed) {
+  const testing::TempFolder temp;
+  OutputSet out;
+  out.add(temp.path("a.txt"), "image");
+  out.add(temp.path("b.txt"), "stats");
+  out.writeText(temp.path("a.txt"), "A");
+  out.writeText(temp.path("b.txt"), "B");
+  fs::create_directories(temp.path("b.txt/inside"));  // appears after the check in add()
+  try {
+    out.commit();
+    ADD_FAILURE() << "commit succeeded";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), temp.path("b.txt"));
+    EXPECT_THAT(e.what(), HasSubstr("cannot write the stats: Is a directory"));  // errno kept, not "Success"
+  }
+  EXPECT_EQ(temp.entries(), (std::vector<std::string>{"b.txt", "b.txt/inside"}));
+}
+
+TEST(OutputSet, UnwritablePlacesFailAtAddWithTheReason) {
+  const testing::TempFolder temp;
+  temp.write("file", "x");
+  fs::create_directories(temp.path("dir"));
+  OutputSet out;
+  EXPECT_THROW(
+      try { out.add(temp.path("dir"), "image"); } catch (const InputError& e) {
+        EXPECT_THAT(e.message(), HasSubstr("dir: cannot write the image: is a directory"));
+        throw;
+      },
+      InputError);
+  EXPECT_THROW(
+      try { out.add(temp.path("file/o.exr"), "image"); } catch (const InputError& e) {
+        EXPECT_THAT(e.message(), HasSubstr("cannot create the folder for the image: "));
+        EXPECT_THAT(e.message(), ::testing::Not(HasSubstr("Success")));
+        throw;
+      },
+      InputError);
+  out.add(temp.path("o.exr"), "image");
+  EXPECT_THROW(out.add(temp.path("./o.exr"), "stats"), InputError);  // the same file twice
+}
+
+}  // namespace
+}  // namespace rayes
