@@ -1,9 +1,9 @@
 #include "app/command_line.h"
 #include <charconv>
 #include <cstdio>
-#include <optional>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <CLI/CLI.hpp>
 #include "app/html_report.h"
 #include "app/image_io.h"
@@ -48,8 +48,9 @@ void parseResolution(const std::string& text, int& width, int& height) {
   const std::string part[2] = {text.substr(0, x), text.substr(x + 1)};
   for (int k = 0; k < 2; ++k) {
     const auto [p, ec] = std::from_chars(part[k].data(), part[k].data() + part[k].size(), v[k]);
-    if (part[k].empty() || ec == std::errc::result_out_of_range) bad("width and height must be at most 2^28");
-    if (ec != std::errc() || p != part[k].data() + part[k].size()) bad("expected WIDTHxHEIGHT with whole numbers");
+    if (ec == std::errc::result_out_of_range) bad("width and height must be at most 2^28");
+    if (part[k].empty() || ec != std::errc() || p != part[k].data() + part[k].size())
+      bad("expected WIDTHxHEIGHT with whole numbers");
     if (v[k] <= 0) bad("width and height must be positive");
     if (v[k] > (int64_t(1) << 28)) bad("width and height must be at most 2^28");
   }
@@ -115,10 +116,17 @@ int render(const RenderArgs& a) {
   const std::string exr = pngOnly ? "" : out;
   const std::string png = pngOnly ? out : std::filesystem::path(out).replace_extension(".png").string();
   OutputSet outputs;
-  if (!exr.empty()) outputs.add(exr, "image");
-  outputs.add(png, "preview");
-  if (!a.stats.empty()) outputs.add(a.stats, "stats");
-  if (!a.report.empty()) outputs.add(a.report, "report");
+  const auto claim = [&](const std::string& target, const char* what) {
+    std::error_code ec;
+    for (const std::string& input : {a.scene, a.reference})
+      if (!input.empty() && std::filesystem::equivalent(target, input, ec))
+        throw InputError(target, "", std::string("the ") + what + " would overwrite an input of this run");
+    outputs.add(target, what);
+  };
+  if (!exr.empty()) claim(exr, "image");
+  claim(png, "preview");
+  if (!a.stats.empty()) claim(a.stats, "stats");
+  if (!a.report.empty()) claim(a.report, "report");
 
   Renderer renderer(scene, options);
   ProgressReporter progress(!a.quiet, scene.samplesPerPixel);

@@ -12,6 +12,7 @@
 #include <vector>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include "app/image_io.h"
 #include "render_fixtures.h"
 #include "support/exr_test_file.h"
 #include "support/temp_folder.h"
@@ -89,8 +90,7 @@ std::string writeExrBytes(const char* channel) {
   const testing::TempFolder scratch;
   const std::string path = scratch.path("x.exr");
   testing::writeOneChannelExr(path, 16, 16, channel, std::vector<float>(16 * 16, 0.25f));
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return scratch.read("x.exr");
 }
 std::string exrBytes(const char* channel) {
   static std::map<std::string, std::string> made;
@@ -99,6 +99,12 @@ std::string exrBytes(const char* channel) {
   return it->second;
 }
 std::string halfOf(const std::string& file) { return file.substr(0, file.size() / 2); }
+// A black 8x6 render as the program writes it: a valid reference for the catalogue's scene.
+std::string referenceBytes() {
+  const testing::TempFolder scratch;
+  writeExr(scratch.path("ref.exr"), Film(8, 6));
+  return scratch.read("ref.exr");
+}
 // The same EXR with its data window widened to 60000x60000 (the file still holds 16x16).
 std::string exrLyingAboutItsSize(std::string exr) {
   const std::string key = bytes("dataWindow\0box2i\0");
@@ -372,7 +378,7 @@ std::vector<HostileCase> catalogue() {
       {"ResBeyondInt64", {validScene()}, renderWith({"--res", "99999999999999999999x2"}), "--res", "at most 2^28"},
       {"ResZeroWidth", {validScene()}, renderWith({"--res", "0x5"}), "--res", "must be positive"},
       {"ResNegative", {validScene()}, renderWith({"--res", "-4x4"}), "--res", "must be positive"},
-      {"ResNoHeight", {validScene()}, renderWith({"--res", "5x"}), "--res", "5x"},
+      {"ResNoHeight", {validScene()}, renderWith({"--res", "5x"}), "--res", "expected WIDTHxHEIGHT with whole numbers, got '5x'"},
       {"ResNoSeparator", {validScene()}, renderWith({"--res", "640"}), "--res", "expected WIDTHxHEIGHT"},
       {"ResThreeParts", {validScene()}, renderWith({"--res", "4x4x4"}), "--res", "whole numbers"},
       {"ResFraction", {validScene()}, renderWith({"--res", "4.5x4"}), "--res", "whole numbers"},
@@ -417,6 +423,13 @@ std::vector<HostileCase> catalogue() {
       {"PngOutputIsAlsoTheReport", {validScene()}, {"render", "$D/s.json", "-o", "$D/out/p.png", "--report",
                                                     "$D/out/p.png", "-q"},
        "$D/out/p.png", "given as the preview and as the report"},
+      {"OutputIsTheScene", {validScene()}, {"render", "$D/s.json", "-o", "$D/s.json", "-q"}, "$D/s.json",
+       "the image would overwrite an input of this run"},
+      {"StatsIsTheScene", {validScene()}, renderWith({"--stats", "$D/s.json"}), "$D/s.json",
+       "the stats would overwrite an input of this run"},
+      {"OutputIsTheReference", {validScene(), {"ref.exr", referenceBytes()}},
+       {"render", "$D/s.json", "-o", "$D/ref.exr", "--reference", "$D/ref.exr", "-q"}, "$D/ref.exr",
+       "the image would overwrite an input of this run"},
   };
   return c;
 }

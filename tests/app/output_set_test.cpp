@@ -13,11 +13,6 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-std::string contentOf(const std::string& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 TEST(OutputSet, NothingAppearsBeforeCommitAndEverythingAfter) {
   const testing::TempFolder temp;
   {
@@ -30,8 +25,8 @@ TEST(OutputSet, NothingAppearsBeforeCommitAndEverythingAfter) {
     EXPECT_FALSE(fs::exists(temp.path("sub/b.txt")));
     out.commit();
   }
-  EXPECT_EQ(contentOf(temp.path("a.txt")), "A");
-  EXPECT_EQ(contentOf(temp.path("sub/b.txt")), "B");
+  EXPECT_EQ(temp.read("a.txt"), "A");
+  EXPECT_EQ(temp.read("sub/b.txt"), "B");
   EXPECT_EQ(temp.entries(), (std::vector<std::string>{"a.txt", "sub", "sub/b.txt"}));  // no temporaries
 }
 
