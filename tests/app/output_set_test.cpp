@@ -13,20 +13,23 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
+// Claims each name in `temp` (as the "stats") and fills it with its own name.
+void claimAndFill(OutputSet& out, const testing::TempFolder& temp, std::initializer_list<const char*> names) {
+  for (const char* n : names) out.add(temp.path(n), "stats");
+  for (const char* n : names) out.writeText(temp.path(n), n);
+}
+
 TEST(OutputSet, NothingAppearsBeforeCommitAndEverythingAfter) {
   const testing::TempFolder temp;
   {
     OutputSet out;
-    out.add(temp.path("a.txt"), "stats");
-    out.add(temp.path("sub/b.txt"), "report");
-    out.writeText(temp.path("a.txt"), "A");
-    out.writeText(temp.path("sub/b.txt"), "B");
+    claimAndFill(out, temp, {"a.txt", "sub/b.txt"});
     EXPECT_FALSE(fs::exists(temp.path("a.txt")));
     EXPECT_FALSE(fs::exists(temp.path("sub/b.txt")));
     out.commit();
   }
-  EXPECT_EQ(temp.read("a.txt"), "A");
-  EXPECT_EQ(temp.read("sub/b.txt"), "B");
+  EXPECT_EQ(temp.read("a.txt"), "a.txt");
+  EXPECT_EQ(temp.read("sub/b.txt"), "sub/b.txt");
   EXPECT_EQ(temp.entries(), (std::vector<std::string>{"a.txt", "sub", "sub/b.txt"}));  // no temporaries
 }
 
@@ -34,8 +37,7 @@ TEST(OutputSet, AnUncommittedSetLeavesNothingNotEvenItsFolders) {
   const testing::TempFolder temp;
   {
     OutputSet out;
-    out.add(temp.path("x/y/a.txt"), "image");
-    out.writeText(temp.path("x/y/a.txt"), "A");
+    claimAndFill(out, temp, {"x/y/a.txt"});
   }  // e.g. a later write threw
   EXPECT_TRUE(temp.entries().empty());
 }
@@ -43,10 +45,7 @@ TEST(OutputSet, AnUncommittedSetLeavesNothingNotEvenItsFolders) {
 TEST(OutputSet, AFailedRenameRemovesTheOutputsAlreadyRenamed) {
   const testing::TempFolder temp;
   OutputSet out;
-  out.add(temp.path("a.txt"), "image");
-  out.add(temp.path("b.txt"), "stats");
-  out.writeText(temp.path("a.txt"), "A");
-  out.writeText(temp.path("b.txt"), "B");
+  claimAndFill(out, temp, {"a.txt", "b.txt"});
   fs::create_directories(temp.path("b.txt/inside"));  // appears after the check in add()
   try {
     out.commit();
