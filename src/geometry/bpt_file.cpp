@@ -68,6 +68,7 @@ void parseFields(LineReader& r, std::string_view line, T* out, int count, const 
     const std::string_view field = trim(line.substr(0, comma));
     line = comma == std::string_view::npos ? std::string_view() : line.substr(comma + 1);
     const auto res = std::from_chars(field.data(), field.data() + field.size(), out[k]);
+    if (res.ec == std::errc::result_out_of_range) r.fail("number '" + std::string(field) + "' is out of range");
     if (res.ec != std::errc() || res.ptr != field.data() + field.size() || field.empty())
       r.fail("malformed number '" + std::string(field) + "'");
     if constexpr (std::is_floating_point_v<T>) {
