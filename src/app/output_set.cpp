@@ -26,6 +26,9 @@ void OutputSet::add(const std::string& target, const std::string& what) {
       throw InputError(target, "", "given as the " + e.what + " and as the " + what);
   std::error_code ec;
   if (fs::is_directory(target, ec)) throw InputError(target, "", "cannot write the " + what + ": is a directory");
+  // Renaming onto a device or a pipe would replace it, not write into it.
+  if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))
+    throw InputError(target, "", "cannot write the " + what + ": not a regular file");
   const fs::path dir = fs::path(target).parent_path();
   if (!dir.empty()) {
     std::vector<fs::path> missing;

@@ -21,9 +21,9 @@ class OutputSet {
   // Removes the temporaries (and the folders it created) of a set that was never committed.
   ~OutputSet();
 
-  // Claims `target` (what: "image", "stats", ...): it must not be a directory nor claimed twice;
-  // its folder is created, and the temporary is created at once, so that an unwritable place
-  // fails before the render rather than after it.
+  // Claims `target` (what: "image", "stats", ...): it must not be a directory, a device or a
+  // pipe, nor claimed twice; its folder is created, and the temporary is created at once, so
+  // that an unwritable place fails before the render rather than after it.
   void add(const std::string& target, const std::string& what);
   // Fills the temporary of a claimed target: `write` gets the temporary's path and may throw
   // (any std::exception becomes an InputError naming the target).

@@ -423,6 +423,8 @@ std::vector<HostileCase> catalogue() {
       {"PngOutputIsAlsoTheReport", {validScene()}, {"render", "$D/s.json", "-o", "$D/out/p.png", "--report",
                                                     "$D/out/p.png", "-q"},
        "$D/out/p.png", "given as the preview and as the report"},
+      {"OutputIsADevice", {validScene()}, {"render", "$D/s.json", "-o", "/dev/null", "-q"}, "/dev/null",
+       "cannot write the image: not a regular file"},
       {"OutputIsTheScene", {validScene()}, {"render", "$D/s.json", "-o", "$D/s.json", "-q"}, "$D/s.json",
        "the image would overwrite an input of this run"},
       {"StatsIsTheScene", {validScene()}, renderWith({"--stats", "$D/s.json"}), "$D/s.json",
