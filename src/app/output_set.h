@@ -2,7 +2,9 @@
 // written to a temporary name in its target's folder; only when all of them have been written
 // are they renamed onto their targets. On any failure -- while writing, or a rename -- no
 // output of the run is left behind: temporaries are removed, and targets already renamed in
-// this commit are removed too, and so are folders created for them. The one place in the program that writes output files.
+// this commit are removed too, and so are folders created for them; a run stopped by SIGINT,
+// SIGTERM or SIGHUP removes its temporaries before it dies. The one place in the program that
+// writes output files.
 //
 // Failures are InputError naming the target with the system's reason (errno is read before
 // any cleanup can overwrite it): an unwritable output is bad input, exit code 2.
@@ -35,6 +37,7 @@ class OutputSet {
  private:
   struct Entry {
     std::string target, temporary, what;
+    int signalSlot;  // where the signal handler finds the temporary (-1: not registered)
   };
   const Entry& entry(const std::string& target) const;
   void removeTemporaries();

@@ -1,6 +1,9 @@
 // OutputSet: the outputs of a run appear together or not at all, and a failure names the
 // target with the system's reason.
+#include <csignal>
 #include <filesystem>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <fstream>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -77,6 +80,25 @@ TEST(OutputSet, UnwritablePlacesFailAtAddWithTheReason) {
       InputError);
   out.add(temp.path("o.exr"), "image");
   EXPECT_THROW(out.add(temp.path("./o.exr"), "stats"), InputError);  // the same file twice
+}
+
+// A run stopped by a signal between claiming and committing leaves no temporary (checked in a
+// child process, which dies of the signal).
+TEST(OutputSet, ASignalRemovesTheTemporaries) {
+  const testing::TempFolder temp;
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    OutputSet out;
+    out.add(temp.path("a.exr"), "image");
+    out.add(temp.path("a.png"), "preview");
+    std::raise(SIGTERM);
+    ::_exit(0);  // not reached
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM) << status;
+  EXPECT_TRUE(temp.entries().empty());
 }
 
 }  // namespace
