@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include "core/box4.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
 #include "dicing/morton.h"
@@ -50,29 +51,25 @@ struct StackEntry {
 constexpr int kStackSize = 1 + 3 * 12 + 3;
 
 // The ray of one traversal, prepared once for 4-wide slab tests on a node group (the 4
-// children of a node, SoA, see DiceBuffer::nodes_). It performs core/box.h intersectBox's
-// arithmetic operation for operation on the margin-padded boxes, so every lane gives exactly
-// the bits intersectBox would: near plane = (plane + signedPad - org) * invDir (x - m equals
-// x + (-m) in IEEE arithmetic), far plane the same times 1 + 2*gamma(3); entry = tn > t0 ? tn :
-// t0 is _mm_max_ps(tn, t0) and exit = tf < t1 ? tf : t1 is _mm_min_ps(tf, t1), NaN cases
-// included. Per ray the only choice left is which of lo/hi is the near plane per axis.
+// children of a node, SoA, see DiceBuffer::nodes_): core/box4.h's test on the margin-padded
+// boxes, so every lane gives exactly the bits intersectBox gives on `lo - margin, hi + margin`
+// (x - m equals x + (-m) in IEEE arithmetic). Per ray the only choice left is which of lo/hi is
+// the near plane per axis.
 struct GroupRay {
   int nearOff[3], farOff[3];  // float offsets of the near/far plane lanes within a group
-  __m128 nearPad[3], farPad[3], org[3], inv[3];
-  __m128 tmin, scale;
+  __m128 nearPad[3], farPad[3];
+  RayBox4Query ray;
+  __m128 tmin;
 
-  GroupRay(const RayBoxQuery& q, float margin, float tMin) {
+  GroupRay(const RayBoxQuery& q, float margin, float tMin) : ray(q) {
     for (int a = 0; a < 3; ++a) {
       const bool neg = q.sign[a] != 0;  // near plane is hi
       nearOff[a] = 8 * a + (neg ? 4 : 0);
       farOff[a] = 8 * a + (neg ? 0 : 4);
       nearPad[a] = _mm_set1_ps(neg ? margin : -margin);
       farPad[a] = _mm_set1_ps(neg ? -margin : margin);
-      org[a] = _mm_set1_ps(q.org[a]);
-      inv[a] = _mm_set1_ps(q.invDir[a]);
     }
     tmin = _mm_set1_ps(tMin);
-    scale = _mm_set1_ps(1.0f + 2.0f * gammaBound(3));
   }
 
   // Bit c set: child c is crossed within [tmin, tCull]; tEntry[c] its entry distance.
@@ -97,18 +94,13 @@ struct GroupRay {
   }
 
  private:
-  // The slab arithmetic of intersectBox, 4 lanes at once, on the near and far planes of each
-  // axis: the one place its conservative rounding lives for both box tests.
   int slabs(const __m128 n[3], const __m128 f[3], float tCull, __m128& tEntry) const {
-    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    __m128 nearPlane[3], farPlane[3], tExit;
     for (int a = 0; a < 3; ++a) {
-      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n[a], nearPad[a]), org[a]), inv[a]);
-      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f[a], farPad[a]), org[a]), inv[a]), scale);
-      t0 = _mm_max_ps(tn, t0);
-      t1 = _mm_min_ps(tf, t1);
+      nearPlane[a] = _mm_add_ps(n[a], nearPad[a]);
+      farPlane[a] = _mm_add_ps(f[a], farPad[a]);
     }
-    tEntry = t0;
-    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+    return int(intersectBox4(ray, nearPlane, farPlane, tmin, _mm_set1_ps(tCull), tEntry, tExit));
   }
 };
 
