@@ -45,7 +45,8 @@ void ensureParentDir(const std::string& path, const char* what) {
 }
 
 struct RenderArgs {
-  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted";
+  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted",
+              method = "pt";
   int spp = 0, threads = 0, maxLod = 10, seed = -1;
   bool quiet = false;
 };
@@ -69,6 +70,7 @@ int render(const RenderArgs& a) {
   }
   if (a.seed >= 0) scene.integrator.seed = uint64_t(a.seed);
   RenderOptions options;
+  options.method = integratorMethodFromName(a.method, "--method");
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
   options.lod = a.lod == "density" ? LodRule::Density : LodRule::PerRay;
@@ -139,6 +141,10 @@ int runCommandLine(int argc, char** argv) {
   r->add_option("--trace-mode", a.traceMode, "sorted (default: the reorder pipeline) or alone (debug: every ray "
                                              "traced by itself, each patch diced per ray; slow)")
       ->check(CLI::IsMember({"sorted", "alone"}));
+  r->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS) or "
+                                      "lt (light tracing: paths from the lights, every vertex connected to the "
+                                      "camera; the reference for caustics; lights at infinity seen directly are "
+                                      "missing)");
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
                                             "RMSE after every pass against time (error_vs_time)");
   r->add_option("--seed", a.seed, "random seed (default: the scene's, else 0)");

@@ -1,13 +1,14 @@
 // START HERE for the whole program. The Renderer turns a Scene into a Film:
 //
-//   setup:  leaves = the scene's patches; their conservative boxes go into the TopLevelBvh;
-//           the ray memory budget fixes how many paths a batch holds and the candidate
-//           capacity.
+//   setup:  RenderData (leaf boxes, TopLevelBvh, shading's view of the scene, feature counts);
+//           the integrator chosen by RenderOptions::method; the ray memory budget divided by
+//           the bytes one path costs (the integrator's state and ray slots, the tracer's state
+//           per ray) fixes how many paths a batch holds and the candidate capacity.
 //   passes: samples are rendered in passes of 1, 1, 2, 4, ... samples per pixel (progress and
 //           the error-against-time curve are reported per pass); a pass is split into batches
 //           of whole paths that fit the budget.
-//   batch:  PathTracer::start -> repeat { Tracer::trace (one generation) ->
-//           PathTracer::shade (next generation) } until no ray is left -> PathTracer::finish.
+//   batch:  Integrator::start -> repeat { Tracer::trace (one generation) ->
+//           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
 // per-ray LOD: batches cover whole sample indices, the film adds samples in order.
@@ -17,11 +18,11 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "app/render_data.h"
 #include "rays/tracer.h"
 #include "scene/scene.h"
 #include "shading/film.h"
-#include "shading/path_tracer.h"
-#include "toplevel/toplevel_bvh.h"
+#include "shading/integrator.h"
 
 namespace rayes {
 
@@ -30,6 +31,7 @@ struct RenderOptions {
   LodRule lod = LodRule::PerRay;
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
+  IntegratorMethod method = IntegratorMethod::PathTracing;
   std::vector<float> reference;  // RGB per pixel; empty: no error curve
 };
 
@@ -42,18 +44,6 @@ struct ErrorSample {
   int spp;
   double seconds;
   double rmse;
-};
-
-// What the scene uses, counted once at setup: the stats say what was done and what was left
-// out because nothing needed it (DESIGN invariant 4).
-struct SceneFeatures {
-  uint64_t movingLeaves = 0;         // leaves with more than one time sample
-  bool shutterOpen = false;          // the camera's shutter has an interval
-  uint64_t displacedLeaves = 0;
-  uint64_t subdivisionLeaves = 0;
-  uint64_t borderClosureLeaves = 0;  // leaves whose borders need crack-closing regions
-  bool environment = false;
-  uint64_t distantLights = 0;
 };
 
 struct RenderStats {
@@ -79,14 +69,14 @@ class Renderer {
   using Progress = std::function<void(uint64_t, uint64_t, int)>;
   Film render(const Progress& progress = {});
   const RenderStats& stats() const { return stats_; }
-  static size_t bytesPerPath();
+  // What one path costs in the ray memory budget (the unit of --ray-memory).
+  size_t bytesPerPath() const { return stats_.bytesPerPath; }
 
  private:
   const Scene& scene_;
   RenderOptions options_;
-  ShadingScene shading_;
-  std::vector<Box3> leafBoxes_;
-  TopLevelBvh top_;
+  RenderData data_;
+  std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<Tracer> tracer_;
   RenderStats stats_;
 };

@@ -16,7 +16,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   json kinds = json::object();
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
   j["scene"]["leaf_kinds"] = kinds;
-  j["settings"] = {{"threads", run.threads}, {"max_lod", options.maxLod},
+  j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : "density"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
@@ -46,6 +46,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"micropolygons_potential", s.micropolygonsPotential},
       {"batches", s.batches},
       {"nonfinite_samples_dropped", s.shade.nonFinite.load()},
+      {"splats", s.shade.splats.load()},
       {"peak_rss_bytes", peakRssBytes()},
       {"time_s",
        {{"load", run.loadSeconds},

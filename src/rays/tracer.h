@@ -45,6 +45,16 @@ class Tracer {
 
   const TraceSettings& settings() const { return settings_; }
   static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
+  // The candidate buffer holds this many slots per ray of a full batch: with two rays per path
+  // the first iteration of the camera generation then gets N = 8 candidates per ray, as in the
+  // thesis's Table 6.3, and later iterations more as rays terminate.
+  static constexpr size_t kCandidatesPerRay = 4;
+  static constexpr size_t candidatesFor(size_t rays) { return rays * kCandidatesPerRay; }
+  // Everything the tracer keeps per ray slot of a full batch: its state, the active lists and
+  // its share of the candidate buffer (the RayBatch itself is RayBatch::bytesPerRay).
+  static constexpr size_t bytesPerRay() {
+    return bytesPerRayState() + 2 * sizeof(uint32_t) + kCandidatesPerRay * bytesPerCandidate();
+  }
   // Everything one candidate slot costs: the slot itself, its ray index, and the sort's
   // working storage (filled list, pairs and scratch, order) when the slot is filled.
   static constexpr size_t bytesPerCandidate() {

@@ -125,6 +125,24 @@ TEST_F(CommandLine, ImpossibleArgumentsAreExit2) {
   }
 }
 
+TEST_F(CommandLine, UnknownMethodIsOneMessageExit2AndNothingWritten) {
+  const RunResult r = run({"render", kScene, "-o", path("o.exr"), "--stats", path("s.json"), "-q", "--method", "bdpt"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--method: unknown method 'bdpt'"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one message: " << r.err;
+  EXPECT_TRUE(dirHasOnly({}));
+}
+
+TEST_F(CommandLine, LightTracingWritesItsMethodAndSplatsInTheStats) {
+  const RunResult r = run({"render", kScene, "--spp", "1", "--res", "16x12", "-o", path("t.exr"), "--stats",
+                           path("s.json"), "-q", "--method", "lt"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(path("s.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["settings"]["method"], "lt");
+  EXPECT_GT(j["totals"]["splats"].get<int>(), 0);
+}
+
 TEST_F(CommandLine, HelpDocumentsEveryOption) {
   const auto args = std::vector<std::string>{"rayes", "render", "--help"};
   std::vector<char*> argv;
@@ -135,7 +153,7 @@ TEST_F(CommandLine, HelpDocumentsEveryOption) {
   for (char* a : argv) free(a);
   EXPECT_EQ(code, 0);
   for (const char* opt : {"--output", "--spp", "--res", "--threads", "--stats", "--max-lod", "--ray-memory",
-                          "--lod", "--trace-mode", "--reference"})
+                          "--lod", "--trace-mode", "--reference", "--method"})
     EXPECT_THAT(out, HasSubstr(opt));
 }
 
