@@ -1,7 +1,7 @@
 // What a render builds from a Scene once, before any ray: the leaves' conservative boxes and
 // the top-level BVH over them, shading's view of the scene (camera, materials per leaf, the
 // light sampler over point, spot, area, distant and environment lights) and the counts of what
-// the scene uses (for the stats' "features" and "skipped", DESIGN invariant 4).
+// the scene uses (for the stats' "features" and "skipped", docs/design.md, invariant 4).
 // Immutable after construction; holds a reference to nothing but what it owns (the lights'
 // surface functions share ownership of their patches).
 #pragma once
@@ -17,7 +17,7 @@
 namespace rayes {
 
 // What the scene uses, counted once at setup: the stats say what was done and what was left
-// out because nothing needed it.
+// out because nothing needed it (docs/design.md, invariant 4).
 struct SceneFeatures {
   uint64_t movingLeaves = 0;         // leaves with more than one time sample
   bool shutterOpen = false;          // the camera's shutter has an interval

@@ -13,7 +13,7 @@
 // touches no others, so paths are shaded in parallel without locks. Path ids are sample-major
 // (sample * pixels + pixel); batches are contiguous id ranges started in increasing order, and
 // finish() must add to each pixel in an order fixed by the path ids alone, so the image is
-// bit-identical for any thread count, batch size and trace order (DESIGN invariant 2).
+// bit-identical for any thread count, batch size and trace order (docs/design.md, invariant 2).
 // bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
 // memory budget can be divided into whole paths.
 //

@@ -38,7 +38,7 @@ inline size_t bytesPerPath(const Scene& scene, const RenderOptions& options = {}
   return Renderer(scene, options).bytesPerPath();
 }
 
-// DESIGN invariant 2 on one scene: the image with 2 threads equals, bit for bit, the image
+// docs/design.md, invariant 2 on one scene: the image with 2 threads equals, bit for bit, the image
 // with 1 thread, with every ray traced alone, and with a ray budget of `budgetPaths` paths
 // (all with the other settings of `base`).
 inline void expectOrderIndependent(const Scene& scene, size_t budgetPaths, const RenderOptions& base = {}) {
