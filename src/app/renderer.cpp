@@ -6,16 +6,9 @@
 #include "core/timer.h"
 
 namespace rayes {
-namespace {
-// The candidate buffer holds this many slots per ray of a full batch: the first iteration of
-// the camera generation then gets N = 8 candidates per ray (2 ray slots per path), as in the
-// thesis's Table 6.3, and later iterations more as rays terminate.
-constexpr size_t kCandidatesPerRay = 4;
-}  // namespace
 
-size_t Renderer::bytesPerPath() {
-  const size_t perRay = RayBatch::bytesPerRay() + Tracer::bytesPerRayState() + 2 * sizeof(uint32_t) +
-                        kCandidatesPerRay * Tracer::bytesPerCandidate();
+size_t Renderer::bytesPerPath(size_t engineBytesPerRay) {
+  const size_t perRay = RayBatch::bytesPerRay() + engineBytesPerRay;
   return PathBatch::bytesPerPath() + 16 /* shading sort item */ + 2 * perRay;
 }
 
@@ -76,7 +69,8 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
   shading_.lights = LightSampler(scene.pointLights, std::move(patchLights), scene.moreLights, radius);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
-  stats_.bytesPerPath = bytesPerPath();
+  const bool embree = options.engine == EngineKind::Embree;
+  stats_.bytesPerPath = bytesPerPath(embree ? EmbreeEngine::bytesPerRaySlot() : Tracer::bytesPerRaySlot());
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
   uint64_t perBatch = options.rayMemoryBytes / stats_.bytesPerPath;
@@ -85,15 +79,26 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
                      " bytes cannot hold one path (" + std::to_string(stats_.bytesPerPath) + " bytes)");
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
-  stats_.candidateCapacity = 2 * perBatch * kCandidatesPerRay;
+  stats_.candidateCapacity = embree ? 0 : 2 * perBatch * Tracer::kCandidatesPerRay;
 
+  if (embree) {
+    EmbreeSettings es;
+    es.maxLod = options.maxLod;
+    es.autoLod = options.embreeAutoLod;
+    es.camera = {shading_.camera.position(), shading_.camera.apertureRadius(), shading_.camera.pixelSpread()};
+    es.memoryLimit = options.memoryLimitBytes;
+    engine_ = std::make_unique<EmbreeEngine>(scene.patches, es);
+    stats_.engine = engine_->engineStats();
+    stats_.timeSetup = secondsSince(t0);
+    return;
+  }
   TraceSettings ts;
   ts.maxLod = options.maxLod;
   ts.lod = options.lod;
   ts.samplesPerPixel = scene.samplesPerPixel;
   ts.candidateCapacity = stats_.candidateCapacity;
   ts.sortByLeaf = options.sortByLeaf;
-  tracer_ = std::make_unique<Tracer>(top_, scene.patches, ts);
+  engine_ = std::make_unique<Tracer>(top_, scene.patches, ts);
   stats_.timeSetup = secondsSince(t0);
 }
 
@@ -119,7 +124,7 @@ Film Renderer::render(const Progress& progress) {
       tracer.start(first, count, paths, rays);
       for (int depth = 0;; ++depth) {
         GenerationRecord rec{pass, batch, depth, {}};
-        tracer_->trace(rays, rec.stats, stats_.trace);
+        engine_->trace(rays, rec.stats, stats_.trace);
         stats_.generations.push_back(std::move(rec));
         if (tracer.shade(uint32_t(depth), paths, rays, stats_.shade) == 0) break;
       }
@@ -138,7 +143,8 @@ Film Renderer::render(const Progress& progress) {
     ++pass;
     if (progress) progress(done, total, s1);
   }
-  stats_.diceBufferBytes = tracer_->diceBufferBytes();
+  stats_.engine = engine_->engineStats();
+  stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
   stats_.timeTotal = secondsSince(t0);
   return film;
 }

@@ -1,12 +1,13 @@
 // START HERE for the whole program. The Renderer turns a Scene into a Film:
 //
 //   setup:  leaves = the scene's patches; their conservative boxes go into the TopLevelBvh;
-//           the ray memory budget fixes how many paths a batch holds and the candidate
-//           capacity.
+//           the ray engine (--engine: the Rayes Tracer, or the Embree engine that tessellates
+//           everything here); the ray memory budget, with the engine's bytes per ray, fixes
+//           how many paths a batch holds and the candidate capacity.
 //   passes: samples are rendered in passes of 1, 1, 2, 4, ... samples per pixel (progress and
 //           the error-against-time curve are reported per pass); a pass is split into batches
 //           of whole paths that fit the budget.
-//   batch:  PathTracer::start -> repeat { Tracer::trace (one generation) ->
+//   batch:  PathTracer::start -> repeat { RayEngine::trace (one generation) ->
 //           PathTracer::shade (next generation) } until no ray is left -> PathTracer::finish.
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
@@ -17,6 +18,7 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "rays/embree_engine.h"
 #include "rays/tracer.h"
 #include "scene/scene.h"
 #include "shading/film.h"
@@ -25,7 +27,12 @@
 
 namespace rayes {
 
+enum class EngineKind { Rayes, Embree };
+
 struct RenderOptions {
+  EngineKind engine = EngineKind::Rayes;
+  bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
+  size_t memoryLimitBytes = 0;   // Embree engine: refuse a tessellation larger than this (0: none)
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
   size_t rayMemoryBytes = size_t(1) << 30;
@@ -62,6 +69,7 @@ struct RenderStats {
   double timeSetup = 0, timeTotal = 0, timeFilm = 0;
   TraceTimes trace;
   ShadeStats shade;
+  EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
@@ -79,7 +87,8 @@ class Renderer {
   using Progress = std::function<void(uint64_t, uint64_t, int)>;
   Film render(const Progress& progress = {});
   const RenderStats& stats() const { return stats_; }
-  static size_t bytesPerPath();
+  // Bytes one path costs in the ray budget with an engine keeping engineBytesPerRay per ray slot.
+  static size_t bytesPerPath(size_t engineBytesPerRay = Tracer::bytesPerRaySlot());
 
  private:
   const Scene& scene_;
@@ -87,7 +96,7 @@ class Renderer {
   ShadingScene shading_;
   std::vector<Box3> leafBoxes_;
   TopLevelBvh top_;
-  std::unique_ptr<Tracer> tracer_;
+  std::unique_ptr<RayEngine> engine_;
   RenderStats stats_;
 };
 
