@@ -16,8 +16,10 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   integrator_ = makeIntegrator(options.method, data_.shading);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
+  const bool embree = options.engine == EngineKind::Embree;
   const uint64_t raysPerPath = integrator_->raysPerPath();
-  stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay() + Tracer::bytesPerRay());
+  const size_t engineBytesPerRay = embree ? EmbreeEngine::bytesPerRaySlot() : Tracer::bytesPerRaySlot();
+  stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay() + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
   uint64_t perBatch = options.rayMemoryBytes / stats_.bytesPerPath;
@@ -26,15 +28,27 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                      " bytes cannot hold one path (" + std::to_string(stats_.bytesPerPath) + " bytes)");
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
-  stats_.candidateCapacity = Tracer::candidatesFor(raysPerPath * perBatch);
+  stats_.candidateCapacity = embree ? 0 : raysPerPath * perBatch * Tracer::kCandidatesPerRay;
 
+  if (embree) {
+    EmbreeSettings es;
+    es.maxLod = options.maxLod;
+    es.autoLod = options.embreeAutoLod;
+    const PerspectiveCamera& camera = data_.shading.camera;
+    es.camera = {camera.position(), camera.apertureRadius(), camera.pixelSpread()};
+    es.memoryLimit = options.memoryLimitBytes;
+    engine_ = std::make_unique<EmbreeEngine>(scene.patches, es);
+    stats_.engine = engine_->engineStats();
+    stats_.timeSetup = secondsSince(t0);
+    return;
+  }
   TraceSettings ts;
   ts.maxLod = options.maxLod;
   ts.lod = options.lod;
   ts.samplesPerPixel = scene.samplesPerPixel;
   ts.candidateCapacity = stats_.candidateCapacity;
   ts.sortByLeaf = options.sortByLeaf;
-  tracer_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
+  engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
   stats_.timeSetup = secondsSince(t0);
 }
 
@@ -58,7 +72,7 @@ Film Renderer::render(const Progress& progress) {
       integrator_->start(first, count, rays);
       for (int depth = 0;; ++depth) {
         GenerationRecord rec{pass, batch, depth, {}};
-        tracer_->trace(rays, rec.stats, stats_.trace);
+        engine_->trace(rays, rec.stats, stats_.trace);
         stats_.generations.push_back(std::move(rec));
         if (integrator_->shade(uint32_t(depth), rays, stats_.shade) == 0) break;
       }
@@ -77,7 +91,8 @@ Film Renderer::render(const Progress& progress) {
     ++pass;
     if (progress) progress(done, total, s1);
   }
-  stats_.diceBufferBytes = tracer_->diceBufferBytes();
+  stats_.engine = engine_->engineStats();
+  stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
   stats_.timeTotal = secondsSince(t0);
   return film;
 }

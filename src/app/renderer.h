@@ -1,13 +1,15 @@
 // START HERE for the whole program. The Renderer turns a Scene into a Film:
 //
 //   setup:  RenderData (leaf boxes, TopLevelBvh, shading's view of the scene, feature counts);
-//           the integrator chosen by RenderOptions::method; the ray memory budget divided by
-//           the bytes one path costs (the integrator's state and ray slots, the tracer's state
-//           per ray) fixes how many paths a batch holds and the candidate capacity.
+//           the integrator (--method: PathTracer or LightTracer) and the ray engine (--engine:
+//           the Rayes Tracer, or the Embree engine that tessellates everything here); the ray
+//           memory budget divided by the bytes one path costs (the integrator's state, its ray
+//           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
+//           the candidate capacity.
 //   passes: samples are rendered in passes of 1, 1, 2, 4, ... samples per pixel (progress and
 //           the error-against-time curve are reported per pass); a pass is split into batches
 //           of whole paths that fit the budget.
-//   batch:  Integrator::start -> repeat { Tracer::trace (one generation) ->
+//   batch:  Integrator::start -> repeat { RayEngine::trace (one generation) ->
 //           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
@@ -19,6 +21,7 @@
 #include <string>
 #include <vector>
 #include "app/render_data.h"
+#include "rays/embree_engine.h"
 #include "rays/tracer.h"
 #include "scene/scene.h"
 #include "shading/film.h"
@@ -26,7 +29,12 @@
 
 namespace rayes {
 
+enum class EngineKind { Rayes, Embree };
+
 struct RenderOptions {
+  EngineKind engine = EngineKind::Rayes;
+  bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
+  size_t memoryLimitBytes = 0;   // Embree engine: refuse a tessellation larger than this (0: none)
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
   size_t rayMemoryBytes = size_t(1) << 30;
@@ -52,6 +60,7 @@ struct RenderStats {
   double timeSetup = 0, timeTotal = 0, timeFilm = 0;
   TraceTimes trace;
   ShadeStats shade;
+  EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
@@ -77,7 +86,7 @@ class Renderer {
   RenderOptions options_;
   RenderData data_;
   std::unique_ptr<Integrator> integrator_;
-  std::unique_ptr<Tracer> tracer_;
+  std::unique_ptr<RayEngine> engine_;
   RenderStats stats_;
 };
 

@@ -112,13 +112,6 @@ struct GroupRay {
   }
 };
 
-inline Vec3 lerpPoint(Vec3 a, Vec3 b, float w0, float w1) { return a * w0 + b * w1; }
-
-// Unit bilinear blend of a quad's corner normals at local (s, r); zero if they cancel.
-Vec3 blendNormals(Vec3 n00, Vec3 n10, Vec3 n01, Vec3 n11, float s, float r) {
-  const Vec3 blend = (n00 * (1.0f - s) + n10 * s) * (1.0f - r) + (n01 * (1.0f - s) + n11 * s) * r;
-  return detail::unitOrZero(blend);
-}
 Vec3 blendedNormal(const Vec3* n00, uint32_t stride, size_t res, float s, float r) {
   return blendNormals(n00[0], n00[stride], n00[stride * res], n00[stride * res + stride], s, r);
 }

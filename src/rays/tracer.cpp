@@ -35,6 +35,14 @@ size_t Tracer::diceBufferBytes() const {
   return b;
 }
 
+EngineStats Tracer::engineStats() const {
+  EngineStats s;
+  s.name = "rayes";
+  s.fixedBytes = fixedBytes();
+  s.maxLevel = settings_.maxLod;
+  return s;
+}
+
 DiceBuffer& Tracer::localDiceBuffer() {
   auto& d = dice_.local();
   if (!d) d = std::make_unique<DiceBuffer>(settings_.maxLod);

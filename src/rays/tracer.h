@@ -11,6 +11,8 @@
 //                 is finished once that hit is nearer than its next candidate's entry
 //                 distance; the others stay active with more candidates each.
 //
+// The Rayes implementation of RayEngine (rays/ray_engine.h).
+//
 // Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
 // default per-ray LOD: independent of thread count, sort order, N and batch size. Shadow rays
 // stop at their first occluder. Memory: the candidate buffer (fixed capacity), per-ray state
@@ -31,34 +33,37 @@
 #include "geometry/patch.h"
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
+#include "rays/ray_engine.h"
 #include "rays/trace_settings.h"
 #include "toplevel/toplevel_bvh.h"
 
 namespace rayes {
 
-class Tracer {
+class Tracer : public RayEngine {
  public:
   Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& settings);
 
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
-  void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+  void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
+  size_t bytesPerRay() const override { return bytesPerRaySlot(); }
+  size_t fixedBytes() const override { return diceBufferBytes(); }
+  EngineStats engineStats() const override;
 
   const TraceSettings& settings() const { return settings_; }
   static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
-  // The candidate buffer holds this many slots per ray of a full batch: with two rays per path
-  // the first iteration of the camera generation then gets N = 8 candidates per ray, as in the
-  // thesis's Table 6.3, and later iterations more as rays terminate.
-  static constexpr size_t kCandidatesPerRay = 4;
-  static constexpr size_t candidatesFor(size_t rays) { return rays * kCandidatesPerRay; }
-  // Everything the tracer keeps per ray slot of a full batch: its state, the active lists and
-  // its share of the candidate buffer (the RayBatch itself is RayBatch::bytesPerRay).
-  static constexpr size_t bytesPerRay() {
-    return bytesPerRayState() + 2 * sizeof(uint32_t) + kCandidatesPerRay * bytesPerCandidate();
-  }
   // Everything one candidate slot costs: the slot itself, its ray index, and the sort's
   // working storage (filled list, pairs and scratch, order) when the slot is filled.
   static constexpr size_t bytesPerCandidate() {
     return CandidateBuffer::bytesPerSlot() + 3 * sizeof(uint32_t) + 2 * sizeof(CandidateSort::Pair);
+  }
+  // The candidate buffer should hold this many slots per ray slot of a full batch: the first
+  // iteration of the camera generation then gets N = 8 candidates per ray (2 ray slots per
+  // path), as in the thesis's Table 6.3, and later iterations more as rays terminate.
+  static constexpr size_t kCandidatesPerRay = 4;
+  // Per ray slot: the trace state, the active lists and kCandidatesPerRay candidate slots.
+  // (bytesPerRay() of a Tracer; static so the budget can be set before the Tracer exists.)
+  static constexpr size_t bytesPerRaySlot() {
+    return bytesPerRayState() + 2 * sizeof(uint32_t) + kCandidatesPerRay * bytesPerCandidate();
   }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;

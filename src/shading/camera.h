@@ -131,6 +131,8 @@ class PerspectiveCamera {
   float apertureRadius() const { return aperture_; }
   Vec3 position() const { return pos_; }
   Vec3 forward() const { return forward_; }
+  // Footprint growth of a camera ray per unit distance: one pixel's angle (the ray's coneSpread).
+  float pixelSpread() const { return pixelSpread_; }
 
  private:
   Vec3 pos_, forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};

@@ -116,7 +116,9 @@ TEST_F(CommandLine, SyntaxErrorIsExit2WithLineAndColumn) {
 TEST_F(CommandLine, ImpossibleArgumentsAreExit2) {
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"--spp", "-3"}, {"--res", "0x5"}, {"--res", "abc"}, {"--ray-memory", "12Q"},
-           {"--ray-memory", "10"}, {"--max-lod", "40"}, {"--lod", "random"}, {"--threads"}}) {
+           {"--ray-memory", "10"}, {"--max-lod", "40"}, {"--lod", "random"}, {"--threads"},
+           {"--engine", "optix"}, {"--embree-lod", "auto"}, {"--engine", "embree", "--memory-limit", "12Q"},
+           {"--engine", "embree", "--max-lod", "12", "--memory-limit", "1M"}}) {
     std::vector<std::string> full = {"render", kScene, "-o", path("o.exr"), "-q"};
     full.insert(full.end(), args.begin(), args.end());
     const RunResult r = run(full);
@@ -153,7 +155,8 @@ TEST_F(CommandLine, HelpDocumentsEveryOption) {
   for (char* a : argv) free(a);
   EXPECT_EQ(code, 0);
   for (const char* opt : {"--output", "--spp", "--res", "--threads", "--stats", "--max-lod", "--ray-memory",
-                          "--lod", "--trace-mode", "--reference", "--method"})
+                          "--lod", "--trace-mode", "--reference", "--engine", "--embree-lod", "--memory-limit",
+                          "--method"})
     EXPECT_THAT(out, HasSubstr(opt));
 }
 
