@@ -25,6 +25,7 @@
 // and its rays are intersected at their own time weight. A static leaf takes the static path
 // unchanged.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <vector>
 #include <tbb/enumerable_thread_specific.h>
@@ -72,6 +73,20 @@ class Tracer : public RayEngine {
  private:
   struct RayState;
   void traceSorted(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+  // The steps of one traceSorted iteration (the header comment's numbers) over the first nNow
+  // active rays with N candidate slots each.
+  struct DicingCounters {
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0};
+  };
+  void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
+  size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
+  void diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, TraceTimes& times);  // 3, 4
+  void diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+                              uint32_t leaf, TraceTimes& times, DicingCounters& counters);
+  void diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                        int interval, TraceTimes& times, DicingCounters& counters);
+  void reduceHits(RayBatch& b, size_t nNow, int N);                 // 5
+  void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it

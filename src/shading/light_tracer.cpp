@@ -9,6 +9,7 @@
 #include "shading/bsdf.h"
 #include "shading/path_tracer.h"
 #include "shading/sampling.h"
+#include "shading/surface_hit.h"
 
 namespace rayes {
 namespace {
@@ -72,16 +73,24 @@ void LightTracer::start(uint64_t first, uint32_t count, RayBatch& rays) {
       throughput_[k] = e.weight;
       // The light's own point seen by the camera: Le |cos| W / (pick x area density).
       CameraConnection c;
+      // An emissive patch's rays leave from its point moved off the surface, to the side they
+      // go, by the patch's offset at level 0 (as the path tracer's shadow rays end there), so
+      // geometry flush with the emitter does not stop them.
+      const float back = e.onSurface ? PathTracer::originOffset(scene_.leafSide[e.leaf], scene_.leafDicingError[e.leaf],
+                                                                0, e.org)
+                                     : 0.0f;
+      auto leaving = [&](Vec3 w) { return e.org + e.normal * (dot(e.normal, w) >= 0 ? back : -back); };
       if (e.onSurface &&
           scene_.camera.connect(e.org, sampleUniform(key, kLensU), sampleUniform(key, kLensV), c)) {
-        const float cosL = dot(e.normal, normalize(c.lens - e.org));
+        const Vec3 toLens = normalize(c.lens - e.org);
+        const float cosL = dot(e.normal, toLens);
         if (cosL > 0 || e.twoSided)
-          writeConnection(k, 0, c, e.radiance * (std::fabs(cosL) * c.importance / e.pdfArea), e.org, e.leaf, kNoLeaf,
-                          0, time, rays);
+          writeConnection(k, 0, c, e.radiance * (std::fabs(cosL) * c.importance / e.pdfArea), leaving(toLens), e.leaf,
+                          kNoLeaf, 0, time, rays);
       }
       if (scene_.integrator.maxDepth < 1) continue;
-      rays.set(cs, RayKind::Closest, e.org, e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread, k, e.leaf, kNoLeaf,
-               0, time);
+      rays.set(cs, RayKind::Closest, leaving(e.dir), e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread, k, e.leaf,
+               kNoLeaf, 0, time);
     }
   });
 }
@@ -122,14 +131,8 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
       const float arrival = std::fabs(dot(h.ns, wi)) / std::fabs(wiNg);
       Rgb& T = throughput_[k];
       const RngKey key = keyOf(first_ + k, pixels, vertex, scene_.integrator.seed);
-      const float offset = PathTracer::originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p);
-      auto originToward = [&](Vec3 w) { return p + (dot(h.ng, w) >= 0 ? h.ng : -h.ng) * offset; };
-      // As the path tracer: a direction pair is used only if the true surface agrees with the
-      // shading frame about which side each direction is on.
-      auto consistent = [&](Vec3 a, Vec3 aL, Vec3 b, Vec3 bL) {
-        const float s = dot(h.ng, a) * dot(h.ng, b);
-        return aL.z * bL.z > 0 ? s > 0 : s < 0;
-      };
+      const SurfaceHit at{p, h.ng,
+                          PathTracer::originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p)};
       auto frameFacing = [&](Vec3 w) { return ShadingFrame(bsdf.transmits() || dot(h.ns, w) > 0 ? h.ns : -h.ns); };
 
       // Connection to the camera: the path tracer's BSDF evaluation with the camera as viewer.
@@ -139,11 +142,11 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
         const ShadingFrame frame = frameFacing(wc);
         const Vec3 wcL = frame.toLocal(wc), wiL = frame.toLocal(wi);
         const Rgb f = bsdf.eval(wcL, wiL);
-        if (!isBlack(f) && consistent(wi, wiL, wc, wcL)) {
+        if (!isBlack(f) && at.consistent(wi, wiL, wc, wcL)) {
           const Rgb value = T * f * (arrival * std::fabs(dot(h.ng, wc)) * c.importance);
           if (!isFinite(value)) {
             stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-          } else if (writeConnection(k, vertex, c, value, originToward(wc), kNoLeaf, h.leaf, h.level, rays.time[cs],
+          } else if (writeConnection(k, vertex, c, value, at.originToward(wc), kNoLeaf, h.leaf, h.level, rays.time[cs],
                                      rays)) {
             ++localEmitted;
             stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
@@ -160,7 +163,7 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
         continue;
       const Vec3 wo = normalize(frame.toWorld(bs.wi));
       const float woNs = std::fabs(bs.wi.z);
-      if (!consistent(wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) continue;
+      if (!at.consistent(wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) continue;
       T *= bs.weight * (bs.etaRel * bs.etaRel * arrival * std::fabs(dot(h.ng, wo)) / woNs);
       if (int(vertex) >= scene_.integrator.rouletteDepth) {
         const float q = std::min(1.0f, maxComponent(T));
@@ -173,7 +176,7 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
       if (!isFinite(T)) { stats.nonFinite.fetch_add(1, std::memory_order_relaxed); continue; }
       if (isBlack(T)) continue;
       const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
-      rays.set(cs, RayKind::Closest, originToward(wo), wo, 0.0f, kInf, width,
+      rays.set(cs, RayKind::Closest, at.originToward(wo), wo, 0.0f, kInf, width,
                PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), k, kNoLeaf, h.leaf, h.level,
                rays.time[cs]);
       ++localEmitted;

@@ -87,6 +87,10 @@ class PathTracer final : public Integrator {
   static float originOffset(float side, float errorCoefficient, int level, Vec3 p);
 
  private:
+  // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).
+  void sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats);
+  size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
+
   const ShadingScene& scene_;
   struct SortItem { uint64_t key; uint32_t path; };
   std::vector<SortItem> order_;
