@@ -15,24 +15,23 @@
 //   Rayes   TopLevelBvh over the patch boxes + Tracer::trace of the whole RayBatch (all threads,
 //           then 1 thread via tbb::global_control); a fresh Tracer per thread setting so its
 //           dice-buffer bytes are that setting's; one untimed warm-up trace, best of --repeat.
-//   Embree  every patch diced at m up front (Patch::dice, the same vertices Rayes dices) into
-//           one RTC_GEOMETRY_TYPE_GRID geometry, one RTCGrid per patch over a shared vertex
-//           buffer; rtcCommitScene timed separately (build); rtcIntersect1 per ray in a
-//           tbb::parallel_for (or serially with 1 thread); best of --repeat.
-//           Embree splits a grid cell along v1-v3 = (x+1,y)-(x,y+1); Rayes along p00-p11. Each
-//           grid row is stored mirrored in u (--no-mirror: not), which makes Embree's diagonal
-//           Rayes's, so at the same level both intersect the same triangles.
+//   Embree  the renderer's EmbreeEngine (rays/embree_engine.h) at --embree-lod fixed m: every
+//           patch diced at m up front into one Embree grid per patch (rows mirrored so both
+//           engines intersect the same triangles), traced with rtcIntersect1M in parallel chunks;
+//           its tessellation and rtcCommitScene are timed separately; best of --repeat.
 // Memory: Rayes = top-level nodes + dice buffers (all threads) + candidate buffer + per-ray
 // state + the sort's scratch (not counted by the Tracer; estimated from its vectors, see
-// sortScratchBytes). Embree = our shared vertex buffer (positions only) + every byte Embree
-// allocates, from rtcSetDeviceMemoryMonitorFunction (peak during build and held after it).
+// sortScratchBytes). Embree = the engine's vertices (positions and normals: what a renderer
+// needs to shade) + every byte Embree allocates, from its memory monitor (peak during the build
+// and held after it).
 // Agreement: per ray, hit/miss differs; for rays both hit, |t_rayes - t_embree| (median, p99)
 // and whether the patch differs.
 //
 // Run (from anywhere): bench_peer_embree [--teapot PATH] [--levels 4,6,8] [--size 512]
-//                      [--repeat 3] [--no-floor] [--no-mirror] [--no-single]
+//                      [--repeat 3] [--no-floor] [--no-single]
+// For whole renders, Rayes against the Embree engine: bench/peer_render.sh.
 // Figures in bench/RESULTS-peer.md.
-#include <embree3/rtcore.h>
+#include <embree3/rtcore_config.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
@@ -58,6 +57,7 @@
 #include "core/timer.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
+#include "rays/embree_engine.h"
 #include "rays/tracer.h"
 #include "toplevel/toplevel_bvh.h"
 
@@ -72,7 +72,7 @@ struct Options {
   std::vector<int> levels{4, 6, 8};
   int size = 512;
   int repeat = 3;
-  bool floor = true, mirror = true, single = true;
+  bool floor = true, single = true;
 };
 
 std::string findTeapot(const char* argv0) {
@@ -110,7 +110,6 @@ bool parse(int argc, char** argv, Options& o) {
     else if (a == "--size") { const char* v = next(); if (!v) return false; o.size = std::atoi(v); }
     else if (a == "--repeat") { const char* v = next(); if (!v) return false; o.repeat = std::max(1, std::atoi(v)); }
     else if (a == "--no-floor") o.floor = false;
-    else if (a == "--no-mirror") o.mirror = false;
     else if (a == "--no-single") o.single = false;
     else return false;
   }
@@ -205,98 +204,32 @@ void fillBatch(const RaySet& rs, bool forced, RayBatch& b) {
 }
 
 // ---- Embree -----------------------------------------------------------------------------
-struct MemoryMonitor {
-  std::atomic<int64_t> current{0}, peak{0};
-  static bool callback(void* user, ssize_t bytes, bool /*post*/) {
-    auto* m = static_cast<MemoryMonitor*>(user);
-    const int64_t now = m->current.fetch_add(bytes) + bytes;
-    int64_t p = m->peak.load();
-    while (now > p && !m->peak.compare_exchange_weak(p, now)) {}
-    return true;
-  }
+struct EmbreeRun {
+  std::unique_ptr<EmbreeEngine> engine;
+  EngineStats stats;
 };
 
-struct EmbreeEngine {
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  MemoryMonitor mem;
-  std::vector<float> vertices;  // xyz (+1 float of padding at the end, Embree reads 16 bytes)
-  std::vector<RTCGrid> grids;
-  double tessSeconds = 0, buildSeconds = 0;
-  int64_t heldBytes = 0, peakBytes = 0;  // Embree's own, after / during rtcCommitScene
+EmbreeRun buildEmbree(const std::vector<PatchPtr>& patches, int m) {
+  EmbreeSettings es;
+  es.maxLod = m;
+  EmbreeRun run{std::make_unique<EmbreeEngine>(patches, es), {}};
+  run.stats = run.engine->engineStats();
+  return run;
+}
 
-  EmbreeEngine(const std::vector<PatchPtr>& patches, int m, bool mirror) {
-    device = rtcNewDevice(nullptr);
-    rtcSetDeviceMemoryMonitorFunction(device, &MemoryMonitor::callback, &mem);
-    const unsigned res = (1u << m) + 1, perPatch = res * res;
+// Best wall time of --repeat traces of the whole set (hits left in `batch`).
+double traceEmbree(EmbreeEngine& engine, const RaySet& rs, int repeat, RayBatch& batch) {
+  double best = kInf;
+  for (int r = 0; r < repeat; ++r) {
+    fillBatch(rs, true, batch);
+    GenerationStats st;
+    TraceTimes tt;
     const auto t0 = Clock::now();
-    vertices.assign(size_t(perPatch) * patches.size() * 3 + 1, 0.0f);
-    grids.resize(patches.size());
-    tbb::parallel_for(size_t(0), patches.size(), [&](size_t k) {
-      std::vector<Vec3> p(perPatch), n(perPatch);
-      patches[k]->dice(m, p.data(), n.data());
-      float* out = vertices.data() + size_t(k) * perPatch * 3;
-      for (unsigned j = 0; j < res; ++j)
-        for (unsigned i = 0; i < res; ++i) {
-          const Vec3 v = p[size_t(j) * res + i];
-          const size_t at = size_t(j) * res + (mirror ? res - 1 - i : i);
-          out[3 * at] = v.x; out[3 * at + 1] = v.y; out[3 * at + 2] = v.z;
-        }
-      grids[k] = RTCGrid{unsigned(k) * perPatch, res, (unsigned short)res, (unsigned short)res};
-    });
-    tessSeconds = secondsSince(t0);
-    scene = rtcNewScene(device);
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_GRID);
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices.data(), 0,
-                               3 * sizeof(float), size_t(perPatch) * patches.size());
-    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, grids.data(), 0, sizeof(RTCGrid),
-                               grids.size());
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
-    rtcReleaseGeometry(g);
-    const int64_t before = mem.current.load();
-    mem.peak.store(before);
-    const auto t1 = Clock::now();
-    rtcCommitScene(scene);
-    buildSeconds = secondsSince(t1);
-    heldBytes = mem.current.load();
-    peakBytes = mem.peak.load();
-    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) {
-      std::fprintf(stderr, "Embree error after commit\n");
-      std::exit(1);
-    }
+    engine.trace(batch, st, tt);
+    best = std::min(best, secondsSince(t0));
   }
-  ~EmbreeEngine() { rtcReleaseScene(scene); rtcReleaseDevice(device); }
-  size_t vertexBytes() const { return vertices.size() * sizeof(float); }
-
-  // Fills t (inf: miss) and the patch id of every ray.
-  void trace(const RaySet& rs, std::vector<float>& t, std::vector<uint32_t>& leaf, bool parallel) const {
-    const size_t n = rs.org.size();
-    t.resize(n);
-    leaf.resize(n);
-    auto one = [&](size_t i) {
-      RTCIntersectContext ctx;
-      rtcInitIntersectContext(&ctx);
-      RTCRayHit rh;
-      const Vec3 o = rs.org[i], d = rs.dir[i];
-      rh.ray.org_x = o.x; rh.ray.org_y = o.y; rh.ray.org_z = o.z; rh.ray.tnear = 0;
-      rh.ray.dir_x = d.x; rh.ray.dir_y = d.y; rh.ray.dir_z = d.z; rh.ray.time = 0;
-      rh.ray.tfar = kInf; rh.ray.mask = 0xffffffffu; rh.ray.id = 0; rh.ray.flags = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(scene, &ctx, &rh);
-      const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-      t[i] = hit ? rh.ray.tfar : kInf;
-      leaf[i] = hit ? rh.hit.primID : kNoLeaf;
-    };
-    if (parallel)
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) one(i);
-      });
-    else
-      for (size_t i = 0; i < n; ++i) one(i);
-  }
-};
+  return best;
+}
 
 // ---- Rayes ------------------------------------------------------------------------------
 struct RayesRun {
@@ -354,20 +287,20 @@ struct Agreement {
   size_t bothHit = 0, rayesHits = 0, embreeHits = 0;
 };
 
-Agreement compare(const RayBatch& b, const std::vector<float>& et, const std::vector<uint32_t>& el) {
+Agreement compare(const RayBatch& b, const RayBatch& e) {
   Agreement a;
   std::vector<float> dt, rel;
   size_t differ = 0, leafDiff = 0;
   for (size_t i = 0; i < b.size(); ++i) {
-    const bool rh = b.hit[i].valid(), eh = et[i] < kInf;
+    const bool rh = b.hit[i].valid(), eh = e.hit[i].valid();
     a.rayesHits += rh;
     a.embreeHits += eh;
     if (rh != eh) { ++differ; continue; }
     if (!rh) continue;
     ++a.bothHit;
-    leafDiff += b.hit[i].leaf != el[i];
-    dt.push_back(std::fabs(b.hit[i].t - et[i]));
-    rel.push_back(dt.back() / std::max(et[i], 1e-30f));
+    leafDiff += b.hit[i].leaf != e.hit[i].leaf;
+    dt.push_back(std::fabs(b.hit[i].t - e.hit[i].t));
+    rel.push_back(dt.back() / std::max(e.hit[i].t, 1e-30f));
   }
   const double n = double(b.size());
   a.hitMissDiffers = double(differ) / n;
@@ -393,7 +326,7 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, o)) {
     std::fprintf(stderr,
                  "usage: %s [--teapot PATH] [--levels 4,6,8] [--size 512] [--repeat 3] [--no-floor] "
-                 "[--no-mirror] [--no-single]\n", argv[0]);
+                 "[--no-single]\n", argv[0]);
     return 2;
   }
   if (o.teapot.empty()) o.teapot = findTeapot(argv[0]);
@@ -426,11 +359,11 @@ int main(int argc, char** argv) {
   std::printf("scene: %s, %d teapot patches%s; %zu rays per set, %dx%d view, fov 40, cone spread %.3g\n",
               o.teapot.c_str(), scene.teapotPatches, o.floor ? " + 1 floor patch" : "", nRays, o.size, o.size,
               double(cam.spread));
-  std::printf("repeat %d (best of), Embree grid rows %s\n\n", o.repeat, o.mirror ? "mirrored (same diagonal as Rayes)" : "not mirrored (other diagonal)");
+  std::printf("repeat %d (best of); Embree: the renderer's EmbreeEngine (grid rows mirrored: same triangles as Rayes)\n\n", o.repeat);
 
   // Embree's first commit in a process pays its one-time start-up (measured 56 ms for a level-4
   // teapot whose second build takes 1 ms): a throwaway scene takes it out of the build times.
-  { EmbreeEngine warmUp(scene.patches, 0, o.mirror); }
+  { EmbreeRun warmUp = buildEmbree(scene.patches, 0); }
 
   // Top level: built once (33 boxes); its build time is reported.
   std::vector<Box3> boxes;
@@ -451,18 +384,16 @@ int main(int argc, char** argv) {
     uint64_t embreeMicropolygons = 0;
   };
   std::vector<Row> rows;
-  RayBatch batch;
-  std::vector<float> et;
-  std::vector<uint32_t> el;
+  RayBatch batch, embreeBatch;
   for (int m : o.levels) {
     // Embree scene at level m, built with all threads (and once more with 1 thread for the
     // single-thread build time).
-    auto embree = std::make_unique<EmbreeEngine>(scene.patches, m, o.mirror);
+    EmbreeRun embree = buildEmbree(scene.patches, m);
     double buildOne = 0;
     if (o.single) {
       tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-      EmbreeEngine e1(scene.patches, m, o.mirror);
-      buildOne = e1.tessSeconds + e1.buildSeconds;
+      const EmbreeRun e1 = buildEmbree(scene.patches, m);
+      buildOne = e1.stats.tessellateSeconds + e1.stats.buildSeconds;
     }
     for (const RaySet& rs : sets)
       for (bool forced : {false, true}) {
@@ -470,34 +401,25 @@ int main(int argc, char** argv) {
         row.rays = rs.name;
         row.lod = forced ? "forced" : "footprint";
         row.m = m;
-        row.tess = embree->tessSeconds;
-        row.build = embree->buildSeconds;
+        row.tess = embree.stats.tessellateSeconds;
+        row.build = embree.stats.buildSeconds;
         row.buildOne = buildOne;
-        row.embreeVertexBytes = embree->vertexBytes();
-        row.embreeHeld = embree->heldBytes;
-        row.embreePeak = embree->peakBytes;
-        row.embreeMicropolygons = uint64_t(scene.patches.size()) << (2 * m);
+        row.embreeVertexBytes = embree.stats.vertexBytes;
+        row.embreeHeld = int64_t(embree.stats.embreeBytes);
+        row.embreePeak = int64_t(embree.stats.embreePeakBytes);
+        row.embreeMicropolygons = embree.stats.micropolygons;
         TraceSettings ts;
         ts.maxLod = m;
         ts.candidateCapacity = 8 * nRays;  // the renderer's: 4 slots per ray slot, 2 per path
         // Embree, all threads then 1 thread.
-        row.embreeAll = kInf;
-        for (int r = 0; r < o.repeat; ++r) {
-          const auto t0 = Clock::now();
-          embree->trace(rs, et, el, true);
-          row.embreeAll = std::min(row.embreeAll, secondsSince(t0));
-        }
         if (o.single) {
-          row.embreeOne = kInf;
-          for (int r = 0; r < o.repeat; ++r) {
-            const auto t0 = Clock::now();
-            embree->trace(rs, et, el, false);
-            row.embreeOne = std::min(row.embreeOne, secondsSince(t0));
-          }
+          tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+          row.embreeOne = traceEmbree(*embree.engine, rs, o.repeat, embreeBatch);
         }
+        row.embreeAll = traceEmbree(*embree.engine, rs, o.repeat, embreeBatch);
         // Rayes.
         row.rayesAll = runRayes(top, scene.patches, ts, rs, forced, o.repeat, batch);
-        row.agree = compare(batch, et, el);
+        row.agree = compare(batch, embreeBatch);
         if (o.single) {
           tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
           row.rayesOne = runRayes(top, scene.patches, ts, rs, forced, o.repeat, batch);

@@ -12,20 +12,21 @@
 #include "app/renderer.h"
 #include "app/stats_json.h"
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/parallel.h"
 #include "scene/scene_loader.h"
 
 namespace rayes {
 namespace {
 
-// "1G", "512M", "64K" or plain bytes.
-size_t parseBytes(const std::string& s) {
+// "1G", "512M", "64K" or plain bytes, for the option `option`.
+size_t parseBytes(const std::string& s, const char* option) {
   size_t pos = 0;
   double v = 0;
   try {
     v = std::stod(s, &pos);
   } catch (...) {
-    throw InputError("--ray-memory", "", "expected a byte count such as 1G, 512M or 1048576, got '" + s + "'");
+    throw InputError(option, "", "expected a byte count such as 1G, 512M or 1048576, got '" + s + "'");
   }
   std::string suffix = s.substr(pos);
   double mul = 1;
@@ -33,8 +34,8 @@ size_t parseBytes(const std::string& s) {
   else if (suffix == "M" || suffix == "m" || suffix == "MiB") mul = 1024.0 * 1024;
   else if (suffix == "G" || suffix == "g" || suffix == "GiB") mul = 1024.0 * 1024 * 1024;
   else if (!suffix.empty())
-    throw InputError("--ray-memory", "", "unknown unit '" + suffix + "' (use K, M or G)");
-  if (!(v > 0) || v * mul > 1e15) throw InputError("--ray-memory", "", "must be a positive byte count");
+    throw InputError(option, "", "unknown unit '" + suffix + "' (use K, M or G)");
+  if (!(v > 0) || v * mul > 1e15) throw InputError(option, "", "must be a positive byte count");
   return size_t(v * mul);
 }
 
@@ -60,7 +61,9 @@ void parseResolution(const std::string& text, int& width, int& height) {
 }
 
 struct RenderArgs {
-  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted";
+  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted",
+              method = "pt";
+  std::string engine = "rayes", embreeLod, memoryLimit;
   std::optional<int> spp;
   std::optional<int64_t> seed;
   int threads = 0, maxLod = 10;
@@ -73,12 +76,20 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   if (a.threads < 0 || a.threads > 4096) throw InputError("--threads", "", "must be in [0, 4096] (0: all cores)");
   if (a.seed && (*a.seed < 0 || *a.seed > (int64_t(1) << 62)))
     throw InputError("--seed", "", "must be in [0, 2^62]");
-  if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   RenderOptions options;
+  options.method = integratorMethodFromName(a.method, "--method");
+  if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
   options.lod = a.lod == "density" ? LodRule::Density : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
-  options.rayMemoryBytes = parseBytes(a.rayMemory);
+  options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
+  if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
+    throw InputError("--embree-lod", "", "only applies to --engine embree");
+  options.embreeAutoLod = a.embreeLod == "auto";
+  // The default limit keeps a fifth of the machine for everything else.
+  options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(physicalMemoryBytes() / 5 * 4)
+                                                   : parseBytes(a.memoryLimit, "--memory-limit");
   return options;
 }
 
@@ -183,6 +194,18 @@ int runCommandLine(int argc, char** argv) {
   r->add_option("--trace-mode", a.traceMode, "sorted (default: the reorder pipeline) or alone (debug: every ray "
                                              "traced by itself, each patch diced per ray; slow)")
       ->check(CLI::IsMember({"sorted", "alone"}));
+  r->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS) or "
+                                      "lt (light tracing: paths from the lights, every vertex connected to the "
+                                      "camera; the reference for caustics; lights at infinity seen directly are "
+                                      "missing)");
+  r->add_option("--engine", a.engine, "ray engine: rayes (default; sorted rays, patches diced on demand) or embree "
+                                      "(the peer: every patch diced up front into Embree grids)")
+      ->check(CLI::IsMember({"rayes", "embree"}));
+  r->add_option("--embree-lod", a.embreeLod, "with --engine embree: fixed (default; every patch at --max-lod) or "
+                                             "auto (per patch, the finest level a camera ray's footprint needs)")
+      ->check(CLI::IsMember({"fixed", "auto"}));
+  r->add_option("--memory-limit", a.memoryLimit, "with --engine embree: refuse, before allocating, a tessellation "
+                                                 "estimated larger than this, e.g. 8G (default: 80% of physical memory)");
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
                                             "RMSE after every pass against time (error_vs_time)");
   r->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");

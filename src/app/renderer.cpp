@@ -1,82 +1,25 @@
 #include "app/renderer.h"
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include "core/error.h"
 #include "core/timer.h"
 
 namespace rayes {
-namespace {
-// The candidate buffer holds this many slots per ray of a full batch: the first iteration of
-// the camera generation then gets N = 8 candidates per ray (2 ray slots per path), as in the
-// thesis's Table 6.3, and later iterations more as rays terminate.
-constexpr size_t kCandidatesPerRay = 4;
-}  // namespace
 
-size_t Renderer::bytesPerPath() {
-  const size_t perRay = RayBatch::bytesPerRay() + Tracer::bytesPerRayState() + 2 * sizeof(uint32_t) +
-                        kCandidatesPerRay * Tracer::bytesPerCandidate();
-  return PathBatch::bytesPerPath() + 16 /* shading sort item */ + 2 * perRay;
-}
-
-Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(scene), options_(options) {
+Renderer::Renderer(const Scene& scene, const RenderOptions& options)
+    : scene_(scene), options_(options), data_(scene) {
   const auto t0 = Clock::now();
-  // Leaves and their boxes.
-  const size_t n = scene.patches.size();
-  leafBoxes_.resize(n);
-  std::map<std::string, uint64_t> kinds;
-  SceneFeatures& f = stats_.features;
-  for (size_t i = 0; i < n; ++i) {
-    const Patch& patch = *scene.patches[i];
-    leafBoxes_[i] = patch.bounds();
-    const std::string kind = patch.kind();
-    ++kinds[kind];
-    f.movingLeaves += patch.timeSamples() > 1;
-    f.displacedLeaves += kind.rfind("displaced", 0) == 0;
-    f.subdivisionLeaves += kind.find("subdiv") != std::string::npos;
-    f.borderClosureLeaves += patch.needsBorderClosure();
-  }
-  f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
-  f.environment = scene.moreLights.environment != nullptr;
-  f.distantLights = scene.moreLights.distants.size();
-  stats_.leafKinds.assign(kinds.begin(), kinds.end());
-  top_.build(leafBoxes_);
-  stats_.topLevelBytes = top_.bytes();
-  stats_.micropolygonsPotential = uint64_t(n) << (2 * options.maxLod);
-
-  // Shading's view of the scene.
-  const CameraDesc& cam = scene.camera;
-  shading_.camera = PerspectiveCamera(cam.position, cam.lookAt, cam.up, cam.fovYDegrees, scene.width, scene.height,
-                                      cam.apertureRadius, cam.focusDistance, cam.shutterOpen, cam.shutterClose);
-  shading_.width = scene.width;
-  shading_.height = scene.height;
-  shading_.samplesPerPixel = scene.samplesPerPixel;
-  shading_.integrator = scene.integrator;
-  shading_.materials = scene.materials;
-  shading_.leafMaterial = scene.patchMaterial;
-  shading_.leafSide.resize(n);
-  shading_.leafDicingError.resize(n);
-  std::vector<PatchLight> patchLights;
-  for (size_t i = 0; i < n; ++i) {
-    shading_.leafSide[i] = leafBoxes_[i].longestSide();
-    shading_.leafDicingError[i] = scene.patches[i]->dicingErrorCoefficient();
-    const Material& m = scene.materials[scene.patchMaterial[i]];
-    if (!m.emits()) continue;
-    PatchPtr patch = scene.patches[i];
-    patchLights.push_back({[patch](float u, float v, Vec3& p, Vec3& nrm) {
-                             const SurfacePoint sp = patch->evaluate(u, v);
-                             p = sp.p; nrm = sp.n;
-                           },
-                           m.emission, m.twoSided, uint32_t(i)});
-  }
-  // Lights at infinity are picked by power through a disk of the scene's bounding radius.
-  Box3 all;
-  for (const Box3& b : leafBoxes_) all.extend(b);
-  const float radius = all.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(all.extent()));
-  shading_.lights = LightSampler(scene.pointLights, std::move(patchLights), scene.moreLights, radius);
+  stats_.features = data_.features;
+  stats_.leafKinds = data_.leafKinds;
+  stats_.topLevelBytes = data_.top.bytes();
+  stats_.micropolygonsPotential = uint64_t(scene.patches.size()) << (2 * options.maxLod);
+  integrator_ = makeIntegrator(options.method, data_.shading);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
-  stats_.bytesPerPath = bytesPerPath();
+  const bool embree = options.engine == EngineKind::Embree;
+  const uint64_t raysPerPath = integrator_->raysPerPath();
+  const size_t engineBytesPerRay = embree ? EmbreeEngine::bytesPerRaySlot() : Tracer::bytesPerRaySlot();
+  stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay() + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
   uint64_t perBatch = options.rayMemoryBytes / stats_.bytesPerPath;
@@ -85,15 +28,27 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
                      " bytes cannot hold one path (" + std::to_string(stats_.bytesPerPath) + " bytes)");
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
-  stats_.candidateCapacity = 2 * perBatch * kCandidatesPerRay;
+  stats_.candidateCapacity = embree ? 0 : raysPerPath * perBatch * Tracer::kCandidatesPerRay;
 
+  if (embree) {
+    EmbreeSettings es;
+    es.maxLod = options.maxLod;
+    es.autoLod = options.embreeAutoLod;
+    const PerspectiveCamera& camera = data_.shading.camera;
+    es.camera = {camera.position(), camera.apertureRadius(), camera.pixelSpread()};
+    es.memoryLimit = options.memoryLimitBytes;
+    engine_ = std::make_unique<EmbreeEngine>(scene.patches, es);
+    stats_.engine = engine_->engineStats();
+    stats_.timeSetup = secondsSince(t0);
+    return;
+  }
   TraceSettings ts;
   ts.maxLod = options.maxLod;
   ts.lod = options.lod;
   ts.samplesPerPixel = scene.samplesPerPixel;
   ts.candidateCapacity = stats_.candidateCapacity;
   ts.sortByLeaf = options.sortByLeaf;
-  tracer_ = std::make_unique<Tracer>(top_, scene.patches, ts);
+  engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
   stats_.timeSetup = secondsSince(t0);
 }
 
@@ -102,8 +57,6 @@ Renderer::~Renderer() = default;
 Film Renderer::render(const Progress& progress) {
   const auto t0 = Clock::now();
   Film film(scene_.width, scene_.height);
-  PathTracer tracer(shading_);
-  PathBatch paths;
   RayBatch rays;
   const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
   const int spp = scene_.samplesPerPixel;
@@ -116,16 +69,16 @@ Film Renderer::render(const Progress& progress) {
     int batch = 0;
     for (uint64_t first = uint64_t(s0) * pixels; first < end; first += stats_.pathsPerBatch, ++batch) {
       const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, end - first));
-      tracer.start(first, count, paths, rays);
+      integrator_->start(first, count, rays);
       for (int depth = 0;; ++depth) {
         GenerationRecord rec{pass, batch, depth, {}};
-        tracer_->trace(rays, rec.stats, stats_.trace);
+        engine_->trace(rays, rec.stats, stats_.trace);
         stats_.generations.push_back(std::move(rec));
-        if (tracer.shade(uint32_t(depth), paths, rays, stats_.shade) == 0) break;
+        if (integrator_->shade(uint32_t(depth), rays, stats_.shade) == 0) break;
       }
       {
         const auto tf = Clock::now();
-        tracer.finish(paths, film, stats_.shade);
+        integrator_->finish(film, stats_.shade);
         stats_.timeFilm += secondsSince(tf);
       }
       ++stats_.batches;
@@ -138,7 +91,8 @@ Film Renderer::render(const Progress& progress) {
     ++pass;
     if (progress) progress(done, total, s1);
   }
-  stats_.diceBufferBytes = tracer_->diceBufferBytes();
+  stats_.engine = engine_->engineStats();
+  stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
   stats_.timeTotal = secondsSince(t0);
   return film;
 }

@@ -1,13 +1,16 @@
 // START HERE for the whole program. The Renderer turns a Scene into a Film:
 //
-//   setup:  leaves = the scene's patches; their conservative boxes go into the TopLevelBvh;
-//           the ray memory budget fixes how many paths a batch holds and the candidate
-//           capacity.
+//   setup:  RenderData (leaf boxes, TopLevelBvh, shading's view of the scene, feature counts);
+//           the integrator (--method: PathTracer or LightTracer) and the ray engine (--engine:
+//           the Rayes Tracer, or the Embree engine that tessellates everything here); the ray
+//           memory budget divided by the bytes one path costs (the integrator's state, its ray
+//           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
+//           the candidate capacity.
 //   passes: samples are rendered in passes of 1, 1, 2, 4, ... samples per pixel (progress and
 //           the error-against-time curve are reported per pass); a pass is split into batches
 //           of whole paths that fit the budget.
-//   batch:  PathTracer::start -> repeat { Tracer::trace (one generation) ->
-//           PathTracer::shade (next generation) } until no ray is left -> PathTracer::finish.
+//   batch:  Integrator::start -> repeat { RayEngine::trace (one generation) ->
+//           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
 // per-ray LOD: batches cover whole sample indices, the film adds samples in order.
@@ -17,19 +20,26 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "app/render_data.h"
+#include "rays/embree_engine.h"
 #include "rays/tracer.h"
 #include "scene/scene.h"
 #include "shading/film.h"
-#include "shading/path_tracer.h"
-#include "toplevel/toplevel_bvh.h"
+#include "shading/integrator.h"
 
 namespace rayes {
 
+enum class EngineKind { Rayes, Embree };
+
 struct RenderOptions {
+  EngineKind engine = EngineKind::Rayes;
+  bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
+  size_t memoryLimitBytes = 0;   // Embree engine: refuse a tessellation larger than this (0: none)
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
+  IntegratorMethod method = IntegratorMethod::PathTracing;
   std::vector<float> reference;  // RGB per pixel; empty: no error curve
 };
 
@@ -44,24 +54,13 @@ struct ErrorSample {
   double rmse;
 };
 
-// What the scene uses, counted once at setup: the stats say what was done and what was left
-// out because nothing needed it (docs/design.md, invariant 4).
-struct SceneFeatures {
-  uint64_t movingLeaves = 0;         // leaves with more than one time sample
-  bool shutterOpen = false;          // the camera's shutter has an interval
-  uint64_t displacedLeaves = 0;
-  uint64_t subdivisionLeaves = 0;
-  uint64_t borderClosureLeaves = 0;  // leaves whose borders need crack-closing regions
-  bool environment = false;
-  uint64_t distantLights = 0;
-};
-
 struct RenderStats {
   SceneFeatures features;
   std::vector<GenerationRecord> generations;
   double timeSetup = 0, timeTotal = 0, timeFilm = 0;
   TraceTimes trace;
   ShadeStats shade;
+  EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
@@ -79,15 +78,15 @@ class Renderer {
   using Progress = std::function<void(uint64_t, uint64_t, int)>;
   Film render(const Progress& progress = {});
   const RenderStats& stats() const { return stats_; }
-  static size_t bytesPerPath();
+  // What one path costs in the ray memory budget (the unit of --ray-memory).
+  size_t bytesPerPath() const { return stats_.bytesPerPath; }
 
  private:
   const Scene& scene_;
   RenderOptions options_;
-  ShadingScene shading_;
-  std::vector<Box3> leafBoxes_;
-  TopLevelBvh top_;
-  std::unique_ptr<Tracer> tracer_;
+  RenderData data_;
+  std::unique_ptr<Integrator> integrator_;
+  std::unique_ptr<RayEngine> engine_;
   RenderStats stats_;
 };
 

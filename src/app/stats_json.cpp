@@ -13,7 +13,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   json kinds = json::object();
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
   j["scene"]["leaf_kinds"] = kinds;
-  j["settings"] = {{"threads", run.threads}, {"max_lod", options.maxLod},
+  j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : "density"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
@@ -43,6 +43,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"micropolygons_potential", s.micropolygonsPotential},
       {"batches", s.batches},
       {"nonfinite_samples_dropped", s.shade.nonFinite.load()},
+      {"splats", s.shade.splats.load()},
       {"peak_rss_bytes", peakRssBytes()},
       {"time_s",
        {{"load", run.loadSeconds},
@@ -64,6 +65,21 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                  {"candidate_capacity", s.candidateCapacity},
                  {"toplevel_bytes", s.topLevelBytes},
                  {"dice_buffer_bytes", s.diceBufferBytes}};
+  const EngineStats& e = s.engine;
+  j["engine"] = {{"name", e.name}, {"fixed_bytes", e.fixedBytes}};
+  if (options.engine == EngineKind::Embree) {
+    j["engine"].update({{"lod", options.embreeAutoLod ? "auto" : "fixed"},
+                        {"min_level", e.minLevel},
+                        {"max_level", e.maxLevel},
+                        {"micropolygons", e.micropolygons},
+                        {"vertices", e.vertices},
+                        {"vertex_bytes", e.vertexBytes},
+                        {"embree_bytes", e.embreeBytes},
+                        {"embree_peak_bytes", e.embreePeakBytes},
+                        {"estimated_bytes", e.estimatedBytes},
+                        {"memory_limit_bytes", options.memoryLimitBytes},
+                        {"time_s", {{"tessellate", e.tessellateSeconds}, {"build", e.buildSeconds}}}});
+  }
   // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
   uint64_t movingDicings = 0, borderHits = 0;

@@ -1,6 +1,7 @@
 #include "core/memory.h"
 #include <cstdio>
 #include <cstring>
+#include <unistd.h>
 
 namespace rayes {
 namespace {
@@ -21,4 +22,8 @@ uint64_t readStatusKb(const char* key) {
 }
 }  // namespace
 uint64_t peakRssBytes() { return readStatusKb("VmHWM:"); }
+uint64_t physicalMemoryBytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+  return pages > 0 && size > 0 ? uint64_t(pages) * uint64_t(size) : 0;
+}
 }  // namespace rayes

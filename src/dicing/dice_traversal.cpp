@@ -104,12 +104,11 @@ struct GroupRay {
   }
 };
 
-inline Vec3 lerpPoint(Vec3 a, Vec3 b, float w0, float w1) { return a * w0 + b * w1; }
 
 // The unit normal at local (s, r) of the micro-quad whose first corner is vertex i00 (corners
-// `stride` apart, rows `res` apart): the bilinear blend of its corner normals -- on a moving
-// dicing each corner's normal first blended between the two samples with the time weights,
-// as its position is. Zero if they cancel.
+// `stride` apart, rows `res` apart): blendNormals of its corner normals -- on a moving dicing
+// each corner's normal first blended between the two samples with the time weights, as its
+// position is. Zero if they cancel.
 template <bool Moving>
 Vec3 quadNormal(const Vec3* normalsA, const Vec3* normalsB, size_t i00, uint32_t stride, size_t res,
                 float w0, float w1, float s, float r) {
@@ -119,8 +118,7 @@ Vec3 quadNormal(const Vec3* normalsA, const Vec3* normalsB, size_t i00, uint32_t
     if constexpr (Moving) n[c] = lerpPoint(normalsA[corner[c]], normalsB[corner[c]], w0, w1);
     else n[c] = normalsA[corner[c]];
   }
-  const Vec3 blend = (n[0] * (1.0f - s) + n[1] * s) * (1.0f - r) + (n[2] * (1.0f - s) + n[3] * s) * r;
-  return detail::unitOrZero(blend);
+  return blendNormals(n[0], n[1], n[2], n[3], s, r);
 }
 
 // float bounds of a double, outward.

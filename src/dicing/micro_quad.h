@@ -17,6 +17,7 @@
 // this file. Stateless, thread-safe.
 #pragma once
 #include "core/vec.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 
@@ -76,6 +77,18 @@ inline bool hitTriangle(const Projected& a, const Projected& b, const Projected&
 }
 
 }  // namespace detail
+
+// A point of a moving grid between two time samples: (1 - alpha) a + alpha b as w0 a + w1 b.
+// Monotone in a and b, so blended boxes hold the blended points (DiceBuffer's motion).
+inline Vec3 lerpPoint(Vec3 a, Vec3 b, float w0, float w1) { return a * w0 + b * w1; }
+
+// The shading normal of a micro-quad: the unit bilinear blend of its corner normals at local
+// (s, r) (as in MicroQuadHit); zero if they cancel. Every engine blends this way, so shading
+// does not depend on which engine found the hit.
+inline Vec3 blendNormals(Vec3 n00, Vec3 n10, Vec3 n01, Vec3 n11, float s, float r) {
+  const Vec3 blend = (n00 * (1.0f - s) + n10 * s) * (1.0f - r) + (n01 * (1.0f - s) + n11 * s) * r;
+  return detail::unitOrZero(blend);
+}
 
 // Nearest hit with t in (tmin, tmax) on the two triangles of the micro-quad; on a tie in t the
 // first triangle (p00, p10, p11) wins. ng is the unit normal of the triangle hit. A zero-area

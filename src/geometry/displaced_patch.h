@@ -51,6 +51,8 @@ class DisplacedPatch final : public Patch {
   // the base normal's derivatives, which the Patch interface does not give.
   float dicingErrorCoefficient() const override { return bounds_.longestSide(); }
   const char* kind() const override { return kind_.c_str(); }  // "displaced-<base kind>"
+  bool isDisplaced() const override { return true; }
+  bool isSubdivision() const override { return base_->isSubdivision(); }
 
   const Patch& base() const { return *base_; }
   const Displacement& displacement() const { return *displacement_; }

@@ -28,6 +28,8 @@ class MovingPatch final : public Patch {
   float dicingErrorCoefficient() const override { return errorCoefficient_; }
   bool needsBorderClosure() const override { return needsClosure_; }
   const char* kind() const override { return samples_[0]->kind(); }
+  bool isDisplaced() const override { return samples_[0]->isDisplaced(); }
+  bool isSubdivision() const override { return samples_[0]->isSubdivision(); }
 
   int timeSamples() const override { return int(samples_.size()); }
   float sampleTime(int s) const override { return times_[size_t(s)]; }

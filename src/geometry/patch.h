@@ -59,6 +59,10 @@ class Patch {
 
   // Short name of the kind, for stats ("bezier", "bilinear", ...).
   virtual const char* kind() const = 0;
+  // What the surface is made of, for the stats' feature counts (decorators answer for the
+  // patch they wrap): displaced by a height function, a face of a subdivision surface.
+  virtual bool isDisplaced() const { return false; }
+  virtual bool isSubdivision() const { return false; }
 
   // --- Motion (thesis §6.3). A patch may carry K >= 1 time samples: the same surface (same
   // kind, same parametrisation) at increasing times sampleTime(0) < ... < sampleTime(K-1).

@@ -27,6 +27,7 @@ class SubdivFacePatch final : public Patch {
   SurfacePoint evaluate(float u, float v) const override;
   void dice(int level, Vec3* positions, Vec3* normals) const override;
   const char* kind() const override { return "subdiv"; }
+  bool isSubdivision() const override { return true; }
 
   const SubdivMesh& mesh() const { return *mesh_; }
   int leaf() const { return leaf_; }

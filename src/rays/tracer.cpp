@@ -35,6 +35,14 @@ size_t Tracer::diceBufferBytes() const {
   return b;
 }
 
+EngineStats Tracer::engineStats() const {
+  EngineStats s;
+  s.name = "rayes";
+  s.fixedBytes = fixedBytes();
+  s.maxLevel = settings_.maxLod;
+  return s;
+}
+
 DiceBuffer& Tracer::localDiceBuffer() {
   auto& d = dice_.local();
   if (!d) d = std::make_unique<DiceBuffer>(settings_.maxLod);
@@ -99,6 +107,7 @@ bool Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s
   return false;
 }
 
+// One iteration of the sorted pipeline per loop, in the five steps of the header comment.
 void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t capacity = cand_.capacity();
   while (!active_.empty()) {
@@ -110,162 +119,179 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     IterationStats it;
     it.activeRays = nActive;
     it.candidatesPerRay = N;
-
-    // 1. Top level: up to N candidates per ray into its own slots.
-    {
-      ScopedTimer timer(times.toplevel);
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 256), [&](const auto& r) {
-        auto& scratch = scratch_.local();
-        Candidate local[128];
-        for (size_t a = r.begin(); a != r.end(); ++a) {
-          const uint32_t i = active_[a];
-          float next = kInf;
-          const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i),
-                                       resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
-          const size_t base = a * size_t(N);
-          for (int j = 0; j < got; ++j) {
-            cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
-            cand_.entry[base + j] = local[j].entry;
-            cand_.t[base + j] = kInf;
-          }
-          if (got > 0) {
-            resumeEntry_[i] = local[got - 1].entry;
-            resumeLeaf_[i] = local[got - 1].leaf;
-          }
-          count_[i] = static_cast<uint32_t>(got);
-          nextEntry_[i] = next;
-        }
-      });
-    }
-
-    // 2. Sort the filled slots by leaf.
-    {
-      ScopedTimer timer(times.sort);
-      filled_.clear();
-      slotRay_.resize(nNow * size_t(N));
-      for (size_t a = 0; a < nNow; ++a) {
-        const uint32_t i = active_[a];
-        const size_t base = a * size_t(N);
-        for (uint32_t j = 0; j < count_[i]; ++j) {
-          slotRay_[base + j] = i;
-          if (cand_.leaf[base + j] != kNoLeaf) filled_.push_back(static_cast<uint32_t>(base + j));
-        }
-      }
-      it.candidates = filled_.size();
-      sort_.sort(filled_, cand_.leaf);
-    }
-
-    // 3+4. One task per leaf: dice once, intersect all of its rays. A leaf with many rays
-    // (a wall seen by most of the image) would serialise the iteration on one thread, so its
-    // rays are split into chunks that other threads intersect against the same, now read-only,
-    // buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
-    // (which would re-dice its buffer) while it waits.
-    const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
-    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0};
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
-      DiceBuffer& dice = localDiceBuffer();
-      // Dices `leaf` (or its time interval) at the finest level of `count` slots and
-      // intersects them all.
-      auto diceAndIntersect = [&](const uint32_t* slots, size_t count, uint32_t leaf, int interval) {
-        int m = 0;
-        if (settings_.lod == LodRule::Density) {
-          m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
-        } else {
-          for (size_t k = 0; k < count; ++k)
-            m = std::max(m, levelFor(b, slotRay_[slots[k]], leaf, cand_.entry[slots[k]]));
-        }
-        {
-          ScopedTimer timer(times.dice);
-          if (interval < 0) dice.dice(*leaves_[leaf], m);
-          else dice.diceInterval(*leaves_[leaf], interval, m);
-        }
-        const uint64_t grids = interval < 0 ? 1 : 2;
-        micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
-        dicings.fetch_add(1, std::memory_order_relaxed);
-        if (interval >= 0) movingDicings.fetch_add(1, std::memory_order_relaxed);
-        auto intersectRange = [&](size_t k0, size_t k1) {
-          ScopedTimer timer(times.bottom);
-          uint64_t borders = 0;
-          for (size_t k = k0; k < k1; ++k) borders += intersectSlot(b, dice, slots[k], leaf, m);
-          if (borders) borderHits.fetch_add(borders, std::memory_order_relaxed);
-        };
-        constexpr size_t kChunk = 1024;
-        if (count <= 2 * kChunk) {
-          intersectRange(0, count);
-        } else {
-          tbb::this_task_arena::isolate([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kChunk),
-                              [&](const auto& c) { intersectRange(c.begin(), c.end()); });
-          });
-        }
-      };
-      for (size_t run = r.begin(); run != r.end(); ++run) {
-        const uint32_t* slots = sort_.order.data() + sort_.runs[run];
-        const size_t count = sort_.runs[run + 1] - sort_.runs[run];
-        const uint32_t leaf = cand_.leaf[slots[0]];
-        const Patch& patch = *leaves_[leaf];
-        const int samples = patch.timeSamples();
-        if (samples < 2) {
-          diceAndIntersect(slots, count, leaf, -1);
-          continue;
-        }
-        // Motion: regroup the run by time interval (stable counting sort), one dicing each.
-        IntervalScratch& sc = intervals_.local();
-        const int intervals = samples - 1;
-        sc.interval.resize(count);
-        sc.start.assign(size_t(intervals) + 1, 0);
-        for (size_t k = 0; k < count; ++k) {
-          sc.interval[k] = uint32_t(timeInterval(patch, b.time[slotRay_[slots[k]]]).interval);
-          ++sc.start[sc.interval[k] + 1];
-        }
-        for (int iv = 0; iv < intervals; ++iv) sc.start[size_t(iv) + 1] += sc.start[size_t(iv)];
-        sc.slots.resize(count);
-        {
-          std::vector<uint32_t> next(sc.start.begin(), sc.start.end() - 1);
-          for (size_t k = 0; k < count; ++k) sc.slots[next[sc.interval[k]]++] = slots[k];
-        }
-        for (int iv = 0; iv < intervals; ++iv) {
-          const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
-          if (k1 > k0) diceAndIntersect(sc.slots.data() + k0, k1 - k0, leaf, iv);
-        }
-      }
-    });
-    stats.leavesDiced += dicings.load();
-    stats.micropolygonsCreated += micropolygons.load();
-    stats.movingDicings += movingDicings.load();
-    stats.borderHits += borderHits.load();
-
-    // 5. Reduce each ray's own slots in slot order, then decide termination.
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 1024), [&](const auto& r) {
-      for (size_t a = r.begin(); a != r.end(); ++a) {
-        const uint32_t i = active_[a];
-        RayHit& best = b.hit[i];
-        const size_t base = a * size_t(N);
-        for (uint32_t j = 0; j < count_[i]; ++j) {
-          const size_t s = base + j;
-          if (cand_.leaf[s] == kNoLeaf || !(cand_.t[s] < kInf)) continue;
-          const uint32_t quad = cand_.quadLevel[s] & 0xffffffu;
-          if (!nearerHit(cand_.t[s], cand_.leaf[s], quad, best)) continue;
-          best.t = cand_.t[s]; best.u = cand_.u[s]; best.v = cand_.v[s];
-          best.leaf = cand_.leaf[s]; best.quad = quad;
-          best.level = static_cast<uint8_t>(cand_.quadLevel[s] >> 24);
-          best.ng = decodeOctahedral(cand_.ng[s]);
-          best.ns = decodeOctahedral(cand_.ns[s]);
-        }
-      }
-    });
-    nextActive_.clear();
-    for (size_t a = 0; a < nActive; ++a) {
-      const uint32_t i = active_[a];
-      if (a >= nNow) { nextActive_.push_back(i); continue; }
-      const bool exhausted = !(nextEntry_[i] < kInf);
-      const bool done = b.kind[i] == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
-                                                     : (exhausted || b.hit[i].t < nextEntry_[i]);
-      if (!done) nextActive_.push_back(i);
-    }
-    active_.swap(nextActive_);
+    collectCandidates(b, nNow, N, times);
+    it.candidates = sortCandidates(nNow, N, times);
+    diceAndIntersectRuns(b, stats, times);
+    reduceHits(b, nNow, N);
+    keepUnfinishedRays(b, nActive, nNow);
     stats.iterations.push_back(it);
   }
+}
+
+// 1. Top level: up to N candidates per ray into its own slots.
+void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times) {
+  ScopedTimer timer(times.toplevel);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 256), [&](const auto& r) {
+    auto& scratch = scratch_.local();
+    Candidate local[128];
+    for (size_t a = r.begin(); a != r.end(); ++a) {
+      const uint32_t i = active_[a];
+      float next = kInf;
+      const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i),
+                                   resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
+      const size_t base = a * size_t(N);
+      for (int j = 0; j < got; ++j) {
+        cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
+        cand_.entry[base + j] = local[j].entry;
+        cand_.t[base + j] = kInf;
+      }
+      if (got > 0) {
+        resumeEntry_[i] = local[got - 1].entry;
+        resumeLeaf_[i] = local[got - 1].leaf;
+      }
+      count_[i] = static_cast<uint32_t>(got);
+      nextEntry_[i] = next;
+    }
+  });
+}
+
+// 2. Sort the filled slots by leaf. Returns how many slots were filled.
+size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
+  ScopedTimer timer(times.sort);
+  filled_.clear();
+  slotRay_.resize(nNow * size_t(N));
+  for (size_t a = 0; a < nNow; ++a) {
+    const uint32_t i = active_[a];
+    const size_t base = a * size_t(N);
+    for (uint32_t j = 0; j < count_[i]; ++j) {
+      slotRay_[base + j] = i;
+      if (cand_.leaf[base + j] != kNoLeaf) filled_.push_back(static_cast<uint32_t>(base + j));
+    }
+  }
+  sort_.sort(filled_, cand_.leaf);
+  return filled_.size();
+}
+
+// 3+4. One task per leaf: dice once, intersect all of its rays; a moving leaf once per time
+// interval its rays fall in.
+void Tracer::diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+  const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
+  DicingCounters counters;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
+    DiceBuffer& dice = localDiceBuffer();
+    for (size_t run = r.begin(); run != r.end(); ++run) {
+      const uint32_t* slots = sort_.order.data() + sort_.runs[run];
+      const size_t count = sort_.runs[run + 1] - sort_.runs[run];
+      const uint32_t leaf = cand_.leaf[slots[0]];
+      if (leaves_[leaf]->timeSamples() < 2) diceAndIntersect(b, dice, slots, count, leaf, -1, times, counters);
+      else diceAndIntersectMoving(b, dice, slots, count, leaf, times, counters);
+    }
+  });
+  stats.leavesDiced += counters.dicings.load();
+  stats.micropolygonsCreated += counters.micropolygons.load();
+  stats.movingDicings += counters.movingDicings.load();
+  stats.borderHits += counters.borderHits.load();
+}
+
+// Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
+// changes) and dices each interval present once.
+void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+                                    uint32_t leaf, TraceTimes& times, DicingCounters& counters) {
+  const Patch& patch = *leaves_[leaf];
+  IntervalScratch& sc = intervals_.local();
+  const int intervals = patch.timeSamples() - 1;
+  sc.interval.resize(count);
+  sc.start.assign(size_t(intervals) + 1, 0);
+  for (size_t k = 0; k < count; ++k) {
+    sc.interval[k] = uint32_t(timeInterval(patch, b.time[slotRay_[slots[k]]]).interval);
+    ++sc.start[sc.interval[k] + 1];
+  }
+  for (int iv = 0; iv < intervals; ++iv) sc.start[size_t(iv) + 1] += sc.start[size_t(iv)];
+  sc.slots.resize(count);
+  {
+    std::vector<uint32_t> next(sc.start.begin(), sc.start.end() - 1);
+    for (size_t k = 0; k < count; ++k) sc.slots[next[sc.interval[k]]++] = slots[k];
+  }
+  for (int iv = 0; iv < intervals; ++iv) {
+    const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
+    if (k1 > k0) diceAndIntersect(b, dice, sc.slots.data() + k0, k1 - k0, leaf, iv, times, counters);
+  }
+}
+
+// Dices `leaf` (its time interval, or static when interval < 0) at the finest level of `count`
+// slots and intersects them all. A leaf with many rays (a wall seen by most of the image) would
+// serialise the iteration on one thread, so its rays are split into chunks that other threads
+// intersect against the same, now read-only, buffer; the chunk loop is isolated so this thread
+// cannot pick up another leaf's task (which would re-dice its buffer) while it waits.
+void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                              int interval, TraceTimes& times, DicingCounters& counters) {
+  int m = 0;
+  if (settings_.lod == LodRule::Density) {
+    m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
+  } else {
+    for (size_t k = 0; k < count; ++k) m = std::max(m, levelFor(b, slotRay_[slots[k]], leaf, cand_.entry[slots[k]]));
+  }
+  {
+    ScopedTimer timer(times.dice);
+    if (interval < 0) dice.dice(*leaves_[leaf], m);
+    else dice.diceInterval(*leaves_[leaf], interval, m);
+  }
+  const uint64_t grids = interval < 0 ? 1 : 2;
+  counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
+  counters.dicings.fetch_add(1, std::memory_order_relaxed);
+  if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
+  auto intersectRange = [&](size_t k0, size_t k1) {
+    ScopedTimer timer(times.bottom);
+    uint64_t borders = 0;
+    for (size_t k = k0; k < k1; ++k) borders += intersectSlot(b, dice, slots[k], leaf, m);
+    if (borders) counters.borderHits.fetch_add(borders, std::memory_order_relaxed);
+  };
+  constexpr size_t kChunk = 1024;
+  if (count <= 2 * kChunk) {
+    intersectRange(0, count);
+  } else {
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kChunk),
+                        [&](const auto& c) { intersectRange(c.begin(), c.end()); });
+    });
+  }
+}
+
+// 5. Reduce each ray's own slots in slot order.
+void Tracer::reduceHits(RayBatch& b, size_t nNow, int N) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 1024), [&](const auto& r) {
+    for (size_t a = r.begin(); a != r.end(); ++a) {
+      const uint32_t i = active_[a];
+      RayHit& best = b.hit[i];
+      const size_t base = a * size_t(N);
+      for (uint32_t j = 0; j < count_[i]; ++j) {
+        const size_t s = base + j;
+        if (cand_.leaf[s] == kNoLeaf || !(cand_.t[s] < kInf)) continue;
+        const uint32_t quad = cand_.quadLevel[s] & 0xffffffu;
+        if (!nearerHit(cand_.t[s], cand_.leaf[s], quad, best)) continue;
+        best.t = cand_.t[s]; best.u = cand_.u[s]; best.v = cand_.v[s];
+        best.leaf = cand_.leaf[s]; best.quad = quad;
+        best.level = static_cast<uint8_t>(cand_.quadLevel[s] >> 24);
+        best.ng = decodeOctahedral(cand_.ng[s]);
+        best.ns = decodeOctahedral(cand_.ns[s]);
+      }
+    }
+  });
+}
+
+// 5, termination: a ray stays active while a leaf it has not seen could still hold a nearer
+// hit (a shadow ray: until its first occluder); rays that got no turn stay too.
+void Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
+  nextActive_.clear();
+  for (size_t a = 0; a < nActive; ++a) {
+    const uint32_t i = active_[a];
+    if (a >= nNow) { nextActive_.push_back(i); continue; }
+    const bool exhausted = !(nextEntry_[i] < kInf);
+    const bool done = b.kind[i] == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
+                                                   : (exhausted || b.hit[i].t < nextEntry_[i]);
+    if (!done) nextActive_.push_back(i);
+  }
+  active_.swap(nextActive_);
 }
 
 // Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at

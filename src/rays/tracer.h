@@ -11,6 +11,8 @@
 //                 is finished once that hit is nearer than its next candidate's entry
 //                 distance; the others stay active with more candidates each.
 //
+// The Rayes implementation of RayEngine (rays/ray_engine.h).
+//
 // Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
 // default per-ray LOD: independent of thread count, sort order, N and batch size. Shadow rays
 // stop at their first occluder. Memory: the candidate buffer (fixed capacity), per-ray state
@@ -23,6 +25,7 @@
 // and its rays are intersected at their own time weight. A static leaf takes the static path
 // unchanged.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <vector>
 #include <tbb/enumerable_thread_specific.h>
@@ -31,17 +34,21 @@
 #include "geometry/patch.h"
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
+#include "rays/ray_engine.h"
 #include "rays/trace_settings.h"
 #include "toplevel/toplevel_bvh.h"
 
 namespace rayes {
 
-class Tracer {
+class Tracer : public RayEngine {
  public:
   Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& settings);
 
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
-  void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+  void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
+  size_t bytesPerRay() const override { return bytesPerRaySlot(); }
+  size_t fixedBytes() const override { return diceBufferBytes(); }
+  EngineStats engineStats() const override;
 
   const TraceSettings& settings() const { return settings_; }
   static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
@@ -50,6 +57,15 @@ class Tracer {
   static constexpr size_t bytesPerCandidate() {
     return CandidateBuffer::bytesPerSlot() + 3 * sizeof(uint32_t) + 2 * sizeof(CandidateSort::Pair);
   }
+  // The candidate buffer should hold this many slots per ray slot of a full batch: the first
+  // iteration of the camera generation then gets N = 8 candidates per ray (2 ray slots per
+  // path), as in the thesis's Table 6.3, and later iterations more as rays terminate.
+  static constexpr size_t kCandidatesPerRay = 4;
+  // Per ray slot: the trace state, the active lists and kCandidatesPerRay candidate slots.
+  // (bytesPerRay() of a Tracer; static so the budget can be set before the Tracer exists.)
+  static constexpr size_t bytesPerRaySlot() {
+    return bytesPerRayState() + 2 * sizeof(uint32_t) + kCandidatesPerRay * bytesPerCandidate();
+  }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;
   size_t candidateBufferBytes() const { return cand_.capacity() * bytesPerCandidate(); }
@@ -57,6 +73,20 @@ class Tracer {
  private:
   struct RayState;
   void traceSorted(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
+  // The steps of one traceSorted iteration (the header comment's numbers) over the first nNow
+  // active rays with N candidate slots each.
+  struct DicingCounters {
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0};
+  };
+  void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
+  size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
+  void diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, TraceTimes& times);  // 3, 4
+  void diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+                              uint32_t leaf, TraceTimes& times, DicingCounters& counters);
+  void diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                        int interval, TraceTimes& times, DicingCounters& counters);
+  void reduceHits(RayBatch& b, size_t nNow, int N);                 // 5
+  void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it

@@ -9,7 +9,7 @@
 #include "geometry/patch.h"
 #include "shading/light.h"
 #include "shading/material.h"
-#include "shading/path_tracer.h"
+#include "shading/shading_scene.h"
 
 namespace rayes {
 

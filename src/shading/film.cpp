@@ -7,6 +7,11 @@ Film::Film(int width, int height) : width_(width), height_(height) {
   rgb_.assign(3 * n, 0.0); alpha_.assign(n, 0.0); depth_.assign(n, 0.0); normal_.assign(3 * n, 0.0);
   lod_.assign(n, 0.0); count_.assign(n, 0); hits_.assign(n, 0); albedo_.assign(3 * n, 0.0);
   material_.assign(n, -1);
+  splat_.assign(3 * n, 0.0);
+}
+
+void Film::addSplat(uint32_t p, Rgb v) {
+  splat_[3 * p] += v.x; splat_[3 * p + 1] += v.y; splat_[3 * p + 2] += v.z;
 }
 
 void Film::add(uint32_t p, const PixelSample& s) {
@@ -25,10 +30,19 @@ void Film::add(uint32_t p, const PixelSample& s) {
 std::vector<float> Film::beautyRgba() const {
   const size_t n = count_.size();
   std::vector<float> out(4 * n, 0.0f);
+  const double splatScale = splatPaths_ ? double(n) / double(splatPaths_) : 0.0;
   for (size_t p = 0; p < n; ++p) {
-    if (!count_[p]) continue;
+    if (!count_[p]) {
+      for (int c = 0; c < 3; ++c) out[4 * p + c] = float(splat_[3 * p + c] * splatScale);
+      out[4 * p + 3] = 1.0f;
+      continue;
+    }
     const double inv = 1.0 / count_[p];
-    for (int c = 0; c < 3; ++c) out[4 * p + c] = float(rgb_[3 * p + c] * inv);
+    for (int c = 0; c < 3; ++c) {
+      double v = rgb_[3 * p + c] * inv;
+      if (splatPaths_) v += splat_[3 * p + c] * splatScale;
+      out[4 * p + c] = float(v);
+    }
     out[4 * p + 3] = float(alpha_[p] * inv);
   }
   return out;

@@ -89,8 +89,9 @@ bool Environment::sample(float u1, float u2, Vec3& d, float& pdf) const {
 }
 
 LightSampler::LightSampler(std::vector<PointLight> points, std::vector<PatchLight> patches, SceneLights more,
-                           float sceneRadius)
-    : points_(std::move(points)), patches_(std::move(patches)), more_(std::move(more)) {
+                           float sceneRadius, Vec3 sceneCenter)
+    : points_(std::move(points)), patches_(std::move(patches)), more_(std::move(more)), radius_(sceneRadius),
+      center_(sceneCenter) {
   std::vector<double> power;
   for (const auto& p : points_) power.push_back(4.0 * std::numbers::pi * std::max(0.0f, luminance(p.intensity)));
   spot0_ = power.size();
@@ -140,10 +141,13 @@ int LightSampler::patchLightOfLeaf(uint32_t leaf) const {
   return leaf < leafToPatchLight_.size() ? leafToPatchLight_[leaf] : -1;
 }
 
+size_t LightSampler::pickIndex(float u0) const {
+  return std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin(), cdf_.size() - 1);
+}
+
 bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& out) const {
   if (cdf_.empty()) return false;
-  const size_t k = std::min<size_t>(std::upper_bound(cdf_.begin(), cdf_.end(), u0) - cdf_.begin(),
-                                    cdf_.size() - 1);
+  const size_t k = pickIndex(u0);
   const float pk = pick(k);
   if (!(pk > 0)) return false;
   out.leaf = 0xffffffffu;
@@ -196,9 +200,7 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
       out.delta = true;
       return true;
     }
-    const double c = 1.0 - double(u1) * l.oneMinusCos;
-    const float s = float(std::sqrt(std::max(0.0, (1.0 - c) * (1.0 + c))));
-    out.wi = aroundAxis(l.direction, float(c), s, 2 * kPiF * u2);
+    out.wi = sampleUniformCone(l.direction, l.oneMinusCos, u1, u2);
     out.radiance = l.radiance();
     out.pdf = pk * float(1.0 / (2.0 * std::numbers::pi * l.oneMinusCos));
     return true;

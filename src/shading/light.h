@@ -93,6 +93,19 @@ struct LightSample {
   uint32_t leaf = 0xffffffffu;  // the emitter's leaf (a shadow ray must not hit it), or none
 };
 
+// A ray leaving a light, for light tracing (LightSampler::sampleEmission).
+struct EmissionSample {
+  Vec3 org, dir;        // dir unit; lights at infinity start on a disk just outside the scene
+  Rgb weight;           // Le |cos| / (pick x position density x direction density)
+  // An emissive patch's point can itself be seen by the camera: what connecting it needs.
+  bool onSurface = false;
+  Vec3 normal;          // unit dP/du x dP/dv at the point
+  Rgb radiance;         // Le
+  bool twoSided = false;
+  float pdfArea = 0;    // pick x area density of the point
+  uint32_t leaf = 0xffffffffu;  // the emitter's leaf (the ray must not hit it again), or none
+};
+
 // The power heuristic (β = 2) weight of a strategy with density a against one with density b.
 inline float powerHeuristic(float a, float b) {
   if (!(a > 0)) return 0;
@@ -106,13 +119,19 @@ class LightSampler {
   LightSampler() = default;
   // sceneRadius: of a sphere holding the scene, for the power of lights at infinity.
   LightSampler(std::vector<PointLight> points, std::vector<PatchLight> patches, SceneLights more = {},
-               float sceneRadius = 1);
+               float sceneRadius = 1, Vec3 sceneCenter = {});
   bool empty() const { return cdf_.empty(); }
   size_t size() const { return cdf_.size(); }
   // Picks a light with u0 and a point or direction on it with (u1, u2), as seen from ref.
   // Returns false if there is no light, the receiver is behind a one-sided emitter, or the
   // sample is degenerate.
   bool sample(Vec3 ref, float u0, float u1, float u2, LightSample& out) const;
+  // Picks a light with u0, as sample() does (by power), and an emitted ray: a point with
+  // (u1, u2) and a direction with (u3, u4) (cosine-weighted from patches, uniform in the cone
+  // of points and spots; lights at infinity: the direction by their own density, the origin
+  // uniform on a disk of the scene's radius facing it). Returns false when the pick or the
+  // sample is degenerate (the path then carries nothing).
+  bool sampleEmission(float u0, float u1, float u2, float u3, float u4, EmissionSample& out) const;
   // Index of the PatchLight on `leaf`, or -1.
   int patchLightOfLeaf(uint32_t leaf) const;
   // Solid-angle density (pick included) with which sample() from ref would produce the point
@@ -128,6 +147,7 @@ class LightSampler {
 
  private:
   float pick(size_t k) const { return cdf_[k] - (k > 0 ? cdf_[k - 1] : 0.0f); }
+  size_t pickIndex(float u0) const;
   std::vector<PointLight> points_;
   std::vector<PatchLight> patches_;
   SceneLights more_;
@@ -135,6 +155,8 @@ class LightSampler {
   std::vector<float> cdf_;
   std::vector<int> leafToPatchLight_;
   size_t spot0_ = 0, patch0_ = 0, distant0_ = 0, env_ = 0;
+  float radius_ = 1;
+  Vec3 center_;
   bool hittable_ = false;
 };
 

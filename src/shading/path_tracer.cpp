@@ -8,6 +8,7 @@
 #include "core/rng.h"
 #include "shading/bsdf.h"
 #include "shading/sampling.h"
+#include "shading/surface_hit.h"
 
 namespace rayes {
 namespace {
@@ -43,7 +44,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
   const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
   paths.first = first;
   paths.resize(count);
-  rays.resize(2 * size_t(count));
+  rays.resize(kRaysPerPath * size_t(count));
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const PathIds ids = idsOf(first + k, pixels);
@@ -60,197 +61,242 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.bsdfPdf[k] = 0;
       paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
-      rays.set(2 * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, k, kNoLeaf,
+      rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, k, kNoLeaf,
                kNoLeaf, 0, cr.time);
-      rays.kind[2 * size_t(k) + 1] = RayKind::Inactive;
+      rays.kind[kRaysPerPath * size_t(k) + 1] = RayKind::Inactive;
     }
   });
 }
 
+namespace {
+
+// Adds a contribution where it is finite; counts it otherwise (docs/design.md, invariant 5).
+void addFinite(Rgb& sum, Rgb c, ShadeStats& stats) {
+  if (isFinite(c)) sum += c;
+  else stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+}
+
+// What the steps of shading one path's hit share.
+struct Vertex {
+  uint32_t k;        // the path
+  size_t cs, ss;     // its closest-hit and shadow ray slots
+  RayHit h;
+  Vec3 wo;           // unit, toward where the ray came from
+  bool front;        // wo is on the shading normal's side
+  SurfaceHit at;
+  float width;       // the ray's footprint at the hit
+  const Material* mat;
+  uint32_t matId;
+  bool reflects;
+  Bsdf bsdf;
+};
+
+// Step 2, escaped: the lights at infinity (only if the scene has any).
+void gatherEscaped(const LightSampler& lights, uint32_t k, Vec3 wo, PathBatch& paths, ShadeStats& stats) {
+  if (!lights.hasInfinite()) return;
+  addFinite(paths.radiance[k], paths.throughput[k] * lights.escaped(-wo, paths.bsdfPdf[k], paths.bsdfDelta[k] != 0),
+            stats);
+}
+
+// Step 2, emission found by this ray: MIS-weighted against light sampling unless the ray came
+// from the camera or a delta lobe.
+void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch& rays, PathBatch& paths,
+                    ShadeStats& stats) {
+  const Material& mat = *v.mat;
+  if (!mat.emits() || !(v.front || mat.twoSided)) return;
+  float w = 1;
+  if (paths.bsdfDelta[v.k] == 0) {
+    const float dist = v.h.t * length(rays.dir[v.cs]);
+    w = powerHeuristic(paths.bsdfPdf[v.k],
+                       lights.patchPdf(lights.patchLightOfLeaf(v.h.leaf), v.h.u, v.h.v, -v.wo, dist));
+  }
+  addFinite(paths.radiance[v.k], paths.throughput[v.k] * mat.emission * w, stats);
+}
+
+// Step 3's first-hit AOVs (camera rays only).
+void recordFirstHit(const Vertex& v, PathBatch& paths) {
+  PixelSample& aov = paths.aov[v.k];
+  aov.hitSurface = true;
+  aov.depth = v.h.t;
+  aov.normal = v.front ? v.h.ns : -v.h.ns;
+  aov.lod = v.h.level;
+  aov.albedo = v.reflects ? v.bsdf.reflectance() : Rgb{};
+  aov.materialId = int32_t(v.matId);
+}
+
+// Step 4, next-event estimation: one light sampled, its MIS-weighted contribution stored and a
+// shadow ray written into slot 2k+1. Returns whether a ray was written.
+bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFrame& frame, Vec3 woL, const RngKey& key,
+                    PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
+  const LightSampler& lights = scene.lights;
+  LightSample ls;
+  const Sample2D lu = sample2D(key, kLight);
+  if (v.bsdf.isDelta() || !lights.sample(v.at.p, sample1D(key, kLightPick), lu.u, lu.v, ls)) return false;
+  const Vec3 wiL = frame.toLocal(ls.wi);
+  const Rgb f = v.bsdf.eval(woL, wiL);
+  if (isBlack(f) || isBlack(ls.radiance) || !v.at.consistent(ls.wi, wiL, v.wo, woL)) return false;
+  const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, v.bsdf.pdf(woL, wiL));
+  const Rgb c = paths.throughput[v.k] * f * ls.radiance * (std::fabs(wiL.z) * w / ls.pdf);
+  if (!isFinite(c)) {
+    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  if (isBlack(c)) return false;
+  // The segment from the offset origin to the light point, not a ray from p along
+  // ls.wi: a ray of length ls.distance from the offset origin would end beyond the
+  // light and find whatever lies just behind it. An emitter's point is first moved
+  // off its own surface toward the receiver by its own offset (at level 0, the
+  // largest), so the emitter's neighbours and anything flush with it do not occlude.
+  const Vec3 origin = v.at.originToward(ls.wi);
+  Vec3 dir = ls.wi;
+  float tmax = kInf;
+  if (std::isfinite(ls.distance)) {
+    Vec3 target = ls.point;
+    if (ls.leaf != kNoLeaf) {
+      const float back =
+          PathTracer::originOffset(scene.leafSide[ls.leaf], scene.leafDicingError[ls.leaf], 0, ls.point);
+      target += ls.normal * (dot(ls.normal, v.at.p - ls.point) >= 0 ? back : -back);
+    }
+    tmax = length(target - origin);
+    dir = (target - origin) * (1.0f / tmax);
+  }
+  // A light point within the offsets of the receiver leaves no segment to test.
+  if (!(tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0)) return false;
+  paths.shadowContribution[v.k] = c;
+  rays.set(v.ss, RayKind::Shadow, origin, dir, 0.0f, tmax, v.width, PathTracer::kDiffuseSpread, v.k, ls.leaf, v.h.leaf, v.h.level,
+           rays.time[v.cs]);
+  stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+// Step 5, continuation: the BSDF sampled into slot 2k, Russian roulette on the throughput
+// times eta². Returns whether the path goes on (a ray was written).
+bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex& v, const ShadingFrame& frame, Vec3 woL,
+                       const RngKey& key, PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
+  // At the last vertex it only looks for emission, so it is not traced when there is nothing
+  // such a ray could find.
+  if (int(bounce) + 1 >= scene.integrator.maxDepth && !scene.lights.hasHittable()) return false;
+  BsdfSample bs;
+  const Sample2D bu = sample2D(key, kBsdf);
+  if (!v.bsdf.sample(woL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) return false;
+  const Vec3 wi = normalize(frame.toWorld(bs.wi));
+  if (!v.at.consistent(wi, bs.wi, v.wo, woL) || wi == Vec3{}) return false;
+  const uint32_t k = v.k;
+  Rgb& T = paths.throughput[k];
+  T *= bs.weight;
+  paths.bsdfPdf[k] = bs.pdf;
+  paths.bsdfDelta[k] = bs.delta ? 1 : 0;
+  paths.etaScale[k] *= bs.etaRel * bs.etaRel;
+  if (int(bounce) + 1 >= scene.integrator.rouletteDepth) {
+    // Survival by throughput with the radiance scaling of refraction undone, so a path
+    // inside glass is not killed for the factor it will regain on the way out.
+    const float q = std::min(1.0f, maxComponent(T) * paths.etaScale[k]);
+    if (!(sample1D(key, kRoulette) < q)) {
+      stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
+      return false;
+    }
+    T = T * (1.0f / q);
+  }
+  if (!isFinite(T)) {
+    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  if (isBlack(T)) return false;
+  rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, 0.0f, kInf, v.width,
+           PathTracer::spreadAfterBounce(rays.coneSpread[v.cs], bs.pdf, bs.delta), k, kNoLeaf, v.h.leaf, v.h.level,
+           rays.time[v.cs]);
+  stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+}  // namespace
+
+// The steps of one path's generation (docs/architecture.md, "Shading"); returns the rays written.
+size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const {
+  const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
+  // 1. Last generation's shadow ray: its contribution counts if nothing was in the way.
+  if (rays.kind[ss] == RayKind::Shadow && !rays.hit[ss].valid()) paths.radiance[k] += paths.shadowContribution[k];
+  rays.kind[ss] = RayKind::Inactive;
+  if (rays.kind[cs] != RayKind::Closest) return 0;
+  rays.kind[cs] = RayKind::Inactive;
+
+  // 2. What the ray found: the lights at infinity, or a surface and its emission.
+  const RayHit h = rays.hit[cs];
+  const Vec3 wo = -normalize(rays.dir[cs]);
+  if (!h.valid()) {
+    gatherEscaped(scene_.lights, k, wo, paths, stats);
+    paths.alive[k] = 0;
+    return 0;
+  }
+  const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
+  // A broken hit (non-finite point or normals) ends the path here, before it can reach
+  // the film or the AOVs (docs/design.md, invariant 5).
+  if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wo)) {
+    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    paths.alive[k] = 0;
+    return 0;
+  }
+  stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
+  Vertex v{k, cs, ss, h, wo, dot(h.ns, wo) > 0, {p, h.ng, 0.0f}, 0.0f, nullptr, 0, false, Bsdf{}};
+  v.matId = scene_.leafMaterial[h.leaf];
+  v.mat = &scene_.materials[v.matId];
+  gatherEmission(scene_.lights, v, rays, paths, stats);
+
+  // 3. The material at the hit becomes one BSDF.
+  v.reflects = !v.mat->reflectsNothing();
+  if (v.reflects) v.bsdf = v.mat->bsdfAt(h.u, h.v);
+  if (bounce == 0) recordFirstHit(v, paths);
+  if (int(bounce) >= scene_.integrator.maxDepth || !v.reflects) {
+    paths.alive[k] = 0;
+    return 0;
+  }
+  const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
+  const PathIds ids = idsOf(paths.first + k, pixels);
+  const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
+  v.at.offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p);
+  v.width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
+  // Reflection-only models see the side the viewer is on; a transmitting one keeps the
+  // patch normal as "outside".
+  const ShadingFrame frame(v.bsdf.transmits() ? h.ns : (v.front ? h.ns : -h.ns));
+  const Vec3 woL = frame.toLocal(wo);
+
+  // 4. Next-event estimation; 5. the continuation.
+  const size_t shadow = writeShadowRay(scene_, v, frame, woL, key, paths, rays, stats) ? 1 : 0;
+  if (writeContinuation(scene_, bounce, v, frame, woL, key, paths, rays, stats)) return shadow + 1;
+  paths.alive[k] = 0;
+  return shadow;
+}
+
 size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
   ScopedTimer shadeTimer(stats.shade);
-  const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
-  const size_t n = paths.size();
-
-  // The second sorting step: live paths by (material, leaf) of their hit; misses last.
-  {
-    ScopedTimer sortTimer(stats.sort);
-    order_.clear();
-    for (uint32_t k = 0; k < n; ++k) {
-      const RayHit& h = rays.hit[2 * size_t(k)];
-      const bool traced = rays.kind[2 * size_t(k)] == RayKind::Closest;
-      const bool shadowed = rays.kind[2 * size_t(k) + 1] == RayKind::Shadow;
-      if (!traced && !shadowed) continue;
-      uint64_t key = ~uint64_t(0);
-      if (traced && h.valid()) key = (uint64_t(scene_.leafMaterial[h.leaf]) << 32) | h.leaf;
-      order_.push_back({key, k});
-    }
-    tbb::parallel_sort(order_.begin(), order_.end(), [](const SortItem& a, const SortItem& b) {
-      return a.key != b.key ? a.key < b.key : a.path < b.path;
-    });
-  }
-
+  sortByMaterial(paths, rays, stats);
   std::atomic<size_t> emitted{0};
-  const LightSampler& lights = scene_.lights;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, order_.size(), 256), [&](const auto& r) {
     size_t localEmitted = 0;
-    for (size_t o = r.begin(); o != r.end(); ++o) {
-      const uint32_t k = order_[o].path;
-      const size_t cs = 2 * size_t(k), ss = cs + 1;
-      // Last generation's shadow ray: its contribution counts if nothing was in the way.
-      if (rays.kind[ss] == RayKind::Shadow && !rays.hit[ss].valid())
-        paths.radiance[k] += paths.shadowContribution[k];
-      rays.kind[ss] = RayKind::Inactive;
-      if (rays.kind[cs] != RayKind::Closest) continue;
-      rays.kind[cs] = RayKind::Inactive;
-
-      const RayHit h = rays.hit[cs];
-      const Vec3 wo = -normalize(rays.dir[cs]);
-      Rgb& T = paths.throughput[k];
-      const bool prevDelta = paths.bsdfDelta[k] != 0;
-      if (!h.valid()) {
-        // Escaped: the lights at infinity (only if the scene has any).
-        if (lights.hasInfinite()) {
-          const Rgb c = T * lights.escaped(-wo, paths.bsdfPdf[k], prevDelta);
-          if (isFinite(c)) paths.radiance[k] += c;
-          else stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-        }
-        paths.alive[k] = 0;
-        continue;
-      }
-      const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
-      // A broken hit (non-finite point or normals) ends the path here, before it can reach
-      // the film or the AOVs (docs/design.md, invariant 5).
-      if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wo)) {
-        stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-        paths.alive[k] = 0;
-        continue;
-      }
-      stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
-
-      const uint32_t matId = scene_.leafMaterial[h.leaf];
-      const Material& mat = scene_.materials[matId];
-      const bool front = dot(h.ns, wo) > 0;
-      const float woNg = dot(h.ng, wo);
-
-      // Emission found by this ray: MIS-weighted against light sampling unless the ray came
-      // from the camera or a delta lobe.
-      if (mat.emits() && (front || mat.twoSided)) {
-        float w = 1;
-        if (!prevDelta) {
-          const float dist = h.t * length(rays.dir[cs]);
-          w = powerHeuristic(paths.bsdfPdf[k], lights.patchPdf(lights.patchLightOfLeaf(h.leaf), h.u, h.v, -wo, dist));
-        }
-        const Rgb c = T * mat.emission * w;
-        if (isFinite(c)) paths.radiance[k] += c;
-        else stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-      }
-      const bool reflects = !mat.reflectsNothing();
-      const Bsdf bsdf = reflects ? mat.bsdfAt(h.u, h.v) : Bsdf{};
-      if (bounce == 0) {
-        paths.aov[k].hitSurface = true;
-        paths.aov[k].depth = h.t;
-        paths.aov[k].normal = front ? h.ns : -h.ns;
-        paths.aov[k].lod = h.level;
-        paths.aov[k].albedo = reflects ? bsdf.reflectance() : Rgb{};
-        paths.aov[k].materialId = int32_t(matId);
-      }
-      if (int(bounce) >= scene_.integrator.maxDepth || !reflects) { paths.alive[k] = 0; continue; }
-
-      const PathIds ids = idsOf(paths.first + k, pixels);
-      const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
-      const float offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p);
-      const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
-      // Reflection-only models see the side the viewer is on; a transmitting one keeps the
-      // patch normal as "outside".
-      const ShadingFrame frame(bsdf.transmits() ? h.ns : (front ? h.ns : -h.ns));
-      const Vec3 woL = frame.toLocal(wo);
-      // A direction must leave on the true surface's side that its local frame claims:
-      // reflection stays on the viewer's side of the geometric normal, transmission crosses.
-      // Otherwise it is the light leak of shading normals at silhouettes: no contribution.
-      auto consistent = [&](Vec3 wi, Vec3 wiL) {
-        const float a = dot(h.ng, wi) * woNg;
-        return wiL.z * woL.z > 0 ? a > 0 : a < 0;
-      };
-      auto originToward = [&](Vec3 wi) { return p + (dot(h.ng, wi) >= 0 ? h.ng : -h.ng) * offset; };
-
-      // Next-event estimation.
-      LightSample ls;
-      const Sample2D lu = sample2D(key, kLight);
-      if (!bsdf.isDelta() && lights.sample(p, sample1D(key, kLightPick), lu.u, lu.v, ls)) {
-        const Vec3 wiL = frame.toLocal(ls.wi);
-        const Rgb f = bsdf.eval(woL, wiL);
-        if (!isBlack(f) && !isBlack(ls.radiance) && consistent(ls.wi, wiL)) {
-          const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, bsdf.pdf(woL, wiL));
-          const Rgb c = T * f * ls.radiance * (std::fabs(wiL.z) * w / ls.pdf);
-          if (!isFinite(c)) {
-            stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-          } else if (!isBlack(c)) {
-            // The segment from the offset origin to the light point, not a ray from p along
-            // ls.wi: a ray of length ls.distance from the offset origin would end beyond the
-            // light and find whatever lies just behind it. An emitter's point is first moved
-            // off its own surface toward the receiver by its own offset (at level 0, the
-            // largest), so the emitter's neighbours and anything flush with it do not occlude.
-            const Vec3 origin = originToward(ls.wi);
-            Vec3 dir = ls.wi;
-            float tmax = kInf;
-            if (std::isfinite(ls.distance)) {
-              Vec3 target = ls.point;
-              if (ls.leaf != kNoLeaf) {
-                const float back = originOffset(scene_.leafSide[ls.leaf], scene_.leafDicingError[ls.leaf], 0, ls.point);
-                target += ls.normal * (dot(ls.normal, p - ls.point) >= 0 ? back : -back);
-              }
-              tmax = length(target - origin);
-              dir = (target - origin) * (1.0f / tmax);
-            }
-            // A light point within the offsets of the receiver leaves no segment to test.
-            if (tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0) {
-              paths.shadowContribution[k] = c;
-              rays.set(ss, RayKind::Shadow, origin, dir, 0.0f, tmax, width, kDiffuseSpread, k, ls.leaf, h.leaf,
-                       h.level, rays.time[cs]);
-              ++localEmitted;
-              stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
-            }
-          }
-        }
-      }
-
-      // Continuation. At the last vertex it only looks for emission, so it is not traced
-      // when there is nothing such a ray could find.
-      if (int(bounce) + 1 >= scene_.integrator.maxDepth && !lights.hasHittable()) { paths.alive[k] = 0; continue; }
-      BsdfSample bs;
-      const Sample2D bu = sample2D(key, kBsdf);
-      if (!bsdf.sample(woL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) {
-        paths.alive[k] = 0;
-        continue;
-      }
-      const Vec3 wi = normalize(frame.toWorld(bs.wi));
-      if (!consistent(wi, bs.wi) || wi == Vec3{}) { paths.alive[k] = 0; continue; }
-      T *= bs.weight;
-      paths.bsdfPdf[k] = bs.pdf;
-      paths.bsdfDelta[k] = bs.delta ? 1 : 0;
-      paths.etaScale[k] *= bs.etaRel * bs.etaRel;
-      if (int(bounce) + 1 >= scene_.integrator.rouletteDepth) {
-        // Survival by throughput with the radiance scaling of refraction undone, so a path
-        // inside glass is not killed for the factor it will regain on the way out.
-        const float q = std::min(1.0f, maxComponent(T) * paths.etaScale[k]);
-        if (!(sample1D(key, kRoulette) < q)) {
-          paths.alive[k] = 0;
-          stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
-          continue;
-        }
-        T = T * (1.0f / q);
-      }
-      if (!isFinite(T)) { stats.nonFinite.fetch_add(1, std::memory_order_relaxed); paths.alive[k] = 0; continue; }
-      if (isBlack(T)) { paths.alive[k] = 0; continue; }
-      rays.set(cs, RayKind::Closest, originToward(wi), wi, 0.0f, kInf, width,
-               spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), k, kNoLeaf, h.leaf, h.level, rays.time[cs]);
-      ++localEmitted;
-      stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
-    }
+    for (size_t o = r.begin(); o != r.end(); ++o) localEmitted += shadePath(bounce, order_[o].path, paths, rays, stats);
     emitted.fetch_add(localEmitted, std::memory_order_relaxed);
   });
   return emitted.load();
+}
+
+// The second sorting step: live paths by (material, leaf) of their hit; misses last.
+void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats) {
+  ScopedTimer sortTimer(stats.sort);
+  const size_t n = paths.size();
+  order_.clear();
+  for (uint32_t k = 0; k < n; ++k) {
+    const size_t cs = kRaysPerPath * size_t(k);
+    const RayHit& h = rays.hit[cs];
+    const bool traced = rays.kind[cs] == RayKind::Closest;
+    const bool shadowed = rays.kind[cs + 1] == RayKind::Shadow;
+    if (!traced && !shadowed) continue;
+    uint64_t key = ~uint64_t(0);
+    if (traced && h.valid()) key = (uint64_t(scene_.leafMaterial[h.leaf]) << 32) | h.leaf;
+    order_.push_back({key, k});
+  }
+  tbb::parallel_sort(order_.begin(), order_.end(), [](const SortItem& a, const SortItem& b) {
+    return a.key != b.key ? a.key < b.key : a.path < b.path;
+  });
 }
 
 void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) const {

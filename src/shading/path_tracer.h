@@ -21,35 +21,11 @@
 // keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
 // Non-finite contributions are dropped and counted (docs/design.md, invariant 5).
 #pragma once
-#include <atomic>
 #include <cstdint>
 #include <vector>
-#include "core/ray_batch.h"
-#include "core/timer.h"
-#include "shading/camera.h"
-#include "shading/film.h"
-#include "shading/light.h"
-#include "shading/material.h"
+#include "shading/integrator.h"
 
 namespace rayes {
-
-struct IntegratorSettings {
-  int maxDepth = 8;          // path vertices after the camera; 1 = direct lighting only
-  int rouletteDepth = 1;     // first bounce at which Russian roulette may end a path
-  uint64_t seed = 0;
-};
-
-// Everything shading needs to know of the scene, indexed by leaf where per patch.
-struct ShadingScene {
-  PerspectiveCamera camera;
-  int width = 1, height = 1, samplesPerPixel = 1;
-  IntegratorSettings integrator;
-  std::vector<Material> materials;
-  std::vector<uint32_t> leafMaterial;
-  std::vector<float> leafSide;         // longest side l of the leaf's box
-  std::vector<float> leafDicingError;  // C of Patch::dicingErrorCoefficient (bound C / 4^level)
-  LightSampler lights;
-};
 
 // The state of a batch of paths, structure of arrays; path k has global id first + k, which is
 // sample * pixels + pixel (sample-major: a batch covers whole samples of the image).
@@ -69,15 +45,21 @@ struct PathBatch {
   static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 2 + sizeof(PixelSample); }
 };
 
-struct ShadeStats {
-  std::atomic<uint64_t> shadedHits{0}, shadowRays{0}, continuationRays{0}, nonFinite{0},
-      rouletteKills{0};
-  TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
-};
-
-class PathTracer {
+class PathTracer final : public Integrator {
  public:
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
+
+  // The Integrator interface over the tracer's own PathBatch (`--method pt`).
+  static constexpr uint32_t kRaysPerPath = 2;  // slot 2k: closest hit, 2k+1: shadow ray
+  uint32_t raysPerPath() const override { return kRaysPerPath; }
+  size_t bytesPerPath() const override { return PathBatch::bytesPerPath() + sizeof(SortItem); }
+  void start(uint64_t first, uint32_t count, RayBatch& rays) override { start(first, count, paths_, rays); }
+  size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override {
+    return shade(bounce, paths_, rays, stats);
+  }
+  void finish(Film& film, ShadeStats& stats) override { finish(paths_, film, stats); }
+
+  // The kernels on an explicit PathBatch (the tests drive them directly).
 
   // Starts paths [first, first + count): resets their state, writes camera rays.
   void start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const;
@@ -105,9 +87,14 @@ class PathTracer {
   static float originOffset(float side, float errorCoefficient, int level, Vec3 p);
 
  private:
+  // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).
+  void sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats);
+  size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
+
   const ShadingScene& scene_;
   struct SortItem { uint64_t key; uint32_t path; };
   std::vector<SortItem> order_;
+  PathBatch paths_;
 };
 
 }  // namespace rayes

@@ -32,6 +32,14 @@ inline Vec3 aroundAxis(Vec3 a, float cosA, float sinA, float phi) {
   return normalize(t * (sinA * std::cos(phi)) + b * (sinA * std::sin(phi)) + a * cosA);
 }
 
+// Uniform in the cone of directions within acos(1 - oneMinusCos) of the unit axis (2: the
+// whole sphere); density 1 / (2π oneMinusCos). oneMinusCos is a double: the sun's is 1e-5.
+inline Vec3 sampleUniformCone(Vec3 axis, double oneMinusCos, float u1, float u2) {
+  const double c = 1.0 - double(u1) * oneMinusCos;
+  const float s = float(std::sqrt(std::max(0.0, (1.0 - c) * (1.0 + c))));
+  return aroundAxis(axis, float(c), s, 2.0f * std::numbers::pi_v<float> * u2);
+}
+
 inline bool isBlack(Rgb c) { return !(c.x > 0 || c.y > 0 || c.z > 0); }
 
 inline float luminance(Rgb c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }

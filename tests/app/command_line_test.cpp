@@ -114,13 +114,33 @@ TEST_F(CommandLine, SyntaxErrorIsExit2WithLineAndColumn) {
 TEST_F(CommandLine, ImpossibleArgumentsAreExit2) {
   for (const auto& args : std::vector<std::vector<std::string>>{
            {"--spp", "-3"}, {"--res", "0x5"}, {"--res", "abc"}, {"--ray-memory", "12Q"},
-           {"--ray-memory", "10"}, {"--max-lod", "40"}, {"--lod", "random"}, {"--threads"}}) {
+           {"--ray-memory", "10"}, {"--max-lod", "40"}, {"--lod", "random"}, {"--threads"},
+           {"--engine", "optix"}, {"--embree-lod", "auto"}, {"--engine", "embree", "--memory-limit", "12Q"},
+           {"--engine", "embree", "--max-lod", "12", "--memory-limit", "1M"}}) {
     std::vector<std::string> full = {"render", kScene, "-o", path("o.exr"), "-q"};
     full.insert(full.end(), args.begin(), args.end());
     const RunResult r = run(full);
     EXPECT_EQ(r.code, 2) << args[0] << ": " << r.err;
     EXPECT_FALSE(fs::exists(path("o.exr"))) << args[0];
   }
+}
+
+TEST_F(CommandLine, UnknownMethodIsOneMessageExit2AndNothingWritten) {
+  const RunResult r = run({"render", kScene, "-o", path("o.exr"), "--stats", path("s.json"), "-q", "--method", "bdpt"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_THAT(r.err, HasSubstr("--method: unknown method 'bdpt'"));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one message: " << r.err;
+  EXPECT_TRUE(dirHasOnly({}));
+}
+
+TEST_F(CommandLine, LightTracingWritesItsMethodAndSplatsInTheStats) {
+  const RunResult r = run({"render", kScene, "--spp", "1", "--res", "16x12", "-o", path("t.exr"), "--stats",
+                           path("s.json"), "-q", "--method", "lt"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::ifstream in(path("s.json"));
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["settings"]["method"], "lt");
+  EXPECT_GT(j["totals"]["splats"].get<int>(), 0);
 }
 
 TEST_F(CommandLine, HelpDocumentsEveryOption) {
@@ -133,7 +153,8 @@ TEST_F(CommandLine, HelpDocumentsEveryOption) {
   for (char* a : argv) free(a);
   EXPECT_EQ(code, 0);
   for (const char* opt : {"--output", "--spp", "--res", "--threads", "--stats", "--max-lod", "--ray-memory",
-                          "--lod", "--trace-mode", "--reference"})
+                          "--lod", "--trace-mode", "--reference", "--engine", "--embree-lod", "--memory-limit",
+                          "--method"})
     EXPECT_THAT(out, HasSubstr(opt));
 }
 

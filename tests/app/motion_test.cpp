@@ -172,7 +172,7 @@ TEST_F(Motion, MovingScenesAreOrderIndependent) {
     alone.sortByLeaf = false;
     EXPECT_EQ(testing::renderBeauty(s, alone, 2), reference) << file;
     RenderOptions small = o;
-    small.rayMemoryBytes = 200 * Renderer::bytesPerPath();
+    small.rayMemoryBytes = 200 * testing::bytesPerPath(s, o);
     EXPECT_EQ(testing::renderBeauty(s, small, 2), reference) << file;
   }
 }

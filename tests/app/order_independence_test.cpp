@@ -9,6 +9,7 @@ namespace rayes {
 namespace {
 using testing::renderBeauty;
 using testing::smallTeapot;
+using testing::bytesPerPath;
 
 class OrderIndependence : public ::testing::Test {
  protected:
@@ -43,7 +44,7 @@ TEST_F(OrderIndependence, EveryRayTracedAloneEqualsSortedPipeline) {
 
 TEST_F(OrderIndependence, SmallRayMemoryForcesMoreBatchesAndIterationsButSameImage) {
   RenderOptions o;
-  o.rayMemoryBytes = 300 * Renderer::bytesPerPath();  // 300 paths per batch, N small
+  o.rayMemoryBytes = 300 * bytesPerPath(*scene_);  // 300 paths per batch, N small
   RenderStats small;
   EXPECT_EQ(renderBeauty(*scene_, o, 2, &small), *reference_);
   // The budget really did change how the work was split.
@@ -60,7 +61,7 @@ TEST_F(OrderIndependence, TinyCandidateBufferOneCandidatePerIteration) {
   Scene s = smallTeapot(8, 6, 1);
   const auto ref = renderBeauty(s, RenderOptions{}, 2);
   RenderOptions o;
-  o.rayMemoryBytes = Renderer::bytesPerPath();
+  o.rayMemoryBytes = bytesPerPath(s);
   RenderStats stats;
   EXPECT_EQ(renderBeauty(s, o, 2, &stats), ref);
   bool sawN1 = false;

@@ -33,16 +33,22 @@ inline std::vector<float> renderBeauty(const Scene& scene, const RenderOptions& 
   return film.beautyRgba();
 }
 
+// The ray memory one path of this scene and method costs (the unit of RenderOptions::rayMemoryBytes).
+inline size_t bytesPerPath(const Scene& scene, const RenderOptions& options = {}) {
+  return Renderer(scene, options).bytesPerPath();
+}
+
 // docs/design.md, invariant 2 on one scene: the image with 2 threads equals, bit for bit, the image
-// with 1 thread, with every ray traced alone, and with a ray budget of `budgetPaths` paths.
-inline void expectOrderIndependent(const Scene& scene, size_t budgetPaths) {
-  const auto ref = renderBeauty(scene, RenderOptions{}, 2);
-  EXPECT_EQ(renderBeauty(scene, RenderOptions{}, 1), ref) << "1 thread";
-  RenderOptions alone;
+// with 1 thread, with every ray traced alone, and with a ray budget of `budgetPaths` paths
+// (all with the other settings of `base`).
+inline void expectOrderIndependent(const Scene& scene, size_t budgetPaths, const RenderOptions& base = {}) {
+  const auto ref = renderBeauty(scene, base, 2);
+  EXPECT_EQ(renderBeauty(scene, base, 1), ref) << "1 thread";
+  RenderOptions alone = base;
   alone.sortByLeaf = false;
   EXPECT_EQ(renderBeauty(scene, alone, 2), ref) << "every ray alone";
-  RenderOptions small;
-  small.rayMemoryBytes = budgetPaths * Renderer::bytesPerPath();
+  RenderOptions small = base;
+  small.rayMemoryBytes = budgetPaths * bytesPerPath(scene, base);
   EXPECT_EQ(renderBeauty(scene, small, 2), ref) << budgetPaths << " paths per batch";
 }
 

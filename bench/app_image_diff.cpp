@@ -1,0 +1,38 @@
+// Compares two renders of the same size (bench/peer_render.sh): prints the RMSE over the RGB
+// channels (as rmseAgainst, docs/stats.md's error_vs_time) and the relative difference of the
+// second image's mean from the first's, per channel and overall.
+//
+// usage: bench_app_image_diff A.exr B.exr
+#include <cmath>
+#include <cstdio>
+#include "app/image_io.h"
+#include "app/renderer.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  using namespace rayes;
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: %s A.exr B.exr\n", argv[0]);
+    return 2;
+  }
+  try {
+    int wa = 0, ha = 0, wb = 0, hb = 0;
+    const std::vector<float> a = readExrRgb(argv[1], wa, ha), b = readExrRgb(argv[2], wb, hb);
+    if (wa != wb || ha != hb) throw InputError(argv[2], "", "size differs from " + std::string(argv[1]));
+    double sq = 0, ma[3] = {0, 0, 0}, mb[3] = {0, 0, 0};
+    for (size_t i = 0; i < a.size(); ++i) {
+      const double d = double(a[i]) - double(b[i]);
+      sq += d * d;
+      ma[i % 3] += a[i];
+      mb[i % 3] += b[i];
+    }
+    const double n = double(a.size() / 3);
+    std::printf("rmse %.6g mean_a %.6g %.6g %.6g mean_b %.6g %.6g %.6g relative_mean_diff %+.4f %%\n",
+                a.empty() ? 0.0 : std::sqrt(sq / double(a.size())), ma[0] / n, ma[1] / n, ma[2] / n, mb[0] / n,
+                mb[1] / n, mb[2] / n, 100.0 * ((mb[0] + mb[1] + mb[2]) / (ma[0] + ma[1] + ma[2]) - 1.0));
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s\n", e.message().c_str());
+    return 2;
+  }
+  return 0;
+}

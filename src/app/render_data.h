@@ -1,0 +1,43 @@
+// What a render builds from a Scene once, before any ray: the leaves' conservative boxes and
+// the top-level BVH over them, shading's view of the scene (camera, materials per leaf, the
+// light sampler over point, spot, area, distant and environment lights) and the counts of what
+// the scene uses (for the stats' "features" and "skipped", docs/design.md, invariant 4).
+// Immutable after construction; holds a reference to nothing but what it owns (the lights'
+// surface functions share ownership of their patches).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+#include "core/box.h"
+#include "scene/scene.h"
+#include "shading/shading_scene.h"
+#include "toplevel/toplevel_bvh.h"
+
+namespace rayes {
+
+// What the scene uses, counted once at setup: the stats say what was done and what was left
+// out because nothing needed it (docs/design.md, invariant 4).
+struct SceneFeatures {
+  uint64_t movingLeaves = 0;         // leaves with more than one time sample
+  bool shutterOpen = false;          // the camera's shutter has an interval
+  uint64_t displacedLeaves = 0;
+  uint64_t subdivisionLeaves = 0;
+  uint64_t borderClosureLeaves = 0;  // leaves whose borders need crack-closing regions
+  bool environment = false;
+  uint64_t distantLights = 0;
+};
+
+struct RenderData {
+  explicit RenderData(const Scene& scene);
+  RenderData(const RenderData&) = delete;
+  RenderData& operator=(const RenderData&) = delete;
+
+  std::vector<Box3> leafBoxes;  // Patch::bounds per leaf
+  TopLevelBvh top;
+  ShadingScene shading;
+  SceneFeatures features;
+  std::vector<std::pair<std::string, uint64_t>> leafKinds;  // (Patch::kind, leaves), by name
+};
+
+}  // namespace rayes

@@ -1,0 +1,51 @@
+// What the renderer needs from whatever finds the hits of a generation of rays. Two engines:
+//   Tracer        (rays/tracer.h)        Rayes: sorted by patch, diced on demand, per-ray LOD;
+//   EmbreeEngine  (rays/embree_engine.h) the peer: every patch diced once up front into Embree
+//                                        grids, traced with Embree's stream API.
+//
+// Contract of trace(): every ray of the batch whose kind is not Inactive gets batch.hit filled
+// as documented in core/ray_batch.h: a closest ray its nearest hit in (tmin, tmax), a shadow ray
+// any hit (leaf != kNoLeaf: occluded); a ray never hits batch.ignoreLeaf[i]; (u, v) are the
+// patch's parameters, level the dicing level the hit was found at, ng the micro-triangle's unit
+// normal, ns the unit normal blended from the diced vertex normals. Shading reads nothing else,
+// so the same scene shades the same way whichever engine found the hits. Images are a pure
+// function of (scene, settings, seed) for both engines: neither depends on thread count or
+// batching.
+//
+// Memory (DESIGN invariant 3): bytesPerRay() is what the engine keeps per ray slot of the
+// largest batch beyond the RayBatch itself (the renderer divides its ray budget by it);
+// fixedBytes() is what it holds regardless of the batch (dice buffers, or the whole Embree
+// scene). Not thread-safe: one trace() at a time; trace() itself runs on all threads.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include "core/ray_batch.h"
+#include "rays/trace_settings.h"
+
+namespace rayes {
+
+// What an engine reports besides the per-generation stats (the stats file's "engine" section).
+struct EngineStats {
+  const char* name = "";
+  size_t fixedBytes = 0;       // dice buffers (Rayes) or vertices + normals + Embree's own bytes
+  // Up-front tessellation (the Embree engine; zero for Rayes).
+  uint64_t micropolygons = 0;  // micro-quads held, summed over time steps
+  uint64_t vertices = 0;       // grid vertices held, summed over time steps
+  size_t vertexBytes = 0;      // our positions and normals
+  size_t embreeBytes = 0;      // Embree's allocations held after the build
+  size_t embreePeakBytes = 0;  // their peak during the build
+  size_t estimatedBytes = 0;   // the estimate checked against the memory limit before allocating
+  double tessellateSeconds = 0, buildSeconds = 0;
+  int minLevel = 0, maxLevel = 0;  // range of the per-patch levels
+};
+
+class RayEngine {
+ public:
+  virtual ~RayEngine() = default;
+  virtual void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) = 0;
+  virtual size_t bytesPerRay() const = 0;
+  virtual size_t fixedBytes() const = 0;
+  virtual EngineStats engineStats() const = 0;
+};
+
+}  // namespace rayes

@@ -1,0 +1,28 @@
+#include "shading/integrator.h"
+#include "core/error.h"
+#include "shading/light_tracer.h"
+#include "shading/path_tracer.h"
+
+namespace rayes {
+
+const std::vector<std::string>& integratorMethodNames() {
+  static const std::vector<std::string> names{"pt", "lt"};
+  return names;
+}
+
+IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where) {
+  if (name == "pt") return IntegratorMethod::PathTracing;
+  if (name == "lt") return IntegratorMethod::LightTracing;
+  throw InputError(where, "", "unknown method '" + name + "' (use pt: path tracing, or lt: light tracing)");
+}
+
+const char* integratorMethodName(IntegratorMethod method) {
+  return method == IntegratorMethod::LightTracing ? "lt" : "pt";
+}
+
+std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene) {
+  if (method == IntegratorMethod::LightTracing) return std::make_unique<LightTracer>(scene);
+  return std::make_unique<PathTracer>(scene);
+}
+
+}  // namespace rayes

@@ -1,0 +1,61 @@
+// START HERE for integrators. An Integrator turns the hits of one generation of rays into the
+// next generation and, at the end of a batch, into film contributions. The Renderer drives
+// every integrator the same way (thesis §6.2.2, "group rays by generation"):
+//
+//   start(first, count, rays)  paths [first, first + count) of the render begin; their first
+//                              rays are written into `rays`;
+//   shade(bounce, rays, stats) after the rays were traced: consume their hits, write the next
+//                              generation in place; returns how many rays were written (0: the
+//                              batch is done);
+//   finish(film, stats)        add the batch's results to the film in a fixed order.
+//
+// Slots: path k of a batch owns ray slots [k * raysPerPath(), (k + 1) * raysPerPath()) and
+// touches no others, so paths are shaded in parallel without locks. Path ids are sample-major
+// (sample * pixels + pixel); batches are contiguous id ranges started in increasing order, and
+// finish() must add to each pixel in an order fixed by the path ids alone, so the image is
+// bit-identical for any thread count, batch size and trace order (docs/design.md, invariant 2).
+// bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
+// memory budget can be divided into whole paths.
+//
+// This header sees only core and shading: the rays side (src/rays) traces the RayBatch and
+// never sees an integrator; the app holds both.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+#include "core/ray_batch.h"
+#include "core/timer.h"
+#include "shading/film.h"
+#include "shading/shading_scene.h"
+
+namespace rayes {
+
+struct ShadeStats {
+  std::atomic<uint64_t> shadedHits{0}, shadowRays{0}, continuationRays{0}, nonFinite{0},
+      rouletteKills{0};
+  std::atomic<uint64_t> splats{0};  // light tracing: connections to the camera that reached the film
+  TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual uint32_t raysPerPath() const = 0;
+  virtual size_t bytesPerPath() const = 0;
+  virtual void start(uint64_t first, uint32_t count, RayBatch& rays) = 0;
+  virtual size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) = 0;
+  virtual void finish(Film& film, ShadeStats& stats) = 0;
+};
+
+enum class IntegratorMethod { PathTracing, LightTracing };
+
+// "pt" and "lt", the names of the command line and the stats.
+const std::vector<std::string>& integratorMethodNames();
+// Throws InputError naming `where` for an unknown name.
+IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where);
+const char* integratorMethodName(IntegratorMethod method);
+std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene);
+
+}  // namespace rayes

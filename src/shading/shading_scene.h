@@ -1,0 +1,29 @@
+// Everything shading knows of a scene, indexed by leaf where per patch. The app builds it from
+// the loaded Scene (app/render_data.h); every integrator reads it and never changes it.
+#pragma once
+#include <cstdint>
+#include <vector>
+#include "shading/camera.h"
+#include "shading/light.h"
+#include "shading/material.h"
+
+namespace rayes {
+
+struct IntegratorSettings {
+  int maxDepth = 8;          // path vertices after the camera; 1 = direct lighting only
+  int rouletteDepth = 1;     // first bounce at which Russian roulette may end a path
+  uint64_t seed = 0;
+};
+
+struct ShadingScene {
+  PerspectiveCamera camera;
+  int width = 1, height = 1, samplesPerPixel = 1;
+  IntegratorSettings integrator;
+  std::vector<Material> materials;
+  std::vector<uint32_t> leafMaterial;
+  std::vector<float> leafSide;         // longest side l of the leaf's box
+  std::vector<float> leafDicingError;  // C of Patch::dicingErrorCoefficient (bound C / 4^level)
+  LightSampler lights;
+};
+
+}  // namespace rayes

@@ -1,0 +1,237 @@
+// The Embree engine finds the Rayes tracer's hits when both see the same tessellation: every
+// patch at one fixed level, the Rayes rays with zero footprint (so at that level) and without
+// border regions (the Embree engine has none). Same leaf, t within the float error of the two
+// triangle tests, (u, v) within one micro-quad, the same triangle's normal; shadow rays occluded
+// alike; with motion blur; the ignored leaf never hit. Also its auto level rule and its memory
+// refusal.
+#include <cfloat>
+#include <cmath>
+#include <limits>
+#include <gtest/gtest.h>
+#include "core/error.h"
+#include "core/rng.h"
+#include "geometry/bezier_patch.h"
+#include "geometry/bilinear_patch.h"
+#include "geometry/moving_patch.h"
+#include "rays/embree_engine.h"
+#include "rays/tracer.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr int kLod = 4;
+
+// The teapot, a floor of four quads and, in front of the teapot, a patch moving in x and z.
+struct World {
+  std::vector<PatchPtr> leaves;
+  TopLevelBvh top;
+  explicit World(bool moving) {
+    const auto teapot = loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt");
+    for (const auto& cp : teapot) leaves.push_back(std::make_shared<BezierPatch>(cp));
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) {
+        const float x0 = -5 + 5 * i, y0 = -5 + 5 * j;
+        leaves.push_back(std::make_shared<BilinearPatch>(Vec3{x0, y0, 0}, Vec3{x0 + 5, y0, 0}, Vec3{x0, y0 + 5, 0},
+                                                         Vec3{x0 + 5, y0 + 5, 0}));
+      }
+    if (moving) {
+      std::vector<PatchPtr> samples;
+      // A body patch of the teapot, doubled in size, in front of it.
+      for (const Vec3 shift : {Vec3{-3, -4, 0.0f}, Vec3{-1, -4, 1.0f}, Vec3{1, -4, 0.0f}}) {
+        auto cp = teapot[4];
+        for (Vec3& p : cp) p = p * 2.0f + shift;
+        samples.push_back(std::make_shared<BezierPatch>(cp));
+      }
+      leaves.push_back(std::make_shared<MovingPatch>(samples, std::vector<float>{0.0f, 0.5f, 1.0f}));
+    }
+    std::vector<Box3> boxes;
+    for (const auto& l : leaves) boxes.push_back(l->bounds());
+    top.build(boxes);
+  }
+};
+
+// Rays from a circle around the scene toward random points of `target` (default: the middle of
+// the scene).
+RayBatch randomRays(int n, RayKind kind, uint32_t seed, Box3 target = {{-3, -3, 0}, {3, 3, 3}}) {
+  RayBatch b;
+  b.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const RngKey k{uint32_t(i), seed, 0, 23};
+    const float a = 6.2831853f * sampleUniform(k, 0);
+    const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
+    const Vec3 e = target.extent();
+    const Vec3 to = target.lo + Vec3{e.x * sampleUniform(k, 2), e.y * sampleUniform(k, 3), e.z * sampleUniform(k, 4)};
+    b.set(i, kind, o, normalize(to - o), 0.0f, kind == RayKind::Shadow ? 8.0f : kInf, 0.0f, 0.0f, i, kNoLeaf,
+          kNoLeaf, 0, sampleUniform(k, 5));
+  }
+  return b;
+}
+
+void traceRayes(const World& w, RayBatch& b) {
+  TraceSettings s;
+  s.maxLod = kLod;
+  s.closeBorders = false;
+  Tracer tracer(w.top, w.leaves, s);
+  GenerationStats stats;
+  TraceTimes times;
+  tracer.trace(b, stats, times);
+}
+
+void traceEmbree(const World& w, RayBatch& b) {
+  EmbreeSettings s;
+  s.maxLod = kLod;
+  EmbreeEngine engine(w.leaves, s);
+  GenerationStats stats;
+  TraceTimes times;
+  engine.trace(b, stats, times);
+  EXPECT_EQ(stats.rays, b.size());
+}
+
+// Both engines intersect the same float triangle. Rayes's watertight test computes t from the
+// vertices translated to the ray origin; Embree's as (N . (v0 - o)) / (N . d) with N a cross
+// product. Each carries a few roundings (< 8 eps) of the magnitudes involved, |origin| + |hit
+// point| over |dir| (t is in units of |dir|), and Embree's quotient amplifies them by
+// 1 / |cos| of the angle between the ray and the triangle's normal. Two tests: 16 eps / |cos|.
+float tBound(const RayBatch& b, int i, const RayHit& h) {
+  const Vec3 p = b.org[i] + b.dir[i] * h.t;
+  const float cosine = std::fabs(dot(h.ng, b.dir[i])) / length(b.dir[i]);
+  return 16 * FLT_EPSILON * (length(b.org[i]) + length(p)) / length(b.dir[i]) / std::max(cosine, 1e-6f);
+}
+
+void expectSameClosestHits(bool moving) {
+  const World w(moving);
+  // With motion, half the rays aim at the moving patch's box.
+  RayBatch rayes = randomRays(20000, RayKind::Closest, moving), embree = rayes;
+  if (moving) {
+    const RayBatch at = randomRays(10000, RayKind::Closest, 3, w.leaves.back()->bounds());
+    for (int i = 0; i < 10000; ++i)
+      rayes.set(i, RayKind::Closest, at.org[i], at.dir[i], 0.0f, kInf, 0.0f, 0.0f, i, kNoLeaf, kNoLeaf, 0, at.time[i]);
+    embree = rayes;
+  }
+  traceRayes(w, rayes);
+  traceEmbree(w, embree);
+  int hits = 0, movingHits = 0;
+  const float quad = 1.0f / float(1 << kLod);
+  for (int i = 0; i < int(rayes.size()); ++i) {
+    const RayHit &r = rayes.hit[i], &e = embree.hit[i];
+    ASSERT_EQ(r.valid(), e.valid()) << "ray " << i;
+    if (!r.valid()) continue;
+    ++hits;
+    movingHits += r.leaf == w.leaves.size() - 1 && moving;
+    ASSERT_EQ(r.leaf, e.leaf) << "ray " << i;
+    EXPECT_NEAR(r.t, e.t, tBound(rayes, i, r)) << "ray " << i;
+    EXPECT_NEAR(r.u, e.u, quad) << "ray " << i;
+    EXPECT_NEAR(r.v, e.v, quad) << "ray " << i;
+    EXPECT_EQ(e.level, kLod);
+    // The same triangle (up to its facing, which neither engine fixes) and a close shading normal.
+    EXPECT_GT(std::fabs(dot(r.ng, e.ng)), 1 - 1e-4f) << "ray " << i;
+    EXPECT_NEAR(length(e.ns), 1.0f, 1e-5f);
+  }
+  EXPECT_GT(hits, 10000);
+  if (moving) {
+    EXPECT_GT(movingHits, 2000);
+  }
+}
+
+TEST(EmbreeEngine, ClosestHitsEqualTheRayesTracerAtTheSameLevel) { expectSameClosestHits(false); }
+TEST(EmbreeEngine, ClosestHitsEqualTheRayesTracerWithMotionBlur) { expectSameClosestHits(true); }
+
+TEST(EmbreeEngine, ShadowRaysAreOccludedLikeTheRayesTracer) {
+  const World w(true);
+  RayBatch rayes = randomRays(20000, RayKind::Shadow, 7), embree = rayes;
+  traceRayes(w, rayes);
+  traceEmbree(w, embree);
+  int occluded = 0;
+  for (int i = 0; i < int(rayes.size()); ++i) {
+    ASSERT_EQ(rayes.hit[i].valid(), embree.hit[i].valid()) << "ray " << i;
+    occluded += rayes.hit[i].valid();
+  }
+  EXPECT_GT(occluded, 2000);
+  EXPECT_LT(occluded, 18000);
+}
+
+TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
+  const World w(false);
+  EmbreeSettings s;
+  s.maxLod = kLod;
+  EmbreeEngine engine(w.leaves, s);
+  RayBatch b;
+  b.resize(4);
+  const uint32_t floor = uint32_t(w.leaves.size() - 1);  // the quad at x, y in [0, 5]
+  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, 0, floor);
+  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, 1, floor);
+  b.set(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, 2);
+  b.kind[3] = RayKind::Inactive;
+  GenerationStats stats;
+  TraceTimes times;
+  engine.trace(b, stats, times);
+  EXPECT_FALSE(b.hit[0].valid());
+  EXPECT_FALSE(b.hit[1].valid());
+  EXPECT_TRUE(b.hit[2].valid());
+  EXPECT_FALSE(b.hit[3].valid());
+  EXPECT_EQ(stats.rays, 3u);
+  EXPECT_EQ(stats.shadowRays, 2u);
+}
+
+TEST(EmbreeEngine, RaysItCannotTraceHitNothing) {
+  const World w(false);
+  EmbreeSettings s;
+  s.maxLod = kLod;
+  EmbreeEngine engine(w.leaves, s);
+  RayBatch b;
+  b.resize(3);
+  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, 0, kInf, 0, 0, 0);                 // zero direction
+  b.set(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, 1);             // infinite origin
+  b.set(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 3, 3, 0, 0, 2);                   // empty interval
+  GenerationStats stats;
+  TraceTimes times;
+  engine.trace(b, stats, times);
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(b.hit[i].valid()) << i;
+}
+
+TEST(EmbreeEngine, AutoLevelIsTheFootprintRuleAtTheBoxsNearestDistance) {
+  const Box3 box{{1, -1, -1}, {3, 1, 1}};
+  CameraFootprint cam{{0, 0, 0}, 0.0f, 0.01f};
+  // Nearest distance 1: footprint 0.01; size 2 needs 2 / 2^m <= 0.01, m = 8.
+  EXPECT_EQ(EmbreeEngine::autoLevel(box, 2.0f, cam, 10), 8);
+  EXPECT_EQ(EmbreeEngine::autoLevel(box, 2.0f, cam, 6), 6);
+  // The lens radius brings the box nearer: distance 0.5, footprint 0.005, m = 9.
+  cam.apertureRadius = 0.5f;
+  EXPECT_EQ(EmbreeEngine::autoLevel(box, 2.0f, cam, 10), 9);
+  // A camera inside the box: zero distance, the finest level.
+  cam = {{2, 0, 0}, 0.0f, 0.01f};
+  EXPECT_EQ(EmbreeEngine::autoLevel(box, 2.0f, cam, 10), 10);
+}
+
+TEST(EmbreeEngine, TimeStepsPutEveryKeyframeOnTheGrid) {
+  auto quad = std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{1, 1, 0});
+  EXPECT_EQ(EmbreeEngine::timeSteps(*quad), 1);
+  EXPECT_EQ(EmbreeEngine::timeSteps(MovingPatch({quad, quad, quad}, {0.0f, 0.5f, 1.0f})), 3);
+  EXPECT_EQ(EmbreeEngine::timeSteps(MovingPatch({quad, quad}, {0.25f, 1.0f})), 5);
+  EXPECT_EQ(EmbreeEngine::timeSteps(MovingPatch({quad, quad}, {0.0f, 1.0f / 3.0f})), 4);
+}
+
+TEST(EmbreeEngine, RefusesATessellationOverTheMemoryLimitBeforeAllocating) {
+  const World w(false);
+  EmbreeSettings s;
+  s.maxLod = 12;  // 37 patches x 4097^2 vertices x 60 B: 37 GB
+  s.memoryLimit = size_t(1) << 30;
+  try {
+    EmbreeEngine engine(w.leaves, s);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "--memory-limit");
+    EXPECT_NE(std::string(e.what()).find("MiB"), std::string::npos);
+  }
+  s.maxLod = 6;
+  EmbreeEngine small(w.leaves, s);
+  const EngineStats st = small.engineStats();
+  EXPECT_EQ(st.micropolygons, w.leaves.size() << 12);
+  EXPECT_EQ(st.vertices, w.leaves.size() * 65 * 65);
+  // The estimate holds what was allocated: our vertices and normals, and Embree's peak.
+  EXPECT_GE(st.estimatedBytes, st.vertexBytes - sizeof(Vec3) + st.embreePeakBytes);
+  EXPECT_GT(st.embreeBytes, 0u);
+}
+
+}  // namespace
+}  // namespace rayes
