@@ -123,9 +123,11 @@ void expectSameClosestHits(bool moving) {
     EXPECT_NEAR(r.u, e.u, quad) << "ray " << i;
     EXPECT_NEAR(r.v, e.v, quad) << "ray " << i;
     EXPECT_EQ(e.level, kLod);
-    // The same triangle (up to its facing, which neither engine fixes) and a close shading normal.
-    EXPECT_GT(std::fabs(dot(r.ng, e.ng)), 1 - 1e-4f) << "ray " << i;
-    EXPECT_NEAR(length(e.ns), 1.0f, 1e-5f);
+    // The same triangle, the same way round. The shading normals blend the same corner
+    // normals at (s, r) that differ by the rounding of two triangle tests: within the angle
+    // the corners span, under 8 degrees (cos 0.99) on these patches at level 4.
+    EXPECT_GT(dot(r.ng, e.ng), 1 - 1e-4f) << "ray " << i;
+    EXPECT_GT(dot(r.ns, e.ns), 0.99f) << "ray " << i;
   }
   EXPECT_GT(hits, 10000);
   if (moving) {
@@ -171,6 +173,25 @@ TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   EXPECT_FALSE(b.hit[3].valid());
   EXPECT_EQ(stats.rays, 3u);
   EXPECT_EQ(stats.shadowRays, 2u);
+}
+
+TEST(EmbreeEngine, BatchesOfAnySizeAreTracedWhole) {
+  // Rays go to Embree in fixed-size chunks; a batch of many chunks (and a ragged end) is traced
+  // whole, whatever ranges the scheduler makes.
+  const World w(false);
+  EmbreeSettings s;
+  s.maxLod = kLod;
+  EmbreeEngine engine(w.leaves, s);
+  RayBatch b;
+  const int n = 300001;
+  b.resize(n);
+  for (int i = 0; i < n; ++i) b.set(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, i);
+  GenerationStats stats;
+  TraceTimes times;
+  engine.trace(b, stats, times);
+  int hits = 0;
+  for (int i = 0; i < n; ++i) hits += b.hit[i].valid() && b.hit[i].t == 5.0f;
+  EXPECT_EQ(hits, n);
 }
 
 TEST(EmbreeEngine, RaysItCannotTraceHitNothing) {
@@ -221,7 +242,7 @@ TEST(EmbreeEngine, RefusesATessellationOverTheMemoryLimitBeforeAllocating) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "--memory-limit");
-    EXPECT_NE(std::string(e.what()).find("MiB"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("than the limit of 1024 MiB"), std::string::npos) << e.what();
   }
   s.maxLod = 6;
   EmbreeEngine small(w.leaves, s);
