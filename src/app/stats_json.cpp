@@ -82,7 +82,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                         {"memory_limit_bytes", options.memoryLimitBytes},
                         {"time_s", {{"tessellate", e.tessellateSeconds}, {"build", e.buildSeconds}}}});
   }
-  // DESIGN invariant 4: what this scene used, and what it did not need and was not done.
+  // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
   uint64_t movingDicings = 0, borderHits = 0;
   for (const auto& g : s.generations) {
