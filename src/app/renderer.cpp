@@ -38,17 +38,16 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     es.camera = {camera.position(), camera.apertureRadius(), camera.pixelSpread()};
     es.memoryLimit = options.memoryLimitBytes;
     engine_ = std::make_unique<EmbreeEngine>(scene.patches, es);
-    stats_.engine = engine_->engineStats();
-    stats_.timeSetup = secondsSince(t0);
-    return;
+  } else {
+    TraceSettings ts;
+    ts.maxLod = options.maxLod;
+    ts.lod = options.lod;
+    ts.samplesPerPixel = scene.samplesPerPixel;
+    ts.candidateCapacity = stats_.candidateCapacity;
+    ts.sortByLeaf = options.sortByLeaf;
+    engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
   }
-  TraceSettings ts;
-  ts.maxLod = options.maxLod;
-  ts.lod = options.lod;
-  ts.samplesPerPixel = scene.samplesPerPixel;
-  ts.candidateCapacity = stats_.candidateCapacity;
-  ts.sortByLeaf = options.sortByLeaf;
-  engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
+  stats_.engine = engine_->engineStats();
   stats_.timeSetup = secondsSince(t0);
 }
 

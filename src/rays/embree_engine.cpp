@@ -8,6 +8,7 @@
 #include <string>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include "core/error.h"
 #include "core/timer.h"
 #include "dicing/dice_buffer.h"
@@ -23,6 +24,10 @@ constexpr size_t kChunk = 256;  // rays per stream call
 size_t gridVertices(int level) {
   const size_t res = (size_t(1) << level) + 1;
   return res * res;
+}
+
+std::string readableBytes(size_t bytes) {
+  return bytes >= (size_t(1) << 20) ? std::to_string(bytes >> 20) + " MiB" : std::to_string(bytes) + " bytes";
 }
 
 // Embree's allocations, counted through the device's memory monitor.
@@ -125,11 +130,10 @@ EmbreeEngine::EmbreeEngine(const std::vector<PatchPtr>& patches, const EmbreeSet
   stats_.estimatedBytes = vertices * (kOwnBytesPerVertex + kEmbreeBytesPerVertex);
   if (s.memoryLimit > 0 && stats_.estimatedBytes > s.memoryLimit)
     throw InputError("--memory-limit", "",
-                     "the Embree engine's full tessellation needs about " +
-                         std::to_string(stats_.estimatedBytes >> 20) + " MiB (" + std::to_string(vertices) +
-                         " grid vertices x " + std::to_string(kOwnBytesPerVertex + kEmbreeBytesPerVertex) +
-                         " B), more than the limit of " + std::to_string(s.memoryLimit >> 20) +
-                         " MiB; lower --max-lod, use --embree-lod auto, or raise --memory-limit");
+                     "the Embree engine's full tessellation needs about " + readableBytes(stats_.estimatedBytes) +
+                         " (" + std::to_string(vertices) + " grid vertices x " +
+                         std::to_string(kOwnBytesPerVertex + kEmbreeBytesPerVertex) + " B), more than the limit of " +
+                         readableBytes(s.memoryLimit) + "; lower --max-lod, use --embree-lod auto, or raise --memory-limit");
   tessellate(patches);
   build();
 }
@@ -267,6 +271,7 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
   const size_t n = b.size();
   std::atomic<uint64_t> rays{0}, shadow{0};
   RTCScene scene = device_->scene;
+  // simple_partitioner: ranges are never larger than kChunk, the size of the stream arrays.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
     ScopedTimer timer(times.bottom);
     RTCRayHit closest[kChunk];
@@ -312,7 +317,7 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     }
     rays.fetch_add(counted, std::memory_order_relaxed);
     shadow.fetch_add(countedShadow, std::memory_order_relaxed);
-  });
+  }, tbb::simple_partitioner());
   stats.rays += rays.load();
   stats.shadowRays += shadow.load();
   stats.iterations.push_back({rays.load(), 0.0, 0});

@@ -12,7 +12,7 @@
 // function of (scene, settings, seed) for both engines: neither depends on thread count or
 // batching.
 //
-// Memory (DESIGN invariant 3): bytesPerRay() is what the engine keeps per ray slot of the
+// Memory (docs/design.md, invariant 3): bytesPerRay() is what the engine keeps per ray slot of the
 // largest batch beyond the RayBatch itself (the renderer divides its ray budget by it);
 // fixedBytes() is what it holds regardless of the batch (dice buffers, or the whole Embree
 // scene). Not thread-safe: one trace() at a time; trace() itself runs on all threads.

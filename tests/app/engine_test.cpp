@@ -2,6 +2,7 @@
 // (every patch tessellated up front, levels from the camera) renders every shipped scene, and
 // its image mean per channel is the Rayes engine's within the noise of the two renders and the
 // measured difference of their levels of detail. Bad engine options are one message, exit 2.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <unistd.h>
@@ -28,51 +29,67 @@ Mean meanOf(const Scene& scene, const RenderOptions& o) {
   return m;
 }
 
-// The relative difference of the image mean the two engines' levels of detail make, per scene:
-// Embree dices each patch at the finest level any camera ray needs and traces secondary rays
-// there too, Rayes gives each ray its own level (secondary rays coarser) and closes borders.
-// Measured with bench/peer_render.sh at 96x72, 64 spp (bench/RESULTS.md, "LOD difference"); the
-// bound below adds this to the noise.
+// The relative difference of the image mean the two engines' levels of detail make, per scene.
+// Embree dices each patch at the finest level any camera ray needs and every secondary ray
+// hits that level too; Rayes gives each ray its own level (diffuse bounces coarse) and closes
+// borders. The level a ray hits at also sets how far its secondary rays start off the surface
+// (PathTracer::originOffset), so scenes with many bounces between close walls differ most
+// (Embree brighter). Measured with the same seed at 96x72, 64 spp, --max-lod 8, Embree at
+// --embree-lod auto (bench/RESULTS.md, "LOD difference"): the largest channel's difference,
+// rounded up to a 0.5 % step with at least 0.25 % to spare for that measurement's own noise.
 struct SceneCase {
   const char* file;
   double lodDifference;
 };
 const SceneCase kScenes[] = {
-    {"scenes/cornell-box.json", 0.01},   {"scenes/displaced-teapot.json", 0.01},
-    {"scenes/displaced-terrain.json", 0.01}, {"scenes/dof.json", 0.01},
-    {"scenes/glass-caustic.json", 0.01}, {"scenes/materials.json", 0.01},
-    {"scenes/motion-cubes.json", 0.01},  {"scenes/one-patch.json", 0.01},
-    {"scenes/subdiv-creature.json", 0.01}, {"scenes/teapot.json", 0.01},
+    {"scenes/cornell-box.json", 0.055},      // measured +4.98 % (R), +4.23 % (G), +3.21 % (B)
+    {"scenes/displaced-teapot.json", 0.035}, // +3.17 %
+    {"scenes/displaced-terrain.json", 0.01}, // +0.51 %
+    {"scenes/dof.json", 0.005},              // +0.09 %
+    {"scenes/glass-caustic.json", 0.045},    // +4.04 %
+    {"scenes/materials.json", 0.005},        // +0.18 %
+    {"scenes/motion-cubes.json", 0.005},     // +0.04 %
+    {"scenes/one-patch.json", 0.005},        // -0.09 %
+    {"scenes/subdiv-creature.json", 0.005},  // +0.06 %
+    {"scenes/teapot.json", 0.035},           // +3.17 %
 };
 
 // Per channel: the means of two seeds per engine; the standard error of the difference of the
 // two engines' two-seed means is estimated from the seed-to-seed differences
 // (Var(A - B) = 2 sigma^2 for one engine, so se^2 = (dRayes^2 + dEmbree^2) / 4). Allowed:
 // 4 standard errors plus the measured LOD difference.
-TEST(Engines, EmbreeRendersEveryShippedSceneWithTheMeanOfRayes) {
-  for (const SceneCase& sc : kScenes) {
-    Scene scene = loadScene(testing::sourcePath(sc.file));
-    scene.width = 32;
-    scene.height = 24;
-    scene.samplesPerPixel = 4;
-    RenderOptions rayes, embree;
-    rayes.maxLod = embree.maxLod = 8;
-    embree.engine = EngineKind::Embree;
-    embree.embreeAutoLod = true;
-    Mean r[2], e[2];
-    for (int k = 0; k < 2; ++k) {
-      scene.integrator.seed = uint64_t(k + 1);
-      r[k] = meanOf(scene, rayes);
-      e[k] = meanOf(scene, embree);
-    }
-    for (int c = 0; c < 3; ++c) {
-      const double mr = 0.5 * (r[0].c[c] + r[1].c[c]), me = 0.5 * (e[0].c[c] + e[1].c[c]);
-      const double dr = r[0].c[c] - r[1].c[c], de = e[0].c[c] - e[1].c[c];
-      const double se = std::sqrt((dr * dr + de * de) / 4);
-      EXPECT_NEAR(me, mr, 4 * se + sc.lodDifference * mr) << sc.file << " channel " << c;
-    }
+class EngineScenes : public ::testing::TestWithParam<SceneCase> {};
+
+TEST_P(EngineScenes, EmbreeRendersTheSceneWithTheMeanOfRayes) {
+  const SceneCase& sc = GetParam();
+  Scene scene = loadScene(testing::sourcePath(sc.file));
+  scene.width = 24;
+  scene.height = 18;
+  scene.samplesPerPixel = 4;
+  RenderOptions rayes, embree;
+  rayes.maxLod = embree.maxLod = 8;
+  embree.engine = EngineKind::Embree;
+  embree.embreeAutoLod = true;
+  Mean r[2], e[2];
+  for (int k = 0; k < 2; ++k) {
+    scene.integrator.seed = uint64_t(k + 1);
+    r[k] = meanOf(scene, rayes);
+    e[k] = meanOf(scene, embree);
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double mr = 0.5 * (r[0].c[c] + r[1].c[c]), me = 0.5 * (e[0].c[c] + e[1].c[c]);
+    const double dr = r[0].c[c] - r[1].c[c], de = e[0].c[c] - e[1].c[c];
+    const double se = std::sqrt((dr * dr + de * de) / 4);
+    EXPECT_NEAR(me, mr, 4 * se + sc.lodDifference * mr) << sc.file << " channel " << c;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Shipped, EngineScenes, ::testing::ValuesIn(kScenes),
+                         [](const ::testing::TestParamInfo<SceneCase>& info) {
+                           std::string name = fs::path(info.param.file).stem().string();
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
 
 TEST(Engines, EmbreeStatsSayWhatWasTessellated) {
   Scene scene = testing::smallTeapot(16, 12, 1);

@@ -8,6 +8,7 @@
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
 #include "rays/tracer.h"
+#include "rays/teapot_on_floor.h"
 
 namespace rayes {
 namespace {
@@ -18,16 +19,8 @@ struct World {
   std::vector<PatchPtr> leaves;
   std::vector<Box3> boxes;
   TopLevelBvh top;
-  World() {
-    for (const auto& cp : loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt"))
-      leaves.push_back(std::make_shared<BezierPatch>(cp));
-    // A floor under the teapot made of four quads sharing edges, and a wall behind.
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j) {
-        const float x0 = -5 + 5 * i, y0 = -5 + 5 * j;
-        leaves.push_back(std::make_shared<BilinearPatch>(Vec3{x0, y0, 0}, Vec3{x0 + 5, y0, 0}, Vec3{x0, y0 + 5, 0},
-                                                         Vec3{x0 + 5, y0 + 5, 0}));
-      }
+  World() : leaves(test::teapotOnFloor()) {
+    // And a wall behind.
     leaves.push_back(std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 6}, Vec3{5, 5, 6}));
     for (const auto& l : leaves) boxes.push_back(l->bounds());
     top.build(boxes);
