@@ -7,6 +7,7 @@
 // bias the shadow-ray segment (path_tracer.cpp) and the zero dicing error of planar
 // trapezoids (bilinear_patch.cpp) remove.
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <gtest/gtest.h>
 #include "render_fixtures.h"
@@ -86,6 +87,9 @@ void expectFloorMatchesFormFactor(const RenderOptions& options) {
   const double meanResidual = sum / pixels, meanExpected = expectedSum / pixels;
   const double variance = (sumSq - sum * sum / pixels) / (pixels - 1);
   const double standardError = std::sqrt(variance / pixels);
+  std::printf("[ max LOD %d ] floor mean %.6f, form factor %.6f, relative %+.3f %% +- %.3f %% (SE)\n", options.maxLod,
+              meanExpected + meanResidual, meanExpected, 100 * meanResidual / meanExpected,
+              100 * standardError / meanExpected);
   EXPECT_LT(standardError, 0.005 * meanExpected) << "too noisy to see a bias of a percent";
   EXPECT_LE(std::fabs(meanResidual), 4 * standardError + quadrature / pixels)
       << "max LOD " << options.maxLod << ": mean " << meanExpected + meanResidual << ", expected "
