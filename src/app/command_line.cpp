@@ -1,10 +1,13 @@
 #include "app/command_line.h"
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <CLI/CLI.hpp>
 #include "app/html_report.h"
 #include "app/image_io.h"
+#include "app/output_set.h"
 #include "app/progress.h"
 #include "app/renderer.h"
 #include "app/stats_json.h"
@@ -35,45 +38,70 @@ size_t parseBytes(const std::string& s) {
   return size_t(v * mul);
 }
 
-void ensureParentDir(const std::string& path, const char* what) {
-  const auto dir = std::filesystem::path(path).parent_path();
-  if (dir.empty()) return;
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir))
-    throw InputError(path, "", std::string("cannot create the directory for ") + what);
+// WIDTHxHEIGHT, each positive, at most 2^28 pixels in all (64-bit arithmetic: 65536x65536
+// must not wrap to 0).
+void parseResolution(const std::string& text, int& width, int& height) {
+  const auto bad = [&](const std::string& why) { throw InputError("--res", "", why + ", got '" + text + "'"); };
+  const size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) bad("expected WIDTHxHEIGHT");
+  int64_t v[2] = {0, 0};
+  const std::string part[2] = {text.substr(0, x), text.substr(x + 1)};
+  for (int k = 0; k < 2; ++k) {
+    const auto [p, ec] = std::from_chars(part[k].data(), part[k].data() + part[k].size(), v[k]);
+    if (ec == std::errc::result_out_of_range) bad("width and height must be at most 2^28");
+    if (part[k].empty() || ec != std::errc() || p != part[k].data() + part[k].size())
+      bad("expected WIDTHxHEIGHT with whole numbers");
+    if (v[k] <= 0) bad("width and height must be positive");
+    if (v[k] > (int64_t(1) << 28)) bad("width and height must be at most 2^28");
+  }
+  if (v[0] * v[1] > (int64_t(1) << 28)) bad("more than 2^28 pixels");
+  width = int(v[0]);
+  height = int(v[1]);
 }
 
 struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted";
-  int spp = 0, threads = 0, maxLod = 10, seed = -1;
+  std::optional<int> spp;
+  std::optional<int64_t> seed;
+  int threads = 0, maxLod = 10;
   bool quiet = false;
 };
 
-int render(const RenderArgs& a) {
-  const auto wall0 = Clock::now();
-  ThreadLimit limit(a.threads);
-  Scene scene = loadScene(a.scene);
-  const double loadSeconds = secondsSince(wall0);
-  if (a.spp != 0) {
-    if (a.spp < 0) throw InputError("--spp", "", "samples per pixel must be positive");
-    scene.samplesPerPixel = a.spp;
-  }
-  if (!a.res.empty()) {
-    int w = 0, h = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(a.res.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w <= 0 || h <= 0)
-      throw InputError("--res", "", "expected WIDTHxHEIGHT with positive numbers, got '" + a.res + "'");
-    scene.width = w;
-    scene.height = h;
-  }
-  if (a.seed >= 0) scene.integrator.seed = uint64_t(a.seed);
-  RenderOptions options;
+// Checks every option that does not need the scene, so that a bad option costs no loading.
+RenderOptions checkedOptions(const RenderArgs& a) {
+  if (a.spp && (*a.spp < 1 || *a.spp > (1 << 20))) throw InputError("--spp", "", "must be in [1, 2^20]");
+  if (a.threads < 0 || a.threads > 4096) throw InputError("--threads", "", "must be in [0, 4096] (0: all cores)");
+  if (a.seed && (*a.seed < 0 || *a.seed > (int64_t(1) << 62)))
+    throw InputError("--seed", "", "must be in [0, 2^62]");
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
+  RenderOptions options;
   options.maxLod = a.maxLod;
   options.lod = a.lod == "density" ? LodRule::Density : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   options.rayMemoryBytes = parseBytes(a.rayMemory);
+  return options;
+}
+
+bool endsWithPng(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".png";
+}
+
+int render(const RenderArgs& a) {
+  const auto wall0 = Clock::now();
+  RenderOptions options = checkedOptions(a);
+  int width = 0, height = 0;
+  if (!a.res.empty()) parseResolution(a.res, width, height);
+  ThreadLimit limit(a.threads);
+  Scene scene = loadScene(a.scene);
+  const double loadSeconds = secondsSince(wall0);
+  if (a.spp) scene.samplesPerPixel = *a.spp;
+  if (!a.res.empty()) {
+    scene.width = width;
+    scene.height = height;
+  }
+  if (a.seed) scene.integrator.seed = uint64_t(*a.seed);
   if (!a.reference.empty()) {
     int w = 0, h = 0;
     options.reference = readExrRgb(a.reference, w, h);
@@ -82,33 +110,47 @@ int render(const RenderArgs& a) {
                                             ", the render " + std::to_string(scene.width) + "x" +
                                             std::to_string(scene.height));
   }
-  std::string out = a.out;
-  if (out.empty()) out = "out/" + std::filesystem::path(a.scene).stem().string() + ".exr";
-  const std::string png = std::filesystem::path(out).replace_extension(".png").string();
-  ensureParentDir(out, "the image");
-  if (!a.stats.empty()) ensureParentDir(a.stats, "the stats");
-  if (!a.report.empty()) ensureParentDir(a.report, "the report");
+  // -o NAME.png asks for the preview alone; any other name gets the EXR and the preview beside it.
+  const std::string out = a.out.empty() ? "out/" + std::filesystem::path(a.scene).stem().string() + ".exr" : a.out;
+  const bool pngOnly = endsWithPng(out);
+  const std::string exr = pngOnly ? "" : out;
+  const std::string png = pngOnly ? out : std::filesystem::path(out).replace_extension(".png").string();
+  OutputSet outputs;
+  const auto claim = [&](const std::string& target, const char* what) {
+    std::error_code ec;
+    for (const std::string& input : {a.scene, a.reference})
+      if (!input.empty() && std::filesystem::equivalent(target, input, ec))
+        throw InputError(target, "", std::string("the ") + what + " would overwrite an input of this run");
+    outputs.add(target, what);
+  };
+  if (!exr.empty()) claim(exr, "image");
+  claim(png, "preview");
+  if (!a.stats.empty()) claim(a.stats, "stats");
+  if (!a.report.empty()) claim(a.report, "report");
 
   Renderer renderer(scene, options);
   ProgressReporter progress(!a.quiet, scene.samplesPerPixel);
   const Film film = renderer.render([&](uint64_t d, uint64_t t, int s) { progress.update(d, t, s); });
   progress.finish();
 
-  writeExr(out, film);
-  writePngPreview(png, film);
+  if (!exr.empty()) outputs.write(exr, [&](const std::string& tmp) { writeExr(tmp, film); });
+  outputs.write(png, [&](const std::string& tmp) { writePngPreview(tmp, film); });
   if (!a.stats.empty() || !a.report.empty()) {
     const RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
                       secondsSince(wall0)};
     const auto stats = statsToJson(scene, options, renderer.stats(), run);
-    if (!a.stats.empty()) writeTextAtomically(a.stats, stats.dump(2) + "\n");
+    if (!a.stats.empty()) outputs.writeText(a.stats, stats.dump(2) + "\n");
     if (!a.report.empty()) {
-      const auto rel = std::filesystem::proximate(png, std::filesystem::path(a.report).parent_path().empty()
-                                                           ? std::filesystem::path(".")
-                                                           : std::filesystem::path(a.report).parent_path());
-      writeTextAtomically(a.report, htmlReport(stats, rel.string()));
+      const auto reportDir = std::filesystem::path(a.report).parent_path();
+      const auto rel = std::filesystem::proximate(png, reportDir.empty() ? std::filesystem::path(".") : reportDir);
+      outputs.writeText(a.report, htmlReport(stats, rel.string()));
     }
   }
-  if (!a.quiet) std::fprintf(stderr, "rayes: wrote %s and %s (%.2fs)\n", out.c_str(), png.c_str(), secondsSince(wall0));
+  outputs.commit();
+  if (!a.quiet) {
+    const std::string what = exr.empty() ? png : exr + " and " + png;
+    std::fprintf(stderr, "rayes: wrote %s (%.2fs)\n", what.c_str(), secondsSince(wall0));
+  }
   return 0;
 }
 
@@ -122,10 +164,12 @@ int runCommandLine(int argc, char** argv) {
   CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md)");
   r->add_option("scene", a.scene, "the scene file")->required();
   r->add_option("-o,--output", a.out, "output OpenEXR (beauty RGBA, depth, normal, lod); a PNG preview is written "
-                                      "beside it (default: out/<scene>.exr)");
-  r->add_option("--spp", a.spp, "samples per pixel (default: the scene's)");
-  r->add_option("--res", a.res, "resolution WIDTHxHEIGHT (default: the scene's)");
-  r->add_option("--threads", a.threads, "worker threads (default: all cores)");
+                                      "beside it (default: out/<scene>.exr). A name ending in .png writes the "
+                                      "preview alone, no EXR. Outputs are all or nothing: on any failure none "
+                                      "is left");
+  r->add_option("--spp", a.spp, "samples per pixel, 1..2^20 (default: the scene's)");
+  r->add_option("--res", a.res, "resolution WIDTHxHEIGHT, at most 2^28 pixels (default: the scene's)");
+  r->add_option("--threads", a.threads, "worker threads, 0..4096 (default 0: all cores)");
   r->add_option("--stats", a.stats, "write render statistics as JSON to this file (docs/stats.md)");
   r->add_option("--report", a.report, "write a readable HTML report of the same statistics: time and memory "
                                       "breakdown, dicing per generation, what was used and skipped");
@@ -141,7 +185,7 @@ int runCommandLine(int argc, char** argv) {
       ->check(CLI::IsMember({"sorted", "alone"}));
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
                                             "RMSE after every pass against time (error_vs_time)");
-  r->add_option("--seed", a.seed, "random seed (default: the scene's, else 0)");
+  r->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
   r->add_flag("-q,--quiet", a.quiet, "no progress output");
 
   try {

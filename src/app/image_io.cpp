@@ -1,9 +1,8 @@
 #include "app/image_io.h"
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
-#include <filesystem>
-#include <memory>
-#include <unistd.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -11,22 +10,10 @@
 #include <ImfOutputFile.h>
 #include <png.h>
 #include "core/error.h"
+#include "scene/exr_input.h"
 
 namespace rayes {
 namespace {
-
-std::string temporaryName(const std::string& path) {
-  return path + ".tmp-" + std::to_string(::getpid());
-}
-
-void commit(const std::string& tmp, const std::string& path) {
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path, "", "cannot write output: " + ec.message());
-  }
-}
 
 uint8_t toSrgb8(float v) {
   if (!(v > 0)) return 0;
@@ -41,41 +28,60 @@ void writeExr(const std::string& path, const Film& film) {
   const int w = film.width(), h = film.height();
   const std::vector<float> rgba = film.beautyRgba(), depth = film.depth(), normal = film.normal(), lod = film.lod();
   const std::vector<float> albedo = film.albedo(), material = film.materialId(), samples = film.sampleCount();
-  const std::string tmp = temporaryName(path);
-  try {
-    Imf::Header header(w, h);
-    const char* names[] = {"R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "lod.Y",
-                           "albedo.R", "albedo.G", "albedo.B", "materialId.Y", "samples.Y"};
-    for (const char* c : names) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-    Imf::FrameBuffer fb;
-    const size_t f = sizeof(float);
-    auto slice = [&](const float* base, size_t stride) {
-      return Imf::Slice(Imf::FLOAT, (char*)base, f * stride, f * stride * size_t(w));
-    };
-    fb.insert("R", slice(rgba.data() + 0, 4));
-    fb.insert("G", slice(rgba.data() + 1, 4));
-    fb.insert("B", slice(rgba.data() + 2, 4));
-    fb.insert("A", slice(rgba.data() + 3, 4));
-    fb.insert("depth.Z", slice(depth.data(), 1));
-    fb.insert("normal.X", slice(normal.data() + 0, 3));
-    fb.insert("normal.Y", slice(normal.data() + 1, 3));
-    fb.insert("normal.Z", slice(normal.data() + 2, 3));
-    fb.insert("lod.Y", slice(lod.data(), 1));
-    fb.insert("albedo.R", slice(albedo.data() + 0, 3));
-    fb.insert("albedo.G", slice(albedo.data() + 1, 3));
-    fb.insert("albedo.B", slice(albedo.data() + 2, 3));
-    fb.insert("materialId.Y", slice(material.data(), 1));
-    fb.insert("samples.Y", slice(samples.data(), 1));
-    Imf::OutputFile file(tmp.c_str(), header);
-    file.setFrameBuffer(fb);
-    file.writePixels(h);
-  } catch (const std::exception& e) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path, "", std::string("cannot write EXR: ") + e.what());
-  }
-  commit(tmp, path);
+  Imf::Header header(w, h);
+  const char* names[] = {"R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "lod.Y",
+                         "albedo.R", "albedo.G", "albedo.B", "materialId.Y", "samples.Y"};
+  for (const char* c : names) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+  Imf::FrameBuffer fb;
+  const size_t f = sizeof(float);
+  auto slice = [&](const float* base, size_t stride) {
+    return Imf::Slice(Imf::FLOAT, (char*)base, f * stride, f * stride * size_t(w));
+  };
+  fb.insert("R", slice(rgba.data() + 0, 4));
+  fb.insert("G", slice(rgba.data() + 1, 4));
+  fb.insert("B", slice(rgba.data() + 2, 4));
+  fb.insert("A", slice(rgba.data() + 3, 4));
+  fb.insert("depth.Z", slice(depth.data(), 1));
+  fb.insert("normal.X", slice(normal.data() + 0, 3));
+  fb.insert("normal.Y", slice(normal.data() + 1, 3));
+  fb.insert("normal.Z", slice(normal.data() + 2, 3));
+  fb.insert("lod.Y", slice(lod.data(), 1));
+  fb.insert("albedo.R", slice(albedo.data() + 0, 3));
+  fb.insert("albedo.G", slice(albedo.data() + 1, 3));
+  fb.insert("albedo.B", slice(albedo.data() + 2, 3));
+  fb.insert("materialId.Y", slice(material.data(), 1));
+  fb.insert("samples.Y", slice(samples.data(), 1));
+  Imf::OutputFile file(path.c_str(), header);
+  file.setFrameBuffer(fb);
+  file.writePixels(h);
 }
+
+namespace {
+
+struct PngErrorText {
+  char message[200] = "";
+};
+void pngError(png_structp png, png_const_charp msg) {
+  std::snprintf(static_cast<PngErrorText*>(png_get_error_ptr(png))->message, sizeof(PngErrorText::message), "%s", msg);
+  png_longjmp(png, 1);
+}
+void pngWarning(png_structp, png_const_charp) {}
+
+// Holds libpng's setjmp: only trivially destructible locals here, so its longjmp skips no
+// C++ destructor.
+bool writePngRows(png_structp png, png_infop info, FILE* fp, const uint8_t* rgb, int w, int h) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_init_io(png, fp);
+  png_set_IHDR(png, info, png_uint_32(w), png_uint_32(h), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+  png_write_info(png, info);
+  for (int y = 0; y < h; ++y) png_write_row(png, rgb + size_t(y) * size_t(w) * 3);
+  png_write_end(png, nullptr);
+  return true;
+}
+
+}  // namespace
 
 void writePngPreview(const std::string& path, const Film& film) {
   const int w = film.width(), h = film.height();
@@ -83,36 +89,23 @@ void writePngPreview(const std::string& path, const Film& film) {
   std::vector<uint8_t> rgb(size_t(w) * h * 3);
   for (size_t p = 0; p < size_t(w) * h; ++p)
     for (int c = 0; c < 3; ++c) rgb[3 * p + c] = toSrgb8(rgba[4 * p + c]);
-  const std::string tmp = temporaryName(path);
-  FILE* fp = std::fopen(tmp.c_str(), "wb");
-  if (!fp) throw InputError(path, "", "cannot open for writing");
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  FILE* fp = std::fopen(path.c_str(), "wb");
+  if (!fp) throw std::runtime_error(std::strerror(errno));
+  PngErrorText error;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, pngError, pngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
-  volatile bool ok = png && info;  // volatile: survives libpng's longjmp
-  if (ok && setjmp(png_jmpbuf(png))) ok = false;
-  else if (ok) {
-    png_init_io(png, fp);
-    png_set_IHDR(png, info, w, h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
-    png_write_info(png, info);
-    for (int y = 0; y < h; ++y) png_write_row(png, rgb.data() + size_t(y) * w * 3);
-    png_write_end(png, nullptr);
-  }
+  const bool ok = png && info && writePngRows(png, info, fp, rgb.data(), w, h);
   if (png) png_destroy_write_struct(&png, info ? &info : nullptr);
-  const bool closed = std::fclose(fp) == 0;
-  if (!ok || !closed) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path, "", "cannot write PNG");
-  }
-  commit(tmp, path);
+  int err = std::ferror(fp) ? errno : 0;
+  if (std::fclose(fp) != 0 && err == 0) err = errno;
+  if (err) throw std::runtime_error(std::strerror(err));
+  if (!ok) throw std::runtime_error(std::string("PNG: ") + (error.message[0] ? error.message : "libpng failed"));
 }
 
 std::vector<float> readExrRgb(const std::string& path, int& width, int& height) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "", "cannot open reference image");
+  const auto in = openExrInput(path, "reference image");
   try {
-    Imf::InputFile file(path.c_str());
+    Imf::InputFile& file = *in;
     const Imath::Box2i dw = file.header().dataWindow();
     width = dw.max.x - dw.min.x + 1;
     height = dw.max.y - dw.min.y + 1;

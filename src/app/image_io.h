@@ -1,5 +1,6 @@
-// Image files. Outputs are written to a temporary name beside the target and renamed into
-// place only when complete, so a failed or interrupted run never leaves a half-written file.
+// Image files. The writers write straight to `path` (the command line gives them an
+// OutputSet's temporaries, which makes them all-or-nothing) and throw std::exception with the
+// system's or the library's reason on failure.
 #pragma once
 #include <string>
 #include <vector>

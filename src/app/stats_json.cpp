@@ -1,7 +1,4 @@
 #include "app/stats_json.h"
-#include <filesystem>
-#include <fstream>
-#include <unistd.h>
 #include "core/error.h"
 #include "core/memory.h"
 
@@ -100,25 +97,6 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
     j["error_vs_time"] = curve;
   }
   return j;
-}
-
-void writeTextAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out.flush()) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw InputError(path, "", "cannot write file");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw InputError(path, "", "cannot write file: " + ec.message());
-  }
 }
 
 }  // namespace rayes

@@ -1,6 +1,6 @@
 // The stats file (--stats FILE.json): what the render did, where time and memory went, and
 // what was left out because the scene did not need it. Field names are documented in
-// docs/stats.md; the file is written atomically like every output.
+// docs/stats.md; the file is written with the other outputs, all or nothing (app/output_set.h).
 #pragma once
 #include <string>
 #include <nlohmann/json.hpp>
@@ -18,6 +18,5 @@ struct RunInfo {
 
 nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, const RenderStats& stats,
                            const RunInfo& run);
-void writeTextAtomically(const std::string& path, const std::string& text);
 
 }  // namespace rayes

@@ -1,6 +1,9 @@
-// Reads a whole input file into memory. A missing or unreadable file is bad input: an
-// InputError naming the file (what = "scene file", "OBJ file", ...).
+// Opening and reading input files. A missing, unreadable or directory path is bad input: an
+// InputError naming the file (what = "scene file", "OBJ file", ...) with the system's reason.
 #pragma once
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -8,7 +11,21 @@
 
 namespace rayes {
 
+// Throws unless `path` is a file that can be opened for reading; returns its size in bytes
+// (so that counts claimed by a header can be checked against it before allocating).
+inline uint64_t checkInputFile(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) throw InputError(path, "", what + " is a directory");
+  std::ifstream probe(path, std::ios::binary);
+  const int err = errno;
+  if (!probe) throw InputError(path, "", "cannot open " + what + ": " + std::strerror(err));
+  const auto size = std::filesystem::file_size(path, ec);
+  return ec ? 0 : uint64_t(size);
+}
+
 inline std::string readTextFile(const std::string& path, const std::string& what) {
+  checkInputFile(path, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open " + what);
   std::ostringstream ss;

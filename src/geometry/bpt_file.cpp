@@ -5,6 +5,7 @@
 #include <fstream>
 #include <string_view>
 #include "core/error.h"
+#include "core/text_file.h"
 #include "geometry/bezier_patch.h"
 
 namespace rayes {
@@ -12,8 +13,14 @@ namespace {
 
 class LineReader {
  public:
-  explicit LineReader(const std::string& path) : path_(path), in_(path) {
+  explicit LineReader(const std::string& path) : path_(path), bytes_(checkInputFile(path, "Bézier patch file")), in_(path) {
     if (!in_) throw InputError(path_, "", "cannot open Bézier patch file");
+  }
+  // A count in the header must fit the file: each item takes at least `minBytes` bytes.
+  void checkCountFits(long count, uint64_t minBytes, const char* what) const {
+    if (uint64_t(count) > bytes_ / minBytes)
+      fail("the file claims " + std::to_string(count) + " " + what + ", but its " + std::to_string(bytes_) +
+           " bytes hold at most " + std::to_string(bytes_ / minBytes));
   }
   // Next non-blank line; throws at end of file, naming what was expected.
   std::string_view next(const char* expected) {
@@ -39,6 +46,7 @@ class LineReader {
 
  private:
   std::string path_;
+  uint64_t bytes_;
   std::ifstream in_;
   std::string line_;
   int lineNo_ = 0;
@@ -60,6 +68,7 @@ void parseFields(LineReader& r, std::string_view line, T* out, int count, const 
     const std::string_view field = trim(line.substr(0, comma));
     line = comma == std::string_view::npos ? std::string_view() : line.substr(comma + 1);
     const auto res = std::from_chars(field.data(), field.data() + field.size(), out[k]);
+    if (res.ec == std::errc::result_out_of_range) r.fail("number '" + std::string(field) + "' is out of range");
     if (res.ec != std::errc() || res.ptr != field.data() + field.size() || field.empty())
       r.fail("malformed number '" + std::string(field) + "'");
     if constexpr (std::is_floating_point_v<T>) {
@@ -80,6 +89,7 @@ long parseCount(LineReader& r, std::string_view line, const char* what) {
 std::vector<std::array<Vec3, 16>> loadBezierPatchFile(const std::string& path) {
   LineReader r(path);
   const long patchCount = parseCount(r, r.next("the patch count"), "patch count");
+  r.checkCountFits(patchCount, 32, "patches");  // 16 indices, 15 commas, a newline
   std::vector<std::array<long, 16>> indices(static_cast<size_t>(patchCount));
   std::vector<int> indexLines(static_cast<size_t>(patchCount));
   for (auto& idx : indices) {
@@ -87,6 +97,7 @@ std::vector<std::array<Vec3, 16>> loadBezierPatchFile(const std::string& path) {
     indexLines[&idx - indices.data()] = r.lineNo();
   }
   const long pointCount = parseCount(r, r.next("the point count"), "point count");
+  r.checkCountFits(pointCount, 6, "points");  // "x,y,z" and a newline
   std::vector<Vec3> points(static_cast<size_t>(pointCount));
   for (Vec3& p : points) {
     float xyz[3];

@@ -13,6 +13,7 @@
 #include <cstring>
 #include "geometry/displaced_patch.h"
 #include "geometry/displacement.h"
+#include "scene/exr_input.h"
 #include "scene/shape_kinds.h"
 
 namespace rayes {
@@ -23,8 +24,14 @@ std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::s
                                                 const std::filesystem::path& path, const std::string& wanted) {
   int width = 0, height = 0;
   std::vector<float> texels;
+  std::unique_ptr<Imf::InputFile> in;
   try {
-    Imf::InputFile file(path.c_str());
+    in = openExrInput(path, "height map");
+  } catch (const InputError& e) {
+    r.fail(ptr + "/file", e.message());
+  }
+  try {
+    Imf::InputFile& file = *in;
     const Imf::ChannelList& channels = file.header().channels();
     std::string name = wanted;
     if (name.empty()) {
@@ -39,8 +46,6 @@ std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::s
     const Imath::Box2i dw = file.header().dataWindow();
     width = dw.max.x - dw.min.x + 1;
     height = dw.max.y - dw.min.y + 1;
-    if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
-      r.fail(ptr + "/file", "height map '" + path.string() + "' has an unsupported size");
     texels.assign(size_t(width) * size_t(height), 0.0f);
     Imf::FrameBuffer fb;
     char* base = reinterpret_cast<char*>(texels.data()) -
@@ -102,6 +107,7 @@ DisplacementPtr readDisplacement(const ShapeContext& ctx) {
     const std::string f = r.string(r.member(d, p, "file"), p + "/file");
     const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : ctx.sceneDir / f;
     if (!std::filesystem::exists(fp)) r.fail(p + "/file", "cannot open height map '" + fp.string() + "'");
+    if (std::filesystem::is_directory(fp)) r.fail(p + "/file", "height map '" + fp.string() + "' is a directory");
     const std::string channel = d.contains("channel") ? r.string(d["channel"], p + "/channel") : "";
     auto map = readHeightMap(r, p, fp, channel);
     return std::make_shared<HeightMapDisplacement>(std::move(map), float(amplitude), float(offset));

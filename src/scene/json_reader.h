@@ -19,7 +19,7 @@ using json = nlohmann::json;
 // the JSON pointer of the offending value.
 class JsonReader {
  public:
-  JsonReader(std::string file, const std::string& text) : file_(std::move(file)), pos_(text) {}
+  JsonReader(std::string file, std::string_view text) : file_(std::move(file)), pos_(text) {}
 
   [[noreturn]] void fail(const std::string& ptr, const std::string& msg) const {
     throw InputError(file_, pos_.place(ptr), (ptr.empty() ? "/" : ptr) + ": " + msg);

@@ -65,6 +65,7 @@ class ObjParser {
     const char* b = t.data();
     if (!t.empty() && t[0] == '+') ++b;
     const auto [p, ec] = std::from_chars(b, t.data() + t.size(), v);
+    if (ec == std::errc::result_out_of_range) fail("number '" + std::string(t) + "' is out of range for a float");
     if (ec != std::errc() || p != t.data() + t.size()) fail("malformed number '" + std::string(t) + "'");
     if (!std::isfinite(v)) fail("number '" + std::string(t) + "' is not finite");
     return v;

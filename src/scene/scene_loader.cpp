@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 #include "core/text_file.h"
+#include "scene/json_document.h"
 #include "scene/scene_sections.h"
 
 namespace rayes {
@@ -77,21 +78,9 @@ void readIntegrator(const JsonReader& r, const json& j, Scene& scene) {
 
 }  // namespace
 
-Scene parseScene(const std::string& text, const std::string& path) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // e.byte is 1-based: the offset just past where the parser stopped.
-    size_t line = 1, col = 1;
-    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') { ++line; col = 1; } else { ++col; }
-    }
-    std::string msg = e.what();
-    const auto at = msg.find("syntax error");
-    throw InputError(path, std::to_string(line) + ":" + std::to_string(col),
-                     "JSON " + (at == std::string::npos ? msg : msg.substr(at)));
-  }
+Scene parseScene(const std::string& fileText, const std::string& path) {
+  const std::string_view text = withoutByteOrderMark(fileText);
+  const json doc = parseJsonDocument(text, path);
   JsonReader r(path, text);
   r.object(doc, "", {"camera", "film", "integrator", "materials", "lights", "shapes"});
   Scene scene;

@@ -9,6 +9,7 @@ std::filesystem::path ShapeContext::file(const char* key) const {
   const std::string f = reader.string(reader.member(shape, ptr, key), ptr + "/" + key);
   const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : sceneDir / f;
   if (!std::filesystem::exists(fp)) reader.fail(ptr + "/" + key, "cannot open file '" + fp.string() + "'");
+  if (std::filesystem::is_directory(fp)) reader.fail(ptr + "/" + key, "'" + fp.string() + "' is a directory");
   return fp;
 }
 

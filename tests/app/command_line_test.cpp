@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include "app/command_line.h"
 #include "render_fixtures.h"
+#include "support/temp_folder.h"
 
 namespace rayes {
 namespace {
@@ -19,27 +20,13 @@ RunResult run(std::vector<std::string> args) { return testing::runRayes(std::mov
 
 class CommandLine : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rayes-cli-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+  std::string path(const std::string& name) const { return temp_.path(name); }
+  std::string write(const std::string& name, const std::string& text) const { return temp_.write(name, text); }
+  bool dirHasOnly(std::vector<std::string> names) const {
+    std::sort(names.begin(), names.end());
+    return temp_.entries() == names;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
-  bool dirHasOnly(std::initializer_list<std::string> names) const {
-    size_t n = 0;
-    for (const auto& e : fs::directory_iterator(dir_)) {
-      (void)e;
-      ++n;
-    }
-    return n == names.size();
-  }
-  fs::path dir_;
+  testing::TempFolder temp_;
 };
 
 const std::string kScene = std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.json";
@@ -94,6 +81,17 @@ TEST_F(CommandLine, ReferenceGivesErrorAgainstTime) {
   ASSERT_EQ(curve.size(), 3u);  // passes end at 1, 2, 4 spp
   EXPECT_EQ(curve[2]["spp"].get<int>(), 4);
   EXPECT_GT(curve[0]["rmse"].get<double>(), 0.0);
+}
+
+// -o NAME.png asks for the preview alone: no EXR is written (not even over the PNG).
+TEST_F(CommandLine, PngOutputWritesThePreviewAlone) {
+  const RunResult r = run({"render", kScene, "--spp", "1", "--res", "8x6", "-o", path("p.png"), "-q"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(dirHasOnly({"p.png"}));
+  std::ifstream in(path("p.png"), std::ios::binary);
+  char magic[8] = {};
+  in.read(magic, 8);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
 }
 
 TEST_F(CommandLine, MissingSceneIsExit2WithNothingWritten) {

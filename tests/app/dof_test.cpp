@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include <gtest/gtest.h>
 #include "render_fixtures.h"
+#include "support/temp_folder.h"
 
 namespace rayes {
 namespace {
@@ -34,15 +35,8 @@ std::string emitterScene(double z, const std::string& lens) {
 
 class ThinLens : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rayes-dof-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::vector<float> render(const std::string& json, int spp) {
-    std::ofstream((dir_ / "s.json").string()) << json;
-    Scene s = loadScene((dir_ / "s.json").string());
+    Scene s = loadScene(temp_.write("s.json", json));
     s.samplesPerPixel = spp;
     RenderOptions options;
     options.rayMemoryBytes = size_t(64) << 20;
@@ -61,7 +55,7 @@ class ThinLens : public ::testing::Test {
     if (energy) *energy = e;
     return m / e;
   }
-  fs::path dir_;
+  testing::TempFolder temp_;
 };
 
 TEST_F(ThinLens, ApertureZeroIsThePinhole) {

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/transform.h"
 #include "render_fixtures.h"
+#include "support/temp_folder.h"
 
 namespace rayes {
 namespace {
@@ -43,16 +44,7 @@ std::string movingSquare(const std::string& shutter, const std::string& times = 
 
 class Motion : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("rayes-motion-" + std::to_string(::getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream((dir_ / name).string()) << text;
-    return (dir_ / name).string();
-  }
+  std::string write(const std::string& name, const std::string& text) const { return temp_.write(name, text); }
   // Red channel of a render of `json` with `spp` samples per pixel and seed `seed`.
   std::vector<double> render(const std::string& json, int spp, int seed, RenderStats* stats = nullptr) {
     Scene s = loadScene(write("scene.json", json));
@@ -66,7 +58,8 @@ class Motion : public ::testing::Test {
     for (size_t i = 0; i < red.size(); ++i) red[i] = rgba[4 * i];
     return red;
   }
-  fs::path dir_;
+  testing::TempFolder temp_;
+  const fs::path& dir_ = temp_.dir();
 };
 
 // The square as a still, static scene (no motion key) at time t of the keyframes below: its

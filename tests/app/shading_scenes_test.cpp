@@ -14,20 +14,13 @@
 #include "app/command_line.h"
 #include "app/image_io.h"
 #include "render_fixtures.h"
+#include "support/temp_folder.h"
 #include "scene/texture_reader.h"
 
 namespace rayes {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-fs::path tempDir() {
-  const fs::path d = fs::temp_directory_path() / ("rayes-shading-" + std::to_string(::getpid()) + "-" +
-                                                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 Scene small(const std::string& name, int w, int h, int spp) {
   Scene s = loadScene(testing::sourcePath("scenes/" + name));
@@ -67,7 +60,8 @@ TEST(ShadingScenes, OrderIndependenceWithGlassTexturesAndEnvironment) {
 }
 
 TEST(ShadingScenes, ExrHasAovs) {
-  const fs::path dir = tempDir();
+  const testing::TempFolder temp;
+  const fs::path& dir = temp.dir();
   const Scene s = small("cornell-box.json", 8, 8, 3);
   ThreadLimit limit(2);
   Renderer r(s, RenderOptions{});
@@ -92,7 +86,8 @@ TEST(ShadingScenes, ExrHasAovs) {
 }
 
 TEST(ShadingTextures, ExrAndPngImagesReadBack) {
-  const fs::path dir = tempDir();
+  const testing::TempFolder temp;
+  const fs::path& dir = temp.dir();
   // A film whose mean is a known gradient: one sample per pixel.
   Film film(5, 3);
   for (uint32_t p = 0; p < 15; ++p) {
@@ -120,7 +115,8 @@ using testing::RunResult;
 RunResult run(std::vector<std::string> args) { return testing::runRayes(std::move(args)); }
 
 TEST(ShadingInput, BadMaterialsLightsAndTexturesAreExit2) {
-  const fs::path dir = tempDir();
+  const testing::TempFolder temp;
+  const fs::path& dir = temp.dir();
   std::ofstream(dir / "garbage.png") << "not a png";
   const std::string head = R"({"camera": {"position": [0, -5, 1], "look_at": [0, 0, 0], "up": [0, 0, 1]},
     "film": {"resolution": [4, 4], "spp": 1}, "shapes": [{"type": "bilinear", "material": "m",

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "geometry/bezier_patch.h"
 #include "support/patch_test_util.h"
+#include "support/temp_folder.h"
 
 namespace rayes {
 namespace {
@@ -22,11 +23,7 @@ TEST(BptFile, LoadsTheTeapot) {
 class BptFileErrors : public ::testing::Test {
  protected:
   std::string write(const std::string& content) {
-    const auto dir = std::filesystem::temp_directory_path() / "rayes_dicing_test";
-    std::filesystem::create_directories(dir);
-    const std::string path = (dir / (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".bpt")).string();
-    std::ofstream(path) << content;
-    return path;
+    return temp_.write("patches.bpt", content);
   }
   // The line named by the InputError thrown for `content`.
   std::string errorPlace(const std::string& content) {
@@ -41,6 +38,7 @@ class BptFileErrors : public ::testing::Test {
     return "";
   }
   static std::string indices(const std::string& last) { return "1,1,1,1,1,1,1,1,1,1,1,1,1,1,1," + last + "\n"; }
+  testing::TempFolder temp_;
 };
 
 TEST_F(BptFileErrors, MissingFile) {
@@ -70,10 +68,25 @@ TEST_F(BptFileErrors, IndexOutOfRange) {
 }
 
 TEST_F(BptFileErrors, WrongCounts) {
-  EXPECT_EQ(errorPlace("2\n" + indices("2") + "2\n0,0,0\n1,2,3\n"), "line 3");      // "2" read as indices
+  EXPECT_EQ(errorPlace("2\n" + indices("2") + "5\n0,0,0\n0,0,0\n0,0,0\n0,0,0\n1,2,3\n"), "line 3");  // "5" read as indices
   EXPECT_EQ(errorPlace("1\n" + indices("2") + "3\n0,0,0\n1,2,3\n"), "line 6");      // EOF
   EXPECT_EQ(errorPlace("1\n" + indices("2") + "1\n0,0,0\n1,2,3\n"), "line 5");      // extra point
   EXPECT_EQ(errorPlace(""), "line 1");
+}
+
+// A header count is checked against the file's size before anything is allocated: a patch
+// line takes at least 32 bytes, a point line 6.
+TEST_F(BptFileErrors, CountsTheFileCannotHoldAreRefusedAtTheHeader) {
+  const std::string path = write("100000000\n" + indices("2") + "2\n0,0,0\n1,2,3\n");
+  try {
+    loadBezierPatchFile(path);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.place(), "line 1");
+    EXPECT_NE(std::string(e.what()).find("claims 100000000 patches"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(errorPlace("2\n" + indices("2") + "2\n0,0,0\n1,2,3\n"), "line 1");  // 48 bytes hold one patch line
+  EXPECT_EQ(errorPlace("1\n" + indices("2") + "9\n0,0,0\n1,2,3\n"), "line 3");  // 48 bytes hold 8 point lines
 }
 
 }  // namespace

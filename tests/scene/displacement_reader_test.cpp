@@ -4,14 +4,12 @@
 #include <gmock/gmock.h>
 #include <filesystem>
 #include <unistd.h>
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfOutputFile.h>
 #include "core/error.h"
 #include "geometry/displaced_patch.h"
 #include "scene/scene_loader.h"
 #include "scene_text.h"
+#include "support/exr_test_file.h"
+#include "support/temp_folder.h"
 
 namespace rayes {
 namespace {
@@ -19,21 +17,7 @@ using ::testing::HasSubstr;
 
 using test::errorOf;
 
-std::filesystem::path tempDir() {
-  const auto d = std::filesystem::temp_directory_path() / ("rayes_displacement_test_" + std::to_string(getpid()));
-  std::filesystem::create_directories(d);
-  return d;
-}
-
-void writeExr(const std::string& path, int w, int h, const char* channel, const std::vector<float>& data) {
-  Imf::Header header(w, h);
-  header.channels().insert(channel, Imf::Channel(Imf::FLOAT));
-  Imf::FrameBuffer fb;
-  fb.insert(channel, Imf::Slice(Imf::FLOAT, (char*)data.data(), sizeof(float), sizeof(float) * size_t(w)));
-  Imf::OutputFile file(path.c_str(), header);
-  file.setFrameBuffer(fb);
-  file.writePixels(h);
-}
+using testing::writeOneChannelExr;
 
 TEST(DisplacementReader, NoiseWrapsEveryPatch) {
   const Scene s = parseScene(test::minimalScene(R"(, "displacement": {"type": "noise", "amplitude": 0.5, "frequency": 2,
@@ -58,8 +42,9 @@ TEST(DisplacementReader, TransformedShapeKeepsItsPattern) {
 }
 
 TEST(DisplacementReader, HeightMapFromExr) {
-  const auto dir = tempDir();
-  writeExr((dir / "h.exr").string(), 4, 3, "Y", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
+  const testing::TempFolder temp;
+  const auto& dir = temp.dir();
+  writeOneChannelExr((dir / "h.exr").string(), 4, 3, "Y", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
   const Scene s = parseScene(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + (dir / "h.exr").string() +
                                        R"(", "amplitude": 0.1, "offset": -0.5})"),
                              "ok.json");
@@ -88,7 +73,8 @@ TEST(DisplacementReader, MissingHeightMapNamesTheFileAndPlace) {
 }
 
 TEST(DisplacementReader, UnreadableHeightMapNamesTheFile) {
-  const auto dir = tempDir();
+  const testing::TempFolder temp;
+  const auto& dir = temp.dir();
   const std::string path = (dir / "broken.exr").string();
   FILE* f = std::fopen(path.c_str(), "w");
   std::fputs("not an exr", f);
@@ -96,7 +82,7 @@ TEST(DisplacementReader, UnreadableHeightMapNamesTheFile) {
   const std::string e = errorOf(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + path + R"("})"));
   EXPECT_THAT(e, HasSubstr("cannot read height map"));
   EXPECT_THAT(e, HasSubstr("broken.exr"));
-  writeExr((dir / "rgb.exr").string(), 2, 2, "G", {0, 1, 2, 3});
+  writeOneChannelExr((dir / "rgb.exr").string(), 2, 2, "G", {0, 1, 2, 3});
   const std::string e2 = errorOf(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + (dir / "rgb.exr").string() +
                                            R"(", "channel": "Z"})"));
   EXPECT_THAT(e2, HasSubstr("no channel 'Z'"));

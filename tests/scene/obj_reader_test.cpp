@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_loader.h"
+#include "support/temp_folder.h"
 
 namespace rayes {
 namespace {
@@ -90,18 +91,7 @@ TEST(ObjReader, MissingFileIsNamed) {
 // The "subdiv" shape in a scene, with its OBJ in a temporary directory.
 class SubdivScene : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("rayes_obj_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
-  }
+  std::string write(const std::string& name, const std::string& text) { return temp_.write(name, text); }
   std::string scene(const std::string& shape) {
     return R"({
   "camera": {"position": [0, -6, 1], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 40},
@@ -118,7 +108,8 @@ class SubdivScene : public ::testing::Test {
     }
     return "no error";
   }
-  std::filesystem::path dir_;
+  testing::TempFolder temp_;
+  const std::filesystem::path& dir_ = temp_.dir();
 };
 
 TEST_F(SubdivScene, FileFormLoads) {
