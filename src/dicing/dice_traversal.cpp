@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include "core/box4.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
 #include "dicing/morton.h"
@@ -50,29 +51,25 @@ struct StackEntry {
 constexpr int kStackSize = 1 + 3 * 12 + 3;
 
 // The ray of one traversal, prepared once for 4-wide slab tests on a node group (the 4
-// children of a node, SoA, see DiceBuffer::nodes_). It performs core/box.h intersectBox's
-// arithmetic operation for operation on the margin-padded boxes, so every lane gives exactly
-// the bits intersectBox would: near plane = (plane + signedPad - org) * invDir (x - m equals
-// x + (-m) in IEEE arithmetic), far plane the same times 1 + 2*gamma(3); entry = tn > t0 ? tn :
-// t0 is _mm_max_ps(tn, t0) and exit = tf < t1 ? tf : t1 is _mm_min_ps(tf, t1), NaN cases
-// included. Per ray the only choice left is which of lo/hi is the near plane per axis.
+// children of a node, SoA, see DiceBuffer::nodes_): core/box4.h's test on the margin-padded
+// boxes, so every lane gives exactly the bits intersectBox gives on `lo - margin, hi + margin`
+// (x - m equals x + (-m) in IEEE arithmetic). Per ray the only choice left is which of lo/hi is
+// the near plane per axis.
 struct GroupRay {
   int nearOff[3], farOff[3];  // float offsets of the near/far plane lanes within a group
-  __m128 nearPad[3], farPad[3], org[3], inv[3];
-  __m128 tmin, scale;
+  __m128 nearPad[3], farPad[3];
+  RayBox4Query ray;
+  __m128 tmin;
 
-  GroupRay(const RayBoxQuery& q, float margin, float tMin) {
+  GroupRay(const RayBoxQuery& q, float margin, float tMin) : ray(q) {
     for (int a = 0; a < 3; ++a) {
       const bool neg = q.sign[a] != 0;  // near plane is hi
       nearOff[a] = 8 * a + (neg ? 4 : 0);
       farOff[a] = 8 * a + (neg ? 0 : 4);
       nearPad[a] = _mm_set1_ps(neg ? margin : -margin);
       farPad[a] = _mm_set1_ps(neg ? -margin : margin);
-      org[a] = _mm_set1_ps(q.org[a]);
-      inv[a] = _mm_set1_ps(q.invDir[a]);
     }
     tmin = _mm_set1_ps(tMin);
-    scale = _mm_set1_ps(1.0f + 2.0f * gammaBound(3));
   }
 
   // Bit c set: child c is crossed within [tmin, tCull]; tEntry[c] its entry distance.
@@ -97,30 +94,33 @@ struct GroupRay {
   }
 
  private:
-  // The slab arithmetic of intersectBox, 4 lanes at once, on the near and far planes of each
-  // axis: the one place its conservative rounding lives for both box tests.
   int slabs(const __m128 n[3], const __m128 f[3], float tCull, __m128& tEntry) const {
-    __m128 t0 = tmin, t1 = _mm_set1_ps(tCull);
+    __m128 nearPlane[3], farPlane[3], tExit;
     for (int a = 0; a < 3; ++a) {
-      const __m128 tn = _mm_mul_ps(_mm_sub_ps(_mm_add_ps(n[a], nearPad[a]), org[a]), inv[a]);
-      const __m128 tf = _mm_mul_ps(_mm_mul_ps(_mm_sub_ps(_mm_add_ps(f[a], farPad[a]), org[a]), inv[a]), scale);
-      t0 = _mm_max_ps(tn, t0);
-      t1 = _mm_min_ps(tf, t1);
+      nearPlane[a] = _mm_add_ps(n[a], nearPad[a]);
+      farPlane[a] = _mm_add_ps(f[a], farPad[a]);
     }
-    tEntry = t0;
-    return _mm_movemask_ps(_mm_cmple_ps(t0, t1));
+    return int(intersectBox4(ray, nearPlane, farPlane, tmin, _mm_set1_ps(tCull), tEntry, tExit));
   }
 };
 
 inline Vec3 lerpPoint(Vec3 a, Vec3 b, float w0, float w1) { return a * w0 + b * w1; }
 
-// Unit bilinear blend of a quad's corner normals at local (s, r); zero if they cancel.
-Vec3 blendNormals(Vec3 n00, Vec3 n10, Vec3 n01, Vec3 n11, float s, float r) {
-  const Vec3 blend = (n00 * (1.0f - s) + n10 * s) * (1.0f - r) + (n01 * (1.0f - s) + n11 * s) * r;
+// The unit normal at local (s, r) of the micro-quad whose first corner is vertex i00 (corners
+// `stride` apart, rows `res` apart): the bilinear blend of its corner normals -- on a moving
+// dicing each corner's normal first blended between the two samples with the time weights,
+// as its position is. Zero if they cancel.
+template <bool Moving>
+Vec3 quadNormal(const Vec3* normalsA, const Vec3* normalsB, size_t i00, uint32_t stride, size_t res,
+                float w0, float w1, float s, float r) {
+  const size_t corner[4] = {i00, i00 + stride, i00 + stride * res, i00 + stride * res + stride};
+  Vec3 n[4];
+  for (int c = 0; c < 4; ++c) {
+    if constexpr (Moving) n[c] = lerpPoint(normalsA[corner[c]], normalsB[corner[c]], w0, w1);
+    else n[c] = normalsA[corner[c]];
+  }
+  const Vec3 blend = (n[0] * (1.0f - s) + n[1] * s) * (1.0f - r) + (n[2] * (1.0f - s) + n[3] * s) * r;
   return detail::unitOrZero(blend);
-}
-Vec3 blendedNormal(const Vec3* n00, uint32_t stride, size_t res, float s, float r) {
-  return blendNormals(n00[0], n00[stride], n00[stride * res], n00[stride * res + stride], s, r);
 }
 
 // float bounds of a double, outward.
@@ -212,7 +212,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   const Vec3* const normals_ = a_.normals.data();
   const float* const nodesA = a_.nodes.data();
   [[maybe_unused]] const Vec3* const posB = b_.positions.data();
-  [[maybe_unused]] const Vec3* const normalsB = b_.normals.data();
+  const Vec3* const normalsB = b_.normals.data();
   [[maybe_unused]] const float* const nodesB = b_.nodes.data();
 
   const uint32_t stride = 1u << (level_ - k);
@@ -270,15 +270,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
       }
       if (accept && h.ng == Vec3{0, 0, 0}) {
         // Both triangles have zero area: the quad's vertex normals are the only direction left.
-        if constexpr (Moving) {
-          const Vec3* n = &normals_[i00];
-          const Vec3* nb = &b_.normals[i00];
-          h.ng = blendNormals(lerpPoint(n[0], nb[0], w0, w1), lerpPoint(n[stride], nb[stride], w0, w1),
-                              lerpPoint(n[stride * res], nb[stride * res], w0, w1),
-                              lerpPoint(n[stride * res + stride], nb[stride * res + stride], w0, w1), h.s, h.r);
-        } else {
-          h.ng = blendedNormal(&normals_[i00], stride, res, h.s, h.r);
-        }
+        h.ng = quadNormal<Moving>(normals_, normalsB, i00, stride, res, w0, w1, h.s, h.r);
         accept = !(h.ng == Vec3{0, 0, 0});
       }
       if (accept) {
@@ -393,16 +385,7 @@ borders:
   g.ng = best.ng;
   g.border = best.border;
   const size_t i00 = size_t(best.y) * stride * res + size_t(best.x) * stride;
-  Vec3 ns;
-  if constexpr (Moving) {
-    const Vec3* n = &normals_[i00];
-    const Vec3* nb = &b_.normals[i00];
-    ns = blendNormals(lerpPoint(n[0], nb[0], w0, w1), lerpPoint(n[stride], nb[stride], w0, w1),
-                      lerpPoint(n[stride * res], nb[stride * res], w0, w1),
-                      lerpPoint(n[stride * res + stride], nb[stride * res + stride], w0, w1), best.s, best.r);
-  } else {
-    ns = blendedNormal(&normals_[i00], stride, res, best.s, best.r);
-  }
+  const Vec3 ns = quadNormal<Moving>(normals_, normalsB, i00, stride, res, w0, w1, best.s, best.r);
   g.ns = ns == Vec3{0, 0, 0} ? best.ng : ns;
   return true;
 }
@@ -522,15 +505,7 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
       const float s = e == 3 ? 0.0f : e == 1 ? 1.0f : lambda;
       const float r = e == 0 ? 0.0f : e == 2 ? 1.0f : lambda;
       if (ng == Vec3{0, 0, 0}) {
-        if constexpr (Moving) {
-          const Vec3* nn = &normals_[i00];
-          const Vec3* nb = &b_.normals[i00];
-          ng = blendNormals(lerpPoint(nn[0], nb[0], w0, w1), lerpPoint(nn[stride], nb[stride], w0, w1),
-                            lerpPoint(nn[stride * res], nb[stride * res], w0, w1),
-                            lerpPoint(nn[stride * res + stride], nb[stride * res + stride], w0, w1), s, r);
-        } else {
-          ng = blendedNormal(&normals_[i00], stride, res, s, r);
-        }
+        ng = quadNormal<Moving>(normals_, b_.normals.data(), i00, stride, res, w0, w1, s, r);
         if (ng == Vec3{0, 0, 0}) continue;
       }
       if constexpr (AnyHit) return true;

@@ -14,9 +14,10 @@ namespace rayes {
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Random-number dimensions of one path vertex.
-enum Dim : uint32_t { kPixelX = 0, kPixelY = 1, kLightPick = 2, kLightU = 3, kLightV = 4,
-                      kBsdfU = 5, kBsdfV = 6, kRoulette = 7, kLensU = 8, kLensV = 9, kTime = 10, kBsdfLobe = 11 };
+// Random-number dimensions of one path vertex (core/rng.h): pixel, lens, light and BSDF
+// positions are 2D low-discrepancy samples, the others 1D.
+enum Dim : uint32_t { kPixel = 0, kLightPick = 2, kLight = 3, kBsdf = 5, kRoulette = 7, kLens = 8, kTime = 10,
+                      kBsdfLobe = 11 };
 
 struct PathIds { uint32_t pixel, sample; };
 PathIds idsOf(uint64_t id, uint32_t pixels) {
@@ -59,10 +60,10 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const PathIds ids = idsOf(first + k, pixels);
       const RngKey key{ids.pixel, ids.sample, 0, scene_.integrator.seed};
-      const float px = float(ids.pixel % uint32_t(scene_.width)) + sampleUniform(key, kPixelX);
-      const float py = float(ids.pixel / uint32_t(scene_.width)) + sampleUniform(key, kPixelY);
-      const CameraRay cr = scene_.camera.generate(px, py, sampleUniform(key, kLensU), sampleUniform(key, kLensV),
-                                                  sampleUniform(key, kTime));
+      const Sample2D film = sample2D(key, kPixel), lens = sample2D(key, kLens);
+      const float px = float(ids.pixel % uint32_t(scene_.width)) + film.u;
+      const float py = float(ids.pixel / uint32_t(scene_.width)) + film.v;
+      const CameraRay cr = scene_.camera.generate(px, py, lens.u, lens.v, sample1D(key, kTime));
       paths.throughput[k] = {1, 1, 1};
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
@@ -187,8 +188,8 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
 
       // Next-event estimation.
       LightSample ls;
-      if (!bsdf.isDelta() &&
-          lights.sample(p, sampleUniform(key, kLightPick), sampleUniform(key, kLightU), sampleUniform(key, kLightV), ls)) {
+      const Sample2D lu = sample2D(key, kLight);
+      if (!bsdf.isDelta() && lights.sample(p, sample1D(key, kLightPick), lu.u, lu.v, ls)) {
         const Vec3 wiL = frame.toLocal(ls.wi);
         const Rgb f = bsdf.eval(woL, wiL);
         if (!isBlack(f) && !isBlack(ls.radiance) && consistent(ls.wi, wiL)) {
@@ -230,7 +231,8 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
       // when there is nothing such a ray could find.
       if (int(bounce) + 1 >= scene_.integrator.maxDepth && !lights.hasHittable()) { paths.alive[k] = 0; continue; }
       BsdfSample bs;
-      if (!bsdf.sample(woL, sampleUniform(key, kBsdfU), sampleUniform(key, kBsdfV), sampleUniform(key, kBsdfLobe), bs)) {
+      const Sample2D bu = sample2D(key, kBsdf);
+      if (!bsdf.sample(woL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) {
         paths.alive[k] = 0;
         continue;
       }
@@ -244,7 +246,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
         // Survival by throughput with the radiance scaling of refraction undone, so a path
         // inside glass is not killed for the factor it will regain on the way out.
         const float q = std::min(1.0f, maxComponent(T) * paths.etaScale[k]);
-        if (!(sampleUniform(key, kRoulette) < q)) {
+        if (!(sample1D(key, kRoulette) < q)) {
           paths.alive[k] = 0;
           stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
           continue;

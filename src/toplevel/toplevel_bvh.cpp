@@ -226,6 +226,7 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
   };
 
   const RayBoxQuery q(org, dir);
+  const RayBox4Query q4(q);
   float entry, exit;
   if (!intersectBox(q, m.bounds.lo, m.bounds.hi, tmin, tmax, entry, exit)) return 0;
   if (isLeafRef(m.root)) {
@@ -240,7 +241,7 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
       if (best.full() && item.entry > best.last().entry) continue;  // the bound has tightened
       const Node4& node = m.nodes[item.ref];
       float childEntry[4], childExit[4];
-      unsigned hit = toplevel::intersectChildren(node, q, tmin, tmax, childEntry, childExit);
+      unsigned hit = toplevel::intersectChildren(node, q4, tmin, tmax, childEntry, childExit);
       // Inner children go on the stack farthest first, so the nearest is visited next.
       TraversalScratch::Item inner[4];
       int innerCount = 0;

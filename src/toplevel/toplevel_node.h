@@ -1,11 +1,9 @@
 // Private to the top level (and its tests): the node layout of TopLevelBvh and the 4-wide
 // slab test. Not part of the contract in toplevel_bvh.h.
 #pragma once
-#include <immintrin.h>
-
 #include <cstdint>
 #include <span>
-#include "core/box.h"
+#include "core/box4.h"
 
 namespace rayes {
 class TopLevelBvh;
@@ -36,29 +34,22 @@ struct alignas(64) Node4 {
 };
 static_assert(sizeof(Node4) == 128);
 
-// intersectBox (core/box.h) for the four children of a node, in SSE: the same IEEE operations
-// in the same order (no FMA, _mm_max_ps(tn, t0) is exactly `tn > t0 ? tn : t0`, NaN-safe the
-// same way), so a leaf's entry distance here is bit-identical to intersectBox on its box: the
-// traversal order and the brute-force reference agree exactly, and the monotonicity argument
-// in collect() holds for the rounded values. Written with intrinsics because the compiler
-// kept the plain loop scalar, which made node visits compute bound.
+// core/box4.h's slab test on the four children of a node, so a leaf's entry distance is
+// bit-identical to intersectBox on its box: the traversal order and the brute-force reference
+// agree exactly, and the monotonicity argument in collect() holds for the rounded values.
 // Returns a bit mask of the children whose box the segment [tmin, tmax] crosses.
-inline unsigned intersectChildren(const Node4& n, const RayBoxQuery& q, float tmin, float tmax,
+inline unsigned intersectChildren(const Node4& n, const RayBox4Query& q, float tmin, float tmax,
                                   float tEntry[4], float tExit[4]) {
-  const __m128 farScale = _mm_set1_ps(1.0f + 2.0f * gammaBound(3));
-  __m128 t0 = _mm_set1_ps(tmin), t1 = _mm_set1_ps(tmax);
+  __m128 nearPlane[3], farPlane[3];
   for (int a = 0; a < 3; ++a) {
-    const __m128 o = _mm_set1_ps(q.org[a]), inv = _mm_set1_ps(q.invDir[a]);
-    const __m128 tLo = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo[a]), o), inv);
-    const __m128 tHi = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi[a]), o), inv);
-    const __m128 tn = q.sign[a] ? tHi : tLo;
-    const __m128 tf = _mm_mul_ps(q.sign[a] ? tLo : tHi, farScale);
-    t0 = _mm_max_ps(tn, t0);
-    t1 = _mm_min_ps(tf, t1);
+    nearPlane[a] = _mm_load_ps(q.sign[a] ? n.hi[a] : n.lo[a]);
+    farPlane[a] = _mm_load_ps(q.sign[a] ? n.lo[a] : n.hi[a]);
   }
+  __m128 t0, t1;
+  const unsigned mask = intersectBox4(q, nearPlane, farPlane, _mm_set1_ps(tmin), _mm_set1_ps(tmax), t0, t1);
   _mm_storeu_ps(tEntry, t0);
   _mm_storeu_ps(tExit, t1);
-  return unsigned(_mm_movemask_ps(_mm_cmple_ps(t0, t1)));
+  return mask;
 }
 
 // Read access to a built tree, for tests and statistics (a friend of TopLevelBvh).

@@ -126,7 +126,7 @@ TEST(Tree, NodeSlabTestMatchesIntersectBox) {
     for (const TestRay& r : rays) {
       const RayBoxQuery q(r.org, r.dir);
       float entry[4], exit[4];
-      const unsigned mask = toplevel::intersectChildren(node, q, r.tmin, r.tmax, entry, exit);
+      const unsigned mask = toplevel::intersectChildren(node, RayBox4Query(q), r.tmin, r.tmax, entry, exit);
       for (int i = 0; i < 4; ++i) {
         float e, x;
         const bool hit = intersectBox(q, childBox(node, i).lo, childBox(node, i).hi, r.tmin, r.tmax, e, x);
