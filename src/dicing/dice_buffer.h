@@ -58,6 +58,8 @@ struct BottomQuery {
   float alpha = 0;            // time weight of the second sample of diceInterval() (0 for dice())
   bool closeBorders = false;  // also hit the border boxes (ignored where the patch needs none);
                               // the Tracer sets it (Tracer::closeBordersFor)
+  uint8_t skipBorders = 0;    // with closeBorders: bit e set = not border e (its neighbour's
+                              // coarser or equal dicing closes that seam for this ray)
 };
 
 class DiceBuffer {
@@ -129,11 +131,11 @@ class DiceBuffer {
   void buildTree(const std::vector<Vec3>& positions, std::vector<float>& nodes) const;
   void buildBorders(const Patch& patch, int sample, const Sample& s, std::vector<float>& borders) const;
   template <bool AnyHit, bool Moving>
-  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, bool closeBorders,
+  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, unsigned borderMask,
                 GridHit* hit) const;
   template <bool AnyHit, bool Moving>
   bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
-                       float tmax, int k, float w0, float w1, Best& best) const;
+                       float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const;
   // Radius about the chord's line that holds the true border curve of segment j of border e
   // at level k (at time weights w0, w1): see traverseBorders.
   double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool moving) const;

@@ -189,7 +189,7 @@ struct DiceBuffer::Best {
 
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha,
-                          bool closeBorders, GridHit* out) const {
+                          unsigned borderMask, GridHit* out) const {
   if (!(tmin < tmax)) return false;
   WatertightRay wray;
   if (!makeWatertightRay(org, dir, wray)) return false;
@@ -368,8 +368,9 @@ borders:
   best.s = bestQuadHit.s;
   best.r = bestQuadHit.r;
   best.ng = bestQuadHit.ng;
-  if (closeBorders && borders_) {
-    if (traverseBorders<AnyHit, Moving>(query, dir, pad, tmin, tmax, k, w0, w1, best) && AnyHit) return true;
+  if (borderMask && borders_) {
+    if (traverseBorders<AnyHit, Moving>(query, dir, pad, tmin, tmax, k, w0, w1, borderMask, best) && AnyHit)
+      return true;
   }
   if (best.quad == UINT32_MAX) return false;
 
@@ -392,7 +393,7 @@ borders:
 // the quad-tree walk). Returns true when it improved `best` (for AnyHit: found any hit).
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
-                                 float tmax, int k, float w0, float w1, Best& best) const {
+                                 float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const {
   const uint32_t stride = 1u << (level_ - k);
   const size_t res = size_t(resolution());
   const uint32_t last = (1u << k) - 1;
@@ -415,6 +416,7 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
     else return positions_[i];
   };
   for (int e = 0; e < 4; ++e) {
+    if (!(borderMask & (1u << e))) continue;
     BorderEntry stack[2 * 13];
     int sp = 0;
     {
@@ -567,17 +569,21 @@ double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float 
   return std::sqrt(worst) * (1.0 + 1e-9);
 }
 
+namespace {
+unsigned borderMask(const BottomQuery& q) { return q.closeBorders ? ~unsigned(q.skipBorders) & 0xfu : 0u; }
+}  // namespace
+
 bool DiceBuffer::intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,
                            BottomQuery query) const {
   if (moving_ && query.alpha != 0.0f)
-    return traverse<false, true>(org, dir, tmin, tmax, rayLevel, query.alpha, query.closeBorders, &hit);
-  return traverse<false, false>(org, dir, tmin, tmax, rayLevel, 0.0f, query.closeBorders, &hit);
+    return traverse<false, true>(org, dir, tmin, tmax, rayLevel, query.alpha, borderMask(query), &hit);
+  return traverse<false, false>(org, dir, tmin, tmax, rayLevel, 0.0f, borderMask(query), &hit);
 }
 
 bool DiceBuffer::occluded(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, BottomQuery query) const {
   if (moving_ && query.alpha != 0.0f)
-    return traverse<true, true>(org, dir, tmin, tmax, rayLevel, query.alpha, query.closeBorders, nullptr);
-  return traverse<true, false>(org, dir, tmin, tmax, rayLevel, 0.0f, query.closeBorders, nullptr);
+    return traverse<true, true>(org, dir, tmin, tmax, rayLevel, query.alpha, borderMask(query), nullptr);
+  return traverse<true, false>(org, dir, tmin, tmax, rayLevel, 0.0f, borderMask(query), nullptr);
 }
 
 }  // namespace rayes

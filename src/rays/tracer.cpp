@@ -2,6 +2,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
+#include <map>
+#include <tuple>
 #include <limits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -26,7 +29,63 @@ float searchLimit(const RayBatch& b, uint32_t i) {
 Tracer::Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& s)
     : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)) {
   leafSize_.resize(leaves.size());
-  for (size_t i = 0; i < leaves.size(); ++i) leafSize_[i] = leaves[i]->sizeBound();
+  leafBox_.resize(leaves.size());
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    leafSize_[i] = leaves[i]->sizeBound();
+    leafBox_[i] = leaves[i]->bounds();
+  }
+  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves);
+}
+
+// Two static Bézier leaves share border e and e' when the border curves have the same end
+// points (in either order) and the same midpoint: canonical border evaluation makes these
+// bits equal exactly when the border control rows are the same. A border with no partner or
+// more than one keeps its regions.
+std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const std::vector<PatchPtr>& leaves) {
+  using Key = std::array<float, 9>;
+  std::map<Key, std::vector<std::pair<uint32_t, int>>> borders;
+  const float corner[4][4] = {{0, 0, 1, 0}, {1, 0, 1, 1}, {0, 1, 1, 1}, {0, 0, 0, 1}};  // (u0, v0, u1, v1)
+  for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf) {
+    const Patch& p = *leaves[leaf];
+    if (p.timeSamples() != 1 || std::strcmp(p.kind(), "bezier") != 0 || !p.needsBorderClosure()) continue;
+    for (int e = 0; e < 4; ++e) {
+      const float* c = corner[e];
+      Vec3 a = p.evaluate(c[0], c[1]).p, z = p.evaluate(c[2], c[3]).p;
+      const Vec3 mid = p.evaluate(0.5f * (c[0] + c[2]), 0.5f * (c[1] + c[3])).p;
+      if (std::tie(z.x, z.y, z.z) < std::tie(a.x, a.y, a.z)) std::swap(a, z);
+      borders[Key{a.x, a.y, a.z, mid.x, mid.y, mid.z, z.x, z.y, z.z}].push_back({leaf, e});
+    }
+  }
+  std::vector<std::array<uint32_t, 4>> out;
+  for (const auto& [key, sides] : borders) {
+    if (sides.size() != 2 || sides[0].first == sides[1].first) continue;
+    if (out.empty()) out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
+    out[sides[0].first][sides[0].second] = sides[1].first;
+    out[sides[1].first][sides[1].second] = sides[0].first;
+  }
+  return out;
+}
+
+int Tracer::levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+  const RayBoxQuery q(b.org[ray], b.dir[ray]);
+  float t0, t1;
+  const Box3& box = leafBox_[leaf];
+  if (!intersectBox(q, box.lo, box.hi, b.tmin[ray], kInf, t0, t1)) t0 = b.tmin[ray];
+  return levelFor(b, ray, leaf, t0);
+}
+
+uint8_t Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level) const {
+  if (borderNeighbour_.empty()) return 0;
+  uint8_t skip = 0;
+  const RayBoxQuery q(b.org[i], b.dir[i]);
+  for (int e = 0; e < 4; ++e) {
+    const uint32_t nb = borderNeighbour_[leaf][e];
+    if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
+    float t0, t1;
+    if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, b.tmin[i], kInf, t0, t1)) continue;
+    if (levelOn(b, i, nb) <= level) skip |= uint8_t(1u << e);
+  }
+  return skip;
 }
 
 size_t Tracer::diceBufferBytes() const {
@@ -84,11 +143,12 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 // nearest hit was a border box.
 bool Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, int m) {
   const uint32_t i = slotRay_[s];
-  const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, cand_.entry[s]);
+  const int level = settings_.lod == LodRule::Density ? m : levelOn(b, i, leaf);
   const float limit = searchLimit(b, i);
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(*leaves_[leaf], b.time[i]).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
+  if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
   if (b.kind[i] == RayKind::Shadow) {
     if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
       cand_.t[s] = 0;
@@ -229,7 +289,7 @@ void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_
   if (settings_.lod == LodRule::Density) {
     m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
   } else {
-    for (size_t k = 0; k < count; ++k) m = std::max(m, levelFor(b, slotRay_[slots[k]], leaf, cand_.entry[slots[k]]));
+    for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, slotRay_[slots[k]], leaf));
   }
   {
     ScopedTimer timer(times.dice);
@@ -315,7 +375,7 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
         for (int j = 0; j < got; ++j) {
           const uint32_t leaf = local[j].leaf;
           if (leaf == b.ignoreLeaf[i]) continue;
-          const int level = levelFor(b, i, leaf, local[j].entry);
+          const int level = levelOn(b, i, leaf);
           const Patch& patch = *leaves_[leaf];
           const TimeInterval when = timeInterval(patch, b.time[i]);
           dice.diceInterval(patch, when.interval, level);
@@ -326,6 +386,7 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
           BottomQuery query;
           query.alpha = when.alpha;
           query.closeBorders = closeBordersFor(b, i, leaf);
+          if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
           if (b.kind[i] == RayKind::Shadow) {
             if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
               best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);

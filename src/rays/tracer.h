@@ -27,6 +27,7 @@
 #pragma once
 #include <atomic>
 #include <memory>
+#include <array>
 #include <vector>
 #include <tbb/enumerable_thread_specific.h>
 #include "core/ray_batch.h"
@@ -51,6 +52,10 @@ class Tracer : public RayEngine {
   EngineStats engineStats() const override;
 
   const TraceSettings& settings() const { return settings_; }
+  // Per leaf and border e (DiceBuffer's numbering: v = 0, u = 1, v = 1, u = 0), the static
+  // Bézier leaf across it, or kNoLeaf (other kinds, moving leaves, unshared borders). Empty
+  // when no leaf has a neighbour.
+  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const std::vector<PatchPtr>& leaves);
   static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
   // Everything one candidate slot costs: the slot itself, its ray index, and the sort's
   // working storage (filled list, pairs and scratch, order) when the slot is filled.
@@ -89,6 +94,16 @@ class Tracer : public RayEngine {
   void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
+  // The ray's level on `leaf`: levelFor at the ray's entry into the leaf's own box (tmin when
+  // the slab test misses), one function of (ray, leaf) whichever leaf asks, so two neighbours
+  // agree on each other's level (see bordersClosedByNeighbours).
+  int levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
+  // Borders of `leaf` whose regions ray i need not test at `level` (BottomQuery::skipBorders):
+  // only the coarser side of a seam needs them (its regions hold the finer side's chord), and
+  // Bézier neighbours at equal levels share their border vertices bit for bit. A border is
+  // skipped only when its neighbour is known (borderNeighbour_), reachable by the ray, tests its
+  // own regions (not the ray's origin or ignored leaf) and is seen at a level no finer.
+  uint8_t bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level) const;
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
@@ -101,6 +116,8 @@ class Tracer : public RayEngine {
   const std::vector<PatchPtr>& leaves_;
   TraceSettings settings_;
   std::vector<float> leafSize_;  // Patch::sizeBound per leaf, for LOD
+  std::vector<Box3> leafBox_;    // Patch::bounds per leaf, for levelOn
+  std::vector<std::array<uint32_t, 4>> borderNeighbour_;  // borderNeighbours(leaves), per-ray LOD only
 
   CandidateBuffer cand_;
   CandidateSort sort_;

@@ -77,7 +77,7 @@ void LightTracer::start(uint64_t first, uint32_t count, RayBatch& rays) {
       // go, by the patch's offset at level 0 (as the path tracer's shadow rays end there), so
       // geometry flush with the emitter does not stop them.
       const float back = e.onSurface ? PathTracer::originOffset(scene_.leafSide[e.leaf], scene_.leafDicingError[e.leaf],
-                                                                0, e.org)
+                                                                0, e.org, e.org)
                                      : 0.0f;
       auto leaving = [&](Vec3 w) { return e.org + e.normal * (dot(e.normal, w) >= 0 ? back : -back); };
       const Sample2D lens = sample2D(key, kLens);
@@ -132,7 +132,8 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
       Rgb& T = throughput_[k];
       const RngKey key = keyOf(first_ + k, pixels, vertex, scene_.integrator.seed);
       const SurfaceHit at{p, h.ng,
-                          PathTracer::originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p)};
+                          PathTracer::originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p,
+                                                   rays.org[cs])};
       auto frameFacing = [&](Vec3 w) { return ShadingFrame(bsdf.transmits() || dot(h.ns, w) > 0 ? h.ns : -h.ns); };
 
       // Connection to the camera: the path tracer's BSDF evaluation with the camera as viewer.

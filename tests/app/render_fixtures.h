@@ -52,6 +52,24 @@ inline void expectOrderIndependent(const Scene& scene, size_t budgetPaths, const
   EXPECT_EQ(renderBeauty(scene, small, 2), ref) << budgetPaths << " paths per batch";
 }
 
+// A render's per-channel means against a reference measured over many seeds: `mean` is the
+// average over 24 seeds of the same render's channel means, `sd` the standard deviation of
+// one render's channel mean over those seeds. The tolerance is 5 sd: 4 for this render's
+// noise, times sqrt(1 + 1/24) for the reference mean's own, and about 15 % more because sd is
+// itself estimated from 24 seeds. Wrong colours, a black or doubled image, a missing light
+// fail; a new random sequence (any unbiased one) does not.
+struct ChannelMeans {
+  double mean[3];
+  double sd[3];
+};
+inline void expectChannelMeans(const std::vector<float>& rgba, const ChannelMeans& expected, const std::string& what) {
+  for (int c = 0; c < 3; ++c) {
+    double sum = 0;
+    for (size_t i = size_t(c); i < rgba.size(); i += 4) sum += rgba[i];
+    EXPECT_NEAR(sum / double(rgba.size() / 4), expected.mean[c], 5 * expected.sd[c]) << what << ", channel " << c;
+  }
+}
+
 // Runs `rayes ARGS...` in process and captures what it printed on stderr.
 struct RunResult {
   int code;
