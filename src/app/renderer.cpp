@@ -35,6 +35,9 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
     f.displacedLeaves += kind.rfind("displaced", 0) == 0;
     f.subdivisionLeaves += kind.find("subdiv") != std::string::npos;
     f.borderClosureLeaves += patch.needsBorderClosure();
+    const float spacing = leafBoxes_[i].relativeSpacing();
+    f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
+    f.lowPrecisionLeaves += spacing > 0x1p-16f;
   }
   f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
   f.environment = scene.moreLights.environment != nullptr;
@@ -72,7 +75,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options) : scene_(sc
   // Lights at infinity are picked by power through a disk of the scene's bounding radius.
   Box3 all;
   for (const Box3& b : leafBoxes_) all.extend(b);
-  const float radius = all.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(all.extent()));
+  const float radius = all.empty() ? 1.0f : std::max(std::numeric_limits<float>::min(), 0.5f * length(all.extent()));
   shading_.lights = LightSampler(scene.pointLights, std::move(patchLights), scene.moreLights, radius);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
