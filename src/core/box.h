@@ -41,11 +41,11 @@ struct Box3 {
   }
   // The box grown by `err` on every side, rounded outward: it holds every point within `err`
   // of a point of this box, and also every float result that rounded to within `err` of one
-  // (half an ulp of the magnitude, here a whole one), so a caller passes only the error of its
+  // (half an ulp of the magnitude), so a caller passes only the error of its
   // own computation (docs/design.md, "Precision"). Empty stays empty; non-finite stays so.
   Box3 grownBy(float err) const {
     if (empty()) return *this;
-    const float e = err + magnitude() * 0x1p-23f;
+    const float e = err + magnitude() * 0x1p-24f;  // half an ulp: ulp(x) <= x 2^-23
     Box3 r;
     for (int a = 0; a < 3; ++a) {
       r.lo[a] = std::nextafter(lo[a] - e, -std::numeric_limits<float>::infinity());

@@ -199,7 +199,8 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   const RayBoxQuery query(org, dir);
   const float farthest = maxComponent(vmax(vabs(patchBounds_.lo - org), vabs(patchBounds_.hi - org)));
   const float magnitude = maxComponent(vmax(vabs(patchBounds_.lo), vabs(patchBounds_.hi)));
-  const float margin = gammaBound(16) * farthest + 0x1p-22f * magnitude;
+  const float watertightError = gammaBound(16) * farthest;
+  const float margin = watertightError + 0x1p-22f * magnitude;
   if (!std::isfinite(margin)) return false;
   const Vec3 pad{margin, margin, margin};
   const GroupRay gray(query, margin, tmin);
@@ -499,7 +500,10 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
             cached.store(radius, std::memory_order_relaxed);
           }
         }
-        if (!rayCylinder(q.org, dir, a, b, radius + double(pad.x), c0, c1))
+        // The cylinder is tested in double: only the watertight test's rounding is added to
+        // the radius, not the ulps that keep float box bounds moving (a region at a silhouette
+        // would widen it by them).
+        if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1))
           continue;
         t0 = std::max(t0, roundDown(c0));
         t1 = std::min(t1, roundUp(c1));
