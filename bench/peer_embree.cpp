@@ -1,4 +1,4 @@
-// Peer comparison (DESIGN: "performance is measured against a peer in one run, as a ratio:
+// Peer comparison (the brief: "performance is measured against a peer in one run, as a ratio:
 // Embree with full tessellation"). One program, one run, a plain table on stdout.
 //
 // Scene: the Utah teapot (scenes/teapot.bpt, 32 bicubic Bezier patches) on a floor quad (one

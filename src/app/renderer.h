@@ -45,7 +45,7 @@ struct ErrorSample {
 };
 
 // What the scene uses, counted once at setup: the stats say what was done and what was left
-// out because nothing needed it (DESIGN invariant 4).
+// out because nothing needed it (docs/design.md, invariant 4).
 struct SceneFeatures {
   uint64_t movingLeaves = 0;         // leaves with more than one time sample
   bool shutterOpen = false;          // the camera's shutter has an interval

@@ -67,7 +67,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                  {"candidate_capacity", s.candidateCapacity},
                  {"toplevel_bytes", s.topLevelBytes},
                  {"dice_buffer_bytes", s.diceBufferBytes}};
-  // DESIGN invariant 4: what this scene used, and what it did not need and was not done.
+  // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
   uint64_t movingDicings = 0, borderHits = 0;
   for (const auto& g : s.generations) {

@@ -1,4 +1,4 @@
-// The one error type for bad input (DESIGN invariant 6). It carries the file and the place in
+// The one error type for bad input (docs/design.md, invariant 6). It carries the file and the place in
 // it (line:column, a JSON pointer, or an OBJ line), and the program turns it into one message
 // on stderr and exit code 2. Code that detects bad input throws this, never aborts.
 #pragma once

@@ -1,6 +1,6 @@
 // The rays of one generation and their hits, as a structure of arrays. Data only: shading
 // writes rays into a RayBatch and reads the hits back; src/rays traces it. Keeping the type
-// here lets both sides use it without knowing each other (DESIGN: shading knows nothing of
+// here lets both sides use it without knowing each other (docs/design.md, "The two seams": shading knows nothing of
 // how rays are sorted).
 //
 // Ownership: the batch owns its arrays; resize() keeps capacity, so a render reuses one batch

@@ -1,6 +1,6 @@
 // Counter-based random numbers: a value is a pure function of (pixel, sample, bounce,
 // dimension, seed), never of processing order, so images do not depend on thread count, sort
-// order or batch size (DESIGN invariant 2). Thread-safe: there is no state.
+// order or batch size (docs/design.md, invariant 2). Thread-safe: there is no state.
 #pragma once
 #include <cstdint>
 
@@ -14,7 +14,7 @@ constexpr uint64_t mix64(uint64_t z) {
 }
 
 // Uniform float in [0, 1). Built from the top 24 bits, so it can never round to 1.0f
-// (the pitfall of v * 2^-32 noted in shared/notes/precision.md).
+// (the pitfall of v * 2^-32: docs/design.md, "Precision").
 constexpr float bitsToUnitFloat(uint64_t bits) {
   return static_cast<float>(bits >> 40) * (1.0f / 16777216.0f);
 }

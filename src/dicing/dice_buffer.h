@@ -2,7 +2,7 @@
 // grid and the complete quad-tree BVH over its 4^m micro-quads (thesis §6.1.1).
 //
 // Ownership and threads: one DiceBuffer per thread, allocated once for the largest level and
-// reused for every patch that thread dices (DESIGN invariant 3: memory does not grow with the
+// reused for every patch that thread dices (docs/design.md, invariant 3: memory does not grow with the
 // scene). A DiceBuffer is not thread-safe; intersect() is const and may be called many times
 // after one dice().
 //

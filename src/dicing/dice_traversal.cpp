@@ -8,7 +8,7 @@
 // (missed, or entered after the best t) only if every quad inside it would be rejected or would
 // lose. The hit is therefore the minimum of (t, quad index) over all quads of level k, whatever
 // the traversal order and whichever finer level the grid was diced at: the coarser levels of
-// the tree *are* the coarser dicings (DESIGN invariant 2).
+// the tree *are* the coarser dicings (docs/design.md, invariant 2).
 //
 // Why the boxes get a margin: the watertight test decides on vertices rounded in the ray's
 // sheared frame, i.e. on triangles moved by a few ulps of their distance from the ray origin.

@@ -1,5 +1,5 @@
 // The .bpt loader (declared in bezier_patch.h). Every failure names the file and line
-// (DESIGN invariant 6); nothing here aborts.
+// (docs/design.md, invariant 6); nothing here aborts.
 #include <charconv>
 #include <cmath>
 #include <fstream>

@@ -1,7 +1,7 @@
 // Displacement along the normal: a Patch decorator over any base patch,
 //   P'(u, v) = P(u, v) + N(u, v) h,   N = the base's unit normal, h from a Displacement.
 //
-// Bounds (DESIGN invariant 1). boundsOver(rect) = base.boundsOver(rect) + Nrange(rect) x
+// Bounds (docs/design.md, invariant 1). boundsOver(rect) = base.boundsOver(rect) + Nrange(rect) x
 // Hrange(rect) per axis, in interval arithmetic, padded: Hrange is the displacement's
 // conservative range (interval noise over the base's position box, or the min-max MIP
 // pyramid), Nrange a conservative range of each component of the base's unit normal over the

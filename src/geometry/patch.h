@@ -1,7 +1,7 @@
 // START HERE for geometry. A Patch is one top-level leaf: a surface over the unit square
 // (u, v) in [0,1]^2 that can be diced on demand at any level m into a (2^m+1)^2 vertex grid.
 //
-// Contract (DESIGN invariant 1): bounds() contains every point that dice() can produce at any
+// Contract (docs/design.md, invariant 1): bounds() contains every point that dice() can produce at any
 // level and any shutter time, displacement included. The top level, early ray termination and
 // crack-free level of detail all rest on this; tests/geometry and tests/dicing check it by sampling.
 //

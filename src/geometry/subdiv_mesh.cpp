@@ -331,7 +331,7 @@ struct BfrFace {
 
 // Per-thread cache of initialised Bfr surfaces: a dicing needs its own face and up to four
 // edge owners; neighbouring leaves are often diced by the same thread in turn. Fixed size
-// (DESIGN invariant 3), least recently used replaced. Keyed by a process-unique mesh id, so a
+// (docs/design.md, invariant 3), least recently used replaced. Keyed by a process-unique mesh id, so a
 // new mesh at a freed mesh's address never sees stale surfaces.
 class BfrFaceCache {
  public:

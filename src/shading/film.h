@@ -1,6 +1,6 @@
 // The film: per-pixel sums of path contributions and of the first-hit AOVs, accumulated in a
 // fixed order (pixel by pixel, samples in increasing sample index), so the image is
-// bit-identical however paths were batched or threaded (DESIGN invariant 2).
+// bit-identical however paths were batched or threaded (docs/design.md, invariant 2).
 // Sums are double precision. add*() for different pixels may run in parallel; one pixel's
 // samples must be added in order by one thread.
 #pragma once

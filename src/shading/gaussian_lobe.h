@@ -1,4 +1,4 @@
-// The glossy BRDF of light beam tracing (shared/notes/lbt.md; Hanika's thesis ch. 8-11):
+// The glossy BRDF of light beam tracing (docs/design.md, "Light beam tracing"; Duvenhage ch. 8-11):
 //   f = ρs exp(-φ² / 2σ²) / (2π σ² |cos θi|),  φ = angle between wi and the mirror of wo.
 // A Gaussian in the angle from the mirror direction, normalised on the tangent plane, so
 // ∫ f cos dωi = ρs ∫ exp(-φ²/2σ²) dω / (2πσ²) ≤ ρs (sin φ ≤ φ, and the lobe below the

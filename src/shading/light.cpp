@@ -162,6 +162,7 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
   if (!(pk > 0)) return false;
   out.leaf = 0xffffffffu;
   out.delta = false;
+  out.normal = {};
   if (k < patch0_) {  // point or spot
     const bool spot = k >= spot0_;
     const Vec3 pos = spot ? more_.spots[k - spot0_].position : points_[k].position;
@@ -170,6 +171,7 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
     if (!(d2 > 0) || !std::isfinite(d2)) return false;
     out.distance = float(std::sqrt(d2));
     out.wi = d * float(1.0 / std::sqrt(d2));
+    out.point = pos;
     Rgb intensity = spot ? more_.spots[k - spot0_].intensity : points_[k].intensity;
     if (spot) intensity = intensity * more_.spots[k - spot0_].falloff(-dot(out.wi, more_.spots[k - spot0_].direction));
     out.radiance = intensity * float(1.0 / d2);
@@ -193,6 +195,8 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
     if (l.twoSided) cosY = std::fabs(cosY);
     if (!(cosY > 0)) return false;
     out.radiance = l.radiance;
+    out.point = p;
+    out.normal = n * float(1.0 / jacobian);
     out.pdf = patchSolidAnglePdf(pk, d2, jacobian, cosY);
     out.leaf = l.leaf;
     return std::isfinite(out.pdf) && out.pdf > 0;

@@ -84,6 +84,8 @@ struct SceneLights {
 struct LightSample {
   Vec3 wi;              // unit, from the receiver toward the light
   float distance = 0;   // to the sampled point; +inf for lights at infinity
+  Vec3 point;           // the sampled point (lights at a finite distance)
+  Vec3 normal;          // unit normal of an emissive patch at point; zero for other lights
   Rgb radiance;         // arriving along -wi (intensity / distance² for point and spot lights)
   float pdf = 0;        // solid-angle density including the pick probability; for a delta
                         // light, the pick probability alone

@@ -119,7 +119,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
       }
       const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
       // A broken hit (non-finite point or normals) ends the path here, before it can reach
-      // the film or the AOVs (DESIGN invariant 5).
+      // the film or the AOVs (docs/design.md, invariant 5).
       if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wo)) {
         stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
         paths.alive[k] = 0;
@@ -185,13 +185,31 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
           if (!isFinite(c)) {
             stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
           } else if (!isBlack(c)) {
+            // The segment from the offset origin to the light point, not a ray from p along
+            // ls.wi: a ray of length ls.distance from the offset origin would end beyond the
+            // light and find whatever lies just behind it. An emitter's point is first moved
+            // off its own surface toward the receiver by its own offset (at level 0, the
+            // largest), so the emitter's neighbours and anything flush with it do not occlude.
             const Vec3 origin = originToward(ls.wi);
-            const float tmax = std::isfinite(ls.distance) ? ls.distance * (1.0f - 1e-4f) : kInf;
-            paths.shadowContribution[k] = c;
-            rays.set(ss, RayKind::Shadow, origin, ls.wi, 0.0f, tmax, width, kDiffuseSpread, k, ls.leaf, h.leaf,
-                     h.level, rays.time[cs]);
-            ++localEmitted;
-            stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
+            Vec3 dir = ls.wi;
+            float tmax = kInf;
+            if (std::isfinite(ls.distance)) {
+              Vec3 target = ls.point;
+              if (ls.leaf != kNoLeaf) {
+                const float back = originOffset(scene_.leafSide[ls.leaf], scene_.leafDicingError[ls.leaf], 0, ls.point);
+                target += ls.normal * (dot(ls.normal, p - ls.point) >= 0 ? back : -back);
+              }
+              tmax = length(target - origin);
+              dir = (target - origin) * (1.0f / tmax);
+            }
+            // A light point within the offsets of the receiver leaves no segment to test.
+            if (tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0) {
+              paths.shadowContribution[k] = c;
+              rays.set(ss, RayKind::Shadow, origin, dir, 0.0f, tmax, width, kDiffuseSpread, k, ls.leaf, h.leaf,
+                       h.level, rays.time[cs]);
+              ++localEmitted;
+              stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
+            }
           }
         }
       }

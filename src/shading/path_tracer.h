@@ -19,7 +19,7 @@
 // (the last continuation ray only gathers emission, and is not traced when the scene has
 // nothing a ray could find) or by Russian roulette on throughput x eta². Random numbers are
 // keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
-// Non-finite contributions are dropped and counted (DESIGN invariant 5).
+// Non-finite contributions are dropped and counted (docs/design.md, invariant 5).
 #pragma once
 #include <atomic>
 #include <cstdint>

@@ -1,4 +1,4 @@
-// Light transport against an analytic answer (shared/notes/analytic-checks.md, "Furnaces"):
+// Light transport against an analytic answer (docs/design.md, "Analytic checks", "Furnaces"):
 // inside a closed box whose walls all have albedo rho and emit radiance Le, the radiance is
 // Le / (1 - rho) everywhere. NEE, Russian roulette and the whole generation pipeline take part;
 // the tolerance is 4 standard errors of the pixel mean (pixels are i.i.d. estimates here).

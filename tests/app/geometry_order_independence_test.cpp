@@ -1,4 +1,4 @@
-// DESIGN invariant 2 for the geometry of issue 3: subdivision faces (per-thread Bfr surface
+// docs/design.md, invariant 2 for the geometry of issue 3: subdivision faces (per-thread Bfr surface
 // caches), displaced patches (interval bounds, border regions) and the thin lens give
 // bit-identical images for 1 and 2 threads, with every ray traced alone, and under a ray
 // budget small enough to force many batches and iterations.

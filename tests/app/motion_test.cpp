@@ -152,7 +152,7 @@ TEST_F(Motion, StaticSceneDicesOneTimeSampleAndMovingSceneTwo) {
   EXPECT_EQ(b.patches[0]->timeSamples(), 1);
 }
 
-// DESIGN invariant 2 with motion: scenes/motion-cubes.json (a translating and a turning cube,
+// docs/design.md, invariant 2 with motion: scenes/motion-cubes.json (a translating and a turning cube,
 // three keyframes) and a moving teapot (curved: interpolated border regions too) give the same
 // bits with 1 or 2 threads, every ray traced alone, and a budget small enough for several
 // batches and iterations.

@@ -1,4 +1,4 @@
-// DESIGN invariant 2: the image is a pure function of (scene, settings, seed). With the
+// docs/design.md, invariant 2: the image is a pure function of (scene, settings, seed). With the
 // default per-ray level of detail it must be bit-identical for any thread count, with the
 // debug mode that traces every ray alone (no sorting, each patch diced per ray), and for ray
 // memory budgets that force different batch sizes and numbers of iterations.

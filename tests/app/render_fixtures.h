@@ -33,7 +33,7 @@ inline std::vector<float> renderBeauty(const Scene& scene, const RenderOptions& 
   return film.beautyRgba();
 }
 
-// DESIGN invariant 2 on one scene: the image with 2 threads equals, bit for bit, the image
+// docs/design.md, invariant 2 on one scene: the image with 2 threads equals, bit for bit, the image
 // with 1 thread, with every ray traced alone, and with a ray budget of `budgetPaths` paths.
 inline void expectOrderIndependent(const Scene& scene, size_t budgetPaths) {
   const auto ref = renderBeauty(scene, RenderOptions{}, 2);

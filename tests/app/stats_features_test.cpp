@@ -1,5 +1,5 @@
 // The stats say what a scene used and what was left out because nothing needed it
-// (DESIGN invariant 4): a static, undisplaced scene skips motion and displacement work; a
+// (docs/design.md, invariant 4): a static, undisplaced scene skips motion and displacement work; a
 // scene with moving shapes and an open shutter dices two time samples and says so.
 #include <gtest/gtest.h>
 #include "app/stats_json.h"

@@ -134,7 +134,7 @@ TEST(BezierPatch, FinerDicingContainsCoarserDicingBitwise) {
   }
 }
 
-// DESIGN invariant 1, by sampling: 1e5 random points and every vertex of an m = 6 dicing.
+// docs/design.md, invariant 1, by sampling: 1e5 random points and every vertex of an m = 6 dicing.
 TEST(BezierPatch, TeapotBoundsContainPatch) {
   const std::vector<ControlPoints> patches = test::loadTeapot();
   ASSERT_EQ(patches.size(), 32u);

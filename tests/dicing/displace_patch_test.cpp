@@ -1,4 +1,4 @@
-// DisplacedPatch (geometry/displaced_patch.h): DESIGN invariant 1 with displacement. For each
+// DisplacedPatch (geometry/displaced_patch.h): docs/design.md, invariant 1 with displacement. For each
 // test shape (a teapot body patch, a teapot pole patch, a twisted bilinear patch) and each
 // displacement (moderate noise, extreme noise -- amplitude the patch's own size, frequency up to
 // past the dicing resolution --, a height map), 10^6 displaced points all lie inside bounds(),

@@ -1,5 +1,5 @@
 // Specification of DiceBuffer::intersect / occluded on the stiff cases of
-// shared/notes/precision.md: parallel, in-plane and grazing rays, degenerate patches, bad rays,
+// docs/design.md, "Precision": parallel, in-plane and grazing rays, degenerate patches, bad rays,
 // and the fields of GridHit.
 #include <gtest/gtest.h>
 #include <limits>

@@ -1,5 +1,5 @@
 // Specification of per-ray level of detail: a ray traced at level k on a finer dicing gets
-// exactly the hit of a level-k dicing (DESIGN invariant 2), and the level rules.
+// exactly the hit of a level-k dicing (docs/design.md, invariant 2), and the level rules.
 #include <gtest/gtest.h>
 #include <limits>
 #include "geometry/bezier_patch.h"

@@ -1,6 +1,6 @@
 // Watertightness: rays aimed exactly at shared edges and vertices of diced grids -- inside one
 // grid, and across the seam of two teapot patches diced into separate buffers, at several
-// scales and far from the origin -- never slip through (shared/notes/precision.md).
+// scales and far from the origin -- never slip through (docs/design.md, "Precision").
 //
 // A ray counts as caught when, following it through its successive hits, it hits one of the
 // micro-quads around the aimed point; a hit elsewhere in front (the patch folding over) is

@@ -1,5 +1,5 @@
 // Specification of the .bpt loader: the teapot loads, and every kind of bad input becomes an
-// InputError naming the file and line (DESIGN invariant 6).
+// InputError naming the file and line (docs/design.md, invariant 6).
 #include <gtest/gtest.h>
 #include <filesystem>
 #include <fstream>

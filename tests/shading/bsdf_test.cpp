@@ -1,4 +1,4 @@
-// Every BSDF against the analytic checks of shared/notes/analytic-checks.md:
+// Every BSDF against the analytic checks of docs/design.md, "Analytic checks":
 //  - energy: for 100 directions wo, the estimate of ∫ f |cos θi| dωi (times etaRel² for
 //    refracted samples: the power form) is ≤ 1, and = 1 for the lossless models, within
 //    4 standard errors;

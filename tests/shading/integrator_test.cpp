@@ -1,5 +1,5 @@
 // The path tracer's kernels (start / shade / finish) against analytic answers
-// (shared/notes/analytic-checks.md), with exact analytic geometry in place of the dicing
+// (docs/design.md, "Analytic checks"), with exact analytic geometry in place of the dicing
 // pipeline: a small test tracer intersects spheres, planes and disks and fills the RayBatch,
 // so the answers test shading alone (NEE, MIS, Russian roulette, delta lobes, lights) with no
 // tessellation error. Tolerances: 4 standard errors of the pixel mean (pixels are i.i.d.

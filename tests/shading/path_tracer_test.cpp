@@ -1,5 +1,5 @@
 // The path-tracer kernels at their edges: secondary-ray offsets stay finite and scale with the
-// geometry, and a non-finite hit never reaches the film (DESIGN invariant 5).
+// geometry, and a non-finite hit never reaches the film (docs/design.md, invariant 5).
 #include <cmath>
 #include <limits>
 #include <gtest/gtest.h>
@@ -71,6 +71,51 @@ TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
   tracer.finish(paths, film, stats);
   EXPECT_EQ(stats.nonFinite.load(), before + 1);
   for (float v : film.beautyRgba()) EXPECT_TRUE(std::isfinite(v));
+}
+
+
+// Next-event shadow rays test the segment from the offset origin to the light point, which is
+// itself moved off the emitter toward the receiver: they end in front of the light, never past
+// it (where a ceiling just behind the light would block them), however large the receiver's
+// offset is.
+TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
+  OneLightScene s;
+  const float lightZ = 3;
+  PatchLight rect;
+  rect.evaluate = [&](float u, float v, Vec3& p, Vec3& n) {
+    p = {2 * u - 1, 2 * v - 1, lightZ};
+    n = {0, 0, -4};  // dP/du x dP/dv, facing the receiver below
+  };
+  rect.radiance = {1, 1, 1};
+  rect.leaf = 1;
+  s.scene.lights = LightSampler({}, {rect});
+  s.scene.leafMaterial = {0, 0};
+  s.scene.leafSide = {2, 2};
+  s.scene.leafDicingError = {0.5f, 0};  // a receiver with a large offset at level 0
+  PathTracer tracer(s.scene);
+  PathBatch paths;
+  RayBatch rays;
+  tracer.start(0, 4, paths, rays);
+  for (int k = 0; k < 4; ++k) {
+    RayHit& h = rays.hit[2 * k];
+    h.leaf = 0;
+    h.level = 0;
+    h.t = 5 / length(rays.dir[2 * k]);  // 5 from the camera: below the light
+    h.ng = h.ns = {0, 0, 1};
+  }
+  ShadeStats stats;
+  tracer.shade(0, paths, rays, stats);
+  int shadowRays = 0;
+  for (int k = 0; k < 4; ++k) {
+    const size_t ss = 2 * size_t(k) + 1;
+    if (rays.kind[ss] != RayKind::Shadow) continue;
+    ++shadowRays;
+    const Vec3 end = rays.org[ss] + rays.dir[ss] * rays.tmax[ss];
+    EXPECT_LT(end.z, lightZ) << k;
+    EXPECT_GT(end.z, lightZ - 1e-3f) << k;  // and not short of it by more than the offsets
+    EXPECT_EQ(rays.ignoreLeaf[ss], 1u) << k;
+  }
+  EXPECT_GT(shadowRays, 0);
 }
 
 }  // namespace
