@@ -1,4 +1,6 @@
 #include "geometry/bilinear_patch.h"
+#include <array>
+#include <cmath>
 #include "geometry/patch_math.h"
 
 namespace rayes {
@@ -16,6 +18,28 @@ BilinearPatch::BilinearPatch(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11)
   sizeBound_ = std::max(std::max(length(p10 - p00), length(p11 - p01)),
                         std::max(length(p01 - p00), length(p11 - p10)));
   tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
+  if (!coplanarUpToRounding(p00, p10, p01, p11)) errorCoefficient_ = 0.25f * length(p00 - p10 - p01 + p11);
+}
+
+// Planarity: with a = p10 - p00, b = p01 - p00, c = p11 - p00 the corners are coplanar iff the
+// triple product T = c . (a x b) is 0. Corners written as decimals (a trapezoidal floor) come
+// out of float rounding with each coordinate moved by at most u M (u = 2^-24, M the largest
+// corner coordinate), so a, b, c each move by at most 2 u M per coordinate, 2 sqrt(3) u M in
+// length, and to first order |dT| <= 2 sqrt(3) u M (|a||b| + |b||c| + |c||a|). T is computed in
+// double (its own rounding is ~2^-29 of that), and the bound is doubled for the second-order
+// terms. A quad within it is planar up to rounding; whatever non-planarity is left is of the
+// size of the rounding of the diced points, which the secondary-ray offset already covers.
+bool BilinearPatch::coplanarUpToRounding(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11) {
+  auto d = [](Vec3 q, Vec3 o) { return std::array<double, 3>{double(q.x) - o.x, double(q.y) - o.y, double(q.z) - o.z}; };
+  auto len = [](const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+  const auto a = d(p10, p00), b = d(p01, p00), c = d(p11, p00);
+  const double triple = c[0] * (a[1] * b[2] - a[2] * b[1]) + c[1] * (a[2] * b[0] - a[0] * b[2]) +
+                        c[2] * (a[0] * b[1] - a[1] * b[0]);
+  double m = 0;
+  for (Vec3 p : {p00, p10, p01, p11}) m = std::max(m, double(maxComponent(vabs(p))));
+  const double u = std::ldexp(1.0, -24);
+  const double tolerance = 4 * std::sqrt(3.0) * u * m * (len(a) * len(b) + len(b) * len(c) + len(c) * len(a));
+  return std::fabs(triple) <= tolerance;
 }
 
 Vec3 BilinearPatch::normalAt(float u, float v) const {

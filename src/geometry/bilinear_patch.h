@@ -20,8 +20,10 @@ class BilinearPatch final : public Patch {
   SurfacePoint evaluate(float u, float v) const override;
   const char* kind() const override { return "bilinear"; }
   // Each micro-quad is itself bilinear with twist h^2 w, w = p00 - p10 - p01 + p11; its two
-  // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Zero for planar quads.
-  float dicingErrorCoefficient() const override { return 0.25f * length(p00_ - p10_ - p01_ + p11_); }
+  // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Exactly zero when the
+  // corners are coplanar up to the rounding of their coordinates: the micro-triangles
+  // of a planar patch lie in its plane, whatever its shape (trapezoids have w != 0).
+  float dicingErrorCoefficient() const override { return errorCoefficient_; }
   // Every border is the straight segment between two corners at every level (twisted or not):
   // neighbours at different levels leave no slit to close (up to rounding).
   bool needsBorderClosure() const override { return false; }
@@ -35,12 +37,16 @@ class BilinearPatch final : public Patch {
   }
 
  private:
+  // The four corners lie in one plane, to within what rounding each coordinate to float can
+  // make of a truly planar quad.
+  static bool coplanarUpToRounding(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11);
   Vec3 normalAt(float u, float v) const;
 
   Vec3 p00_, p10_, p01_, p11_;
   Box3 bounds_;
   float sizeBound_ = 0;
   float tinyNormal_ = 0;
+  float errorCoefficient_ = 0;
 };
 
 }  // namespace rayes

@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
+#include "core/box.h"
 #include "core/rng.h"
 #include "shading/bsdf.h"
 #include "shading/sampling.h"
@@ -23,13 +24,24 @@ PathIds idsOf(uint64_t id, uint32_t pixels) {
 }
 }  // namespace
 
-float PathTracer::originOffset(float side, float errorCoefficient, int level, Vec3 p) {
-  const float scale = std::ldexp(1.0f, -2 * level);  // 4^-level, exact
-  const float thesis = std::ldexp(side, -level);      // l / 2^level
-  const float bound = 2.0f * errorCoefficient * scale;
-  const float floor = 1e-5f * side + 1e-6f * maxComponent(vabs(p));
-  const float offset = std::max(floor, std::min(thesis, bound));
-  return std::isfinite(offset) ? offset : floor;
+// The offset is a bound, not a guess: how far the origin may lie on the wrong side of the
+// surface it leaves, along the geometric normal.
+//   Dicing: the micro-triangle hit at level m lies within C / 4^m of the true surface
+//   (Patch::dicingErrorCoefficient; 0 for planar patches). The ray sees its own leaf at that
+//   same level, but neighbours and emitters are the true surface diced at their own levels.
+//   Rounding: p = o + t d with t from the watertight test. Its sheared-space t is a sum of the
+//   vertices' distances along the ray weighted by non-negative barycentrics, so t |d| is off by
+//   a few gamma of |p - o| + side; the vertices themselves are evaluations off the surface by
+//   a few gamma of |p| + side; o + t d rounds by u (|o| + |p|). With |p - o| <= |p| + |o| (and
+//   sqrt 3 between the norms) all of it is below gamma(32) (|p| + |o| + side), max norms.
+// Computed in double so no input overflows on the way; an infinite or NaN C (a broken patch)
+// falls back to the rounding term; the result is clamped to the largest float.
+float PathTracer::originOffset(float side, float errorCoefficient, int level, Vec3 p, Vec3 from) {
+  const double dicing = double(errorCoefficient) * std::ldexp(1.0, -2 * level);  // C / 4^level
+  const double magnitude = double(maxComponent(vabs(p))) + double(maxComponent(vabs(from))) + double(side);
+  const double rounding = double(gammaBound(32)) * magnitude + double(std::numeric_limits<float>::min());
+  const double offset = std::isfinite(dicing) ? dicing + rounding : rounding;
+  return float(std::min(offset, double(std::numeric_limits<float>::max())));
 }
 
 float PathTracer::spreadAfterBounce(float incoming, float pdf, bool delta) {
@@ -158,7 +170,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
 
       const PathIds ids = idsOf(paths.first + k, pixels);
       const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
-      const float offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p);
+      const float offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p, rays.org[cs]);
       const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
       // Reflection-only models see the side the viewer is on; a transmitting one keeps the
       // patch normal as "outside".
@@ -196,7 +208,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
             if (std::isfinite(ls.distance)) {
               Vec3 target = ls.point;
               if (ls.leaf != kNoLeaf) {
-                const float back = originOffset(scene_.leafSide[ls.leaf], scene_.leafDicingError[ls.leaf], 0, ls.point);
+                const float back = originOffset(scene_.leafSide[ls.leaf], scene_.leafDicingError[ls.leaf], 0, ls.point, ls.point);
                 target += ls.normal * (dot(ls.normal, p - ls.point) >= 0 ? back : -back);
               }
               tmax = length(target - origin);

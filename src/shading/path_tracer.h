@@ -97,12 +97,13 @@ class PathTracer {
   static constexpr float kDiffuseSpread = 0.22f;
   static float spreadAfterBounce(float incoming, float pdf, bool delta);
 
-  // How far a secondary ray's origin is pushed off a hit at `level` on a leaf (along the
-  // geometric normal, to the side the ray leaves). The thesis's l / 2^m, but never more than
-  // twice the dicing-error bound of that level (zero for planar patches: at coarse levels
-  // l / 2^m would move origins across the scene), and never less than a floor relative to the
-  // leaf's size and position, so rounding cannot put the origin back under the surface.
-  static float originOffset(float side, float errorCoefficient, int level, Vec3 p);
+  // How far a secondary ray's origin is pushed off a hit p at `level` on a leaf of longest side
+  // `side` (along the geometric normal, to the side the ray leaves), found by a ray from `from`
+  // (p itself for a point evaluated on the surface): the patch's dicing-error bound at that
+  // level, C / 4^level (zero for planar patches), plus the rounding error of the hit point,
+  // gamma(32) (|p| + |from| + side). The derivation is at the definition and in docs/design.md,
+  // "Secondary-ray offsets". Finite and positive for any input.
+  static float originOffset(float side, float errorCoefficient, int level, Vec3 p, Vec3 from);
 
  private:
   const ShadingScene& scene_;

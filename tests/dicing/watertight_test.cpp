@@ -17,7 +17,9 @@
 // counted (the test asserts they are rare).
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <cstdint>
 #include <limits>
+#include <string>
 #include <tuple>
 #include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
@@ -107,9 +109,12 @@ class Harness {
     mean = normalize(mean);
     const double offEdge = distToSegment(aim.p, aim.va, aim.vb);
     const bool grazing = rng.below(4) == 0;
-    for (int attempt = 0; attempt < 64; ++attempt) {
-      Vec3 w = rng.unitVector();
-      if (grazing) {  // close to the tangent plane, down to the transversality bound
+    // The last attempt is along the mean normal, the most transversal direction there is
+    // where random ones failed (a patch curving strongly around P), so an aim is only skipped
+    // when the triangles around P face no common side at all.
+    for (int attempt = 0; attempt <= 64; ++attempt) {
+      Vec3 w = attempt == 64 ? mean : rng.unitVector();
+      if (grazing && attempt < 64) {  // close to the tangent plane, down to the transversality bound
         const Vec3 t = normalize(cross(mean, w));
         const float a = std::ldexp(1.0f, -rng.below(13)) * rng.uniform(0.5f, 1.0f);
         w = t * std::cos(a) + mean * (std::sin(a) * (rng.below(2) ? 1.0f : -1.0f));
@@ -260,6 +265,7 @@ struct SeamSetup {
   int level;
   const char* what;
   double maxSkipped = 0.01;  // fraction of aims allowed to find no transversal direction
+  size_t maxBorders = SIZE_MAX;  // the first shared borders only (fine levels dice a million vertices)
 };
 
 // Seams between teapot patches that share a border, each patch in its own DiceBuffer.
@@ -271,8 +277,10 @@ void seams(const SeamSetup& setup, long rays, uint64_t seed) {
   DiceBuffer a(m), b(m);
   test::Random rng(seed);
   Counts counts;
-  const long perBorder = rays / long(shared.size()) + 1;
-  for (const auto& s : shared) {
+  const size_t borders = std::min(shared.size(), setup.maxBorders);
+  const long perBorder = rays / long(borders) + 1;
+  for (size_t sb = 0; sb < borders; ++sb) {
+    const auto& s = shared[sb];
     const BezierPatch pa(test::transformed(teapot[s.patchA], setup.scale, setup.offset));
     const BezierPatch pb(test::transformed(teapot[s.patchB], setup.scale, setup.offset));
     a.dice(pa, m);
@@ -285,9 +293,9 @@ void seams(const SeamSetup& setup, long rays, uint64_t seed) {
     for (long r = 0; r < perBorder; ++r) {
       // Border vertices 1..n-1 and edges not touching the seam's ends: at the ends four
       // patches meet, and only two are in this test.
-      const bool vertex = rng.below(3) == 0 || n == 1;
-      const int k = vertex ? 1 + rng.below(std::max(1, n - 1)) : 1 + rng.below(std::max(1, n - 2));
-      if (n < 2 || (!vertex && n < 3)) break;
+      if (n < 2) break;
+      const bool vertex = rng.below(3) == 0 || n == 2;  // level 1: one inner border vertex, no inner edge
+      const int k = vertex ? 1 + rng.below(n - 1) : 1 + rng.below(n - 2);
       const int k2 = vertex ? k : k + 1;
       auto onA = [&](int kk) { return test::borderVertex(s.sideA, kk, n); };
       auto onB = [&](int kk) { return test::borderVertex(s.sideB, s.reversed ? n - kk : kk, n); };
@@ -312,14 +320,21 @@ TEST(Watertight, TeapotSeamsScaled1e4AndTranslated1e6) {
 
 TEST(Watertight, TeapotSeamsScaledTo1em3) { seams({1e-3f, {0, 0, 0}, 5, "teapot seams, scale 1e-3, m=5"}, 100000, 53); }
 
-// At 1e6 floats are 1/16 apart, so a unit-size teapot's micro-quads at m = 5 (about 0.05
-// across) would collapse onto each other; at m = 2 they span several ulps and stay
-// representable. Even so the quantized lid, knob and spout tip fold over themselves (and have
-// zero-area triangles with distinct collinear vertices), so about a third of the aims there
-// have no direction transversal to every triangle around them and are skipped; the rest must
-// still all be caught.
-TEST(Watertight, TeapotSeamsTranslated1e6) {
-  seams({1.0f, {1e6f, 1e6f, 1e6f}, 2, "teapot seams, scale 1 at 1e6, m=2", 0.4}, 140000, 54);
+// Far from the origin at every level. At 1e6 floats are 1/16 apart: a teapot ten thousand
+// units across keeps its micro-quads hundreds of ulps wide up to level 10, so from the first
+// level with an inner border vertex to the finest every aim is representable. From level 6 on
+// no aim may be skipped. Below, some are, at any position: the coarse dicing itself folds
+// (lid rim, knob, spout tip: the triangles around P face opposite ways, so no direction is
+// transversal to all of them), as at the origin (unit scale, level 5: 0.2 % of the aims).
+// (A unit-size teapot at 1e6 is quantized into folds at every level: no
+// dicing can render it, so it is not a watertightness question.)
+TEST(Watertight, TeapotSeamsTranslated1e6AtEveryLevel) {
+  for (int level = 1; level <= 10; ++level) {
+    const std::string what = "teapot seams, scale 1e4 at 1e6, m=" + std::to_string(level);
+    const size_t borders = level >= 8 ? 2 : level >= 6 ? 8 : SIZE_MAX;
+    const double maxSkipped = level >= 6 ? 0.0 : 0.03;
+    seams({1e4f, {1e6f, 1e6f, 1e6f}, level, what.c_str(), maxSkipped, borders}, 4000, 54 + level);
+  }
 }
 
 }  // namespace

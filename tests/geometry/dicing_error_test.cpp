@@ -53,6 +53,25 @@ TEST(DicingError, TwistedBilinearWithinBoundAndPlanarIsZero) {
   EXPECT_EQ(planar.dicingErrorCoefficient(), 0.0f);
 }
 
+// A planar quad that is not a parallelogram (twist w != 0) still dices into triangles in its
+// plane: C is exactly 0, also when its corners are decimals rounded to float on a tilted plane.
+TEST(DicingError, PlanarTrapezoidsAreZeroEvenWithRoundedCorners) {
+  const BilinearPatch cornellFloor({552.8f, 0, 0}, {0, 0, 0}, {549.6f, 0, 559.2f}, {0, 0, 559.2f});
+  EXPECT_EQ(cornellFloor.dicingErrorCoefficient(), 0.0f);
+  // The plane x + 2y + 3z = 1.7 through decimal corners: each z rounds to float.
+  auto onPlane = [](double x, double y) { return Vec3{float(x), float(y), float((1.7 - x - 2 * y) / 3)}; };
+  for (double scale : {1e-3, 1.0, 1e3, 1e6}) {
+    const BilinearPatch tilted(onPlane(0.1 * scale, 0.3 * scale), onPlane(2.9 * scale, 0.3 * scale),
+                               onPlane(0.7 * scale, 1.9 * scale), onPlane(2.2 * scale, 1.9 * scale));
+    EXPECT_EQ(tilted.dicingErrorCoefficient(), 0.0f) << scale;
+  }
+  // A trapezoid lifted out of its plane by a thousandth of its size is not planar, and its
+  // bound holds.
+  const BilinearPatch bent({0, 0, 0}, {4, 0, 0}, {1, 3, 0}, {3, 3, 0.004f});
+  EXPECT_GT(bent.dicingErrorCoefficient(), 0.0f);
+  for (int level : {0, 2, 5, 10}) expectBound(bent, level, 200);
+}
+
 }  // namespace
 }  // namespace rayes
 
