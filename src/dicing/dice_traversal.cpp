@@ -380,7 +380,7 @@ borders:
   best.r = bestQuadHit.r;
   best.ng = bestQuadHit.ng;
   if (closeBorders && borders_) {
-    if (traverseBorders<AnyHit, Moving>(query, dir, pad, tmin, tmax, k, w0, w1, best) && AnyHit) return true;
+    if (traverseBorders<AnyHit, Moving>(query, dir, pad, watertightError, tmin, tmax, k, w0, w1, best) && AnyHit) return true;
   }
   if (best.quad == UINT32_MAX) return false;
 
@@ -411,7 +411,7 @@ borders:
 // walk of its binary tree, pruned by the slab test against the best hit so far (inclusive, as
 // the quad-tree walk). Returns true when it improved `best` (for AnyHit: found any hit).
 template <bool AnyHit, bool Moving>
-bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
+bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
                                  float tmax, int k, float w0, float w1, Best& best) const {
   const uint32_t stride = 1u << (level_ - k);
   const size_t res = size_t(resolution());
