@@ -1,5 +1,6 @@
 #include "app/render_data.h"
 #include <algorithm>
+#include <limits>
 #include <map>
 
 namespace rayes {
@@ -12,6 +13,9 @@ SceneFeatures featuresOf(const Scene& scene) {
     f.displacedLeaves += patch->isDisplaced();
     f.subdivisionLeaves += patch->isSubdivision();
     f.borderClosureLeaves += patch->needsBorderClosure();
+    const float spacing = patch->bounds().relativeSpacing();
+    f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
+    f.lowPrecisionLeaves += spacing > 0x1p-16f;
   }
   f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
   f.environment = scene.moreLights.environment != nullptr;
@@ -68,7 +72,7 @@ RenderData::RenderData(const Scene& scene) {
   // light paths leave them from such a disk about the scene's centre.
   Box3 all;
   for (const Box3& b : leafBoxes) all.extend(b);
-  const float radius = all.empty() ? 1.0f : std::max(1e-6f, 0.5f * length(all.extent()));
+  const float radius = all.empty() ? 1.0f : std::max(std::numeric_limits<float>::min(), 0.5f * length(all.extent()));
   const Vec3 center = all.empty() ? Vec3{} : all.center();
   shading.lights = LightSampler(scene.pointLights, patchLightsOf(scene), scene.moreLights, radius, center);
 }

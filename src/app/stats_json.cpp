@@ -97,6 +97,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"border_closure_leaves", f.borderClosureLeaves},
       {"border_region_hits", borderHits},
       {"environment_light", f.environment},
+      {"coarsest_relative_spacing", f.coarsestRelativeSpacing},
+      {"low_precision_leaves", f.lowPrecisionLeaves},
   };
   json skipped = json::object();
   if (f.movingLeaves == 0) skipped["motion_blur"] = "no moving shapes: one time sample stored and diced";

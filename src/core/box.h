@@ -3,10 +3,17 @@
 // directions and tmax scaled by 1 + 2*gamma(3), a box the ray truly crosses is never culled.
 // Invariant 1 (conservative bounds) relies on this test being conservative too.
 #pragma once
+#include <cmath>
 #include <limits>
 #include "core/vec.h"
 
 namespace rayes {
+
+// gamma(n) of Higham / pbrt: bound on the relative error of n float operations.
+constexpr float gammaBound(int n) {
+  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
+  return (n * eps) / (1 - n * eps);
+}
 
 struct Box3 {
   Vec3 lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(),
@@ -24,21 +31,29 @@ struct Box3 {
     return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
   }
   bool contains(const Box3& b) const { return b.empty() || (contains(b.lo) && contains(b.hi)); }
-  // Grows the box by a relative margin of its size and position, so that later float
-  // arithmetic on points inside it (hit distances, offsets) cannot round them outside.
-  Box3 padded(float rel = 1e-5f) const {
+  // Largest coordinate magnitude: sets the float spacing (ulp) of every point in the box.
+  float magnitude() const { return empty() ? 0.0f : maxComponent(vmax(vabs(lo), vabs(hi))); }
+  // The float spacing at the box's coordinates (at least their ulp) over its longest side:
+  // how coarsely float resolves what lies in the box. 0 for a point; inf for a NaN box.
+  float relativeSpacing() const {
+    const float side = longestSide();
+    return side > 0 ? magnitude() * 0x1p-23f / side : (empty() ? std::numeric_limits<float>::infinity() : 0.0f);
+  }
+  // The box grown by `err` on every side, rounded outward: it holds every point within `err`
+  // of a point of this box, and also every float result that rounded to within `err` of one
+  // (half an ulp of the magnitude), so a caller passes only the error of its
+  // own computation (docs/design.md, "Precision"). Empty stays empty; non-finite stays so.
+  Box3 grownBy(float err) const {
     if (empty()) return *this;
-    const Vec3 mag = vmax(vabs(lo), vabs(hi));
-    const float m = rel * (maxComponent(extent()) + maxComponent(mag)) + 1e-30f;
-    return {lo - Vec3{m, m, m}, hi + Vec3{m, m, m}};
+    const float e = err + magnitude() * 0x1p-24f;  // half an ulp: ulp(x) <= x 2^-23
+    Box3 r;
+    for (int a = 0; a < 3; ++a) {
+      r.lo[a] = std::nextafter(lo[a] - e, -std::numeric_limits<float>::infinity());
+      r.hi[a] = std::nextafter(hi[a] + e, std::numeric_limits<float>::infinity());
+    }
+    return r;
   }
 };
-
-// gamma(n) of Higham / pbrt: bound on the relative error of n float operations.
-constexpr float gammaBound(int n) {
-  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
-  return (n * eps) / (1 - n * eps);
-}
 
 // A ray prepared for repeated box tests: reciprocal direction (IEEE gives +-inf for a zero
 // component, which the slab test handles), and the sign of each component.

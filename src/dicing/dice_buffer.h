@@ -134,7 +134,7 @@ class DiceBuffer {
   bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, unsigned borderMask,
                 GridHit* hit) const;
   template <bool AnyHit, bool Moving>
-  bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
+  bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
                        float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const;
   // Radius about the chord's line that holds the true border curve of segment j of border e
   // at level k (at time weights w0, w1): see traverseBorders.

@@ -197,7 +197,8 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   const RayBoxQuery query(org, dir);
   const float farthest = maxComponent(vmax(vabs(patchBounds_.lo - org), vabs(patchBounds_.hi - org)));
   const float magnitude = maxComponent(vmax(vabs(patchBounds_.lo), vabs(patchBounds_.hi)));
-  const float margin = gammaBound(16) * farthest + 0x1p-22f * magnitude;
+  const float watertightError = gammaBound(16) * farthest;
+  const float margin = watertightError + 0x1p-22f * magnitude;
   if (!std::isfinite(margin)) return false;
   const Vec3 pad{margin, margin, margin};
   const GroupRay gray(query, margin, tmin);
@@ -369,7 +370,8 @@ borders:
   best.r = bestQuadHit.r;
   best.ng = bestQuadHit.ng;
   if (borderMask && borders_) {
-    if (traverseBorders<AnyHit, Moving>(query, dir, pad, tmin, tmax, k, w0, w1, borderMask, best) && AnyHit)
+    if (traverseBorders<AnyHit, Moving>(query, dir, pad, watertightError, tmin, tmax, k, w0, w1, borderMask, best) &&
+        AnyHit)
       return true;
   }
   if (best.quad == UINT32_MAX) return false;
@@ -392,7 +394,7 @@ borders:
 // walk of its binary tree, pruned by the slab test against the best hit so far (inclusive, as
 // the quad-tree walk). Returns true when it improved `best` (for AnyHit: found any hit).
 template <bool AnyHit, bool Moving>
-bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float tmin,
+bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
                                  float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const {
   const uint32_t stride = 1u << (level_ - k);
   const size_t res = size_t(resolution());
@@ -482,7 +484,10 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
             cached.store(radius, std::memory_order_relaxed);
           }
         }
-        if (!rayCylinder(q.org, dir, a, b, radius + double(pad.x), c0, c1))
+        // The cylinder is tested in double: only the watertight test's rounding is added to
+        // the radius, not the ulps that keep float box bounds moving (a region at a silhouette
+        // would widen it by them).
+        if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1))
           continue;
         t0 = std::max(t0, roundDown(c0));
         t1 = std::min(t1, roundUp(c1));

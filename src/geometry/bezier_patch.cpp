@@ -10,7 +10,17 @@ using detail::cubicBasis;
 BezierPatch::BezierPatch(const std::array<Vec3, 16>& controlPoints) : cp_(controlPoints) {
   Box3 box;
   for (const Vec3& p : cp_) box.extend(p);
-  bounds_ = box.padded();
+  // Blends run on control points relative to the box centre (docs/design.md, "Precision").
+  anchor_ = box.center();
+  float anchored = 0;
+  for (int i = 0; i < 16; ++i) {
+    local_[size_t(i)] = cp_[size_t(i)] - anchor_;
+    anchored = std::max(anchored, maxComponent(vabs(local_[size_t(i)])));
+  }
+  anchoredMagnitude_ = anchored;
+  // The true surface lies in the control points' box (convex hull); a diced vertex lies
+  // within its evaluation error of the true surface.
+  bounds_ = box.grownBy(detail::anchoredEvaluationError(anchored));
   float longest = 0;
   for (int r = 0; r < 4; ++r) {
     float row = 0, col = 0;
@@ -39,7 +49,7 @@ BezierPatch::RowAtV BezierPatch::rowAt(float v) const {
   cubicBasis(v, b);
   RowAtV row;
   for (int i = 0; i < 4; ++i) {
-    const Vec3 column[4] = {cp_[i], cp_[4 + i], cp_[8 + i], cp_[12 + i]};
+    const Vec3 column[4] = {local_[i], local_[4 + i], local_[8 + i], local_[12 + i]};
     row.q[i] = column[0] * b[0] + column[1] * b[1] + column[2] * b[2] + column[3] * b[3];
     row.dq[i] = detail::cubicDerivative(column, v);
   }
@@ -71,7 +81,7 @@ SurfacePoint BezierPatch::pointOnRow(const RowAtV& row, float u, float v) const 
   SurfacePoint sp;
   const bool border = u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f;
   sp.p = border ? borderPoint(u, v)
-                : row.q[0] * b[0] + row.q[1] * b[1] + row.q[2] * b[2] + row.q[3] * b[3];
+                : anchor_ + (row.q[0] * b[0] + row.q[1] * b[1] + row.q[2] * b[2] + row.q[3] * b[3]);
   sp.n = detail::nonDegenerateNormal([this](float uu, float vv) { return normalAt(uu, vv); },
                                      rawNormal(row, b, u), u, v, tinyNormal_);
   return sp;
@@ -114,7 +124,7 @@ void restrictCubic(const Vec3 in[4], float a, float b, Vec3 out[4]) {
 
 Box3 BezierPatch::boundsOver(float u0, float u1, float v0, float v1) const {
   Vec3 rows[16], sub[16];
-  for (int j = 0; j < 4; ++j) restrictCubic(&cp_[j * 4], u0, u1, &rows[j * 4]);
+  for (int j = 0; j < 4; ++j) restrictCubic(&local_[size_t(j) * 4], u0, u1, &rows[j * 4]);
   for (int i = 0; i < 4; ++i) {
     const Vec3 col[4] = {rows[i], rows[4 + i], rows[8 + i], rows[12 + i]};
     Vec3 out[4];
@@ -122,8 +132,12 @@ Box3 BezierPatch::boundsOver(float u0, float u1, float v0, float v1) const {
     for (int j = 0; j < 4; ++j) sub[j * 4 + i] = out[j];
   }
   Box3 box;
-  for (const Vec3& p : sub) box.extend(p);
-  return box.padded();
+  for (const Vec3& p : sub) box.extend(anchor_ + p);
+  // Each restriction is two de Casteljau splits of 3 levels, 3 roundings per level on values
+  // within the anchored hull, plus the rounded split parameter (b - a) / (1 - a): at most 24
+  // roundings of the anchored magnitude per direction, 48 for both; the diced vertices this
+  // box must also hold add their own evaluation error.
+  return box.grownBy(gammaBound(48) * anchoredMagnitude_ + detail::anchoredEvaluationError(anchoredMagnitude_));
 }
 
 }  // namespace rayes

@@ -19,7 +19,8 @@ class BezierPatch final : public Patch {
  public:
   explicit BezierPatch(const std::array<Vec3, 16>& controlPoints);
 
-  // Box of the 16 control points (convex hull property), padded for float rounding.
+  // Box of the 16 control points (convex hull property), grown by the evaluation's rounding
+  // (relative to the patch's extent: points are blended relative to an anchor).
   Box3 bounds() const override { return bounds_; }
   // Longest of the 8 iso control polylines (4 rows, 4 columns). A true bound: an iso curve's
   // control polygon is a convex blend of the rows (or columns), and a Bézier curve is no
@@ -35,7 +36,7 @@ class BezierPatch final : public Patch {
   // triangles by at most h^2 |P_uv| / 4 more.
   float dicingErrorCoefficient() const override { return errorCoefficient_; }
   // The box of the sub-patch's control points (de Casteljau restriction to the rectangle),
-  // padded: conservative by the convex hull property.
+  // grown by its rounding: conservative by the convex hull property.
   Box3 boundsOver(float u0, float u1, float v0, float v1) const override;
 
   const std::array<Vec3, 16>& controlPoints() const { return cp_; }
@@ -54,6 +55,9 @@ class BezierPatch final : public Patch {
   Vec3 borderPoint(float u, float v) const;  // precondition: u or v is exactly 0 or 1
 
   std::array<Vec3, 16> cp_;
+  Vec3 anchor_;                     // the control points' box centre
+  std::array<Vec3, 16> local_;      // cp_ - anchor_: blends round at the patch's own scale
+  float anchoredMagnitude_ = 0;     // largest |coordinate| of local_
   Box3 bounds_;
   float sizeBound_ = 0;
   float errorCoefficient_ = 0;

@@ -12,7 +12,7 @@ BilinearPatch::BilinearPatch(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11)
     : p00_(p00), p10_(p10), p01_(p01), p11_(p11) {
   Box3 box;
   for (Vec3 p : {p00, p10, p01, p11}) box.extend(p);
-  bounds_ = box.padded();
+  bounds_ = box.grownBy(detail::bilinearEvaluationError(box.magnitude()));
   // Iso lines are segments whose ends blend linearly between opposite borders, so none is
   // longer than the longest border.
   sizeBound_ = std::max(std::max(length(p10 - p00), length(p11 - p01)),

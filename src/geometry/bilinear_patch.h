@@ -7,6 +7,7 @@
 // evaluate(), which already routes borders through the canonical segment.
 #pragma once
 #include "geometry/patch.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 
@@ -14,7 +15,7 @@ class BilinearPatch final : public Patch {
  public:
   BilinearPatch(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11);
 
-  Box3 bounds() const override { return bounds_; }    // box of the corners, padded
+  Box3 bounds() const override { return bounds_; }    // box of the corners, grown by the rounding of evaluate()
   float sizeBound() const override { return sizeBound_; }  // longest of the 4 border edges
   SurfacePoint evaluate(float u, float v) const override;
   const char* kind() const override { return "bilinear"; }
@@ -32,7 +33,7 @@ class BilinearPatch final : public Patch {
     Box3 b;
     for (float u : {u0, u1})
       for (float v : {v0, v1}) b.extend(evaluate(u, v).p);
-    return b.padded();
+    return b.grownBy(detail::bilinearEvaluationError(b.magnitude()));
   }
 
  private:

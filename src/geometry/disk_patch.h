@@ -22,7 +22,10 @@ class DiskPatch final : public Patch {
       box.lo[i] = c_[i] - e;
       box.hi[i] = c_[i] + e;
     }
-    bounds_ = box.padded();
+    // The box of the exact disk (e = r sin of the normal's angle to the axis, 4 roundings); a
+    // diced vertex c + (t x + b y) r rounds by gamma(5) r plus half an ulp of the centre
+    // (grownBy's own term), and t, b, n are unit to within gamma(6).
+    bounds_ = box.grownBy(gammaBound(16) * r_);
   }
   Box3 bounds() const override { return bounds_; }
   float sizeBound() const override { return 2 * std::numbers::pi_v<float> * r_; }

@@ -23,8 +23,6 @@ IVec3 cross(const IVec3& a, const IVec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-float maxAbs(const Box3& b) { return std::max(maxComponent(vabs(b.lo)), maxComponent(vabs(b.hi))); }
-
 Box3 widenedBox(Box3 b, float m) {
   b.lo = b.lo - Vec3{m, m, m};
   b.hi = b.hi + Vec3{m, m, m};
@@ -150,14 +148,16 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 4; ++i) hv[j * 4 + i] = (cp[size_t(j + 1) * 4 + i] - cp[size_t(j) * 4 + i]) * 3.0f;
     Box3 du = restrictedHull<3, 4>(hu, u0, u1, v0, v1), dv = restrictedHull<4, 3>(hv, u0, u1, v0, v1);
-    // evaluate()'s derivatives are differences of float blends of the control points: off by
-    // a few ulps of the control points' magnitude (not of the derivative's), and the float
-    // restriction by a few ulps of the derivative's.
+    // evaluate()'s derivatives are differences of float blends of the control points taken
+    // relative to the patch's anchor (bezier_patch.cpp): off by a few ulps of the anchored
+    // control points' magnitude, at most the control box's extent (not of the derivative's,
+    // and not of the distance from the origin), and the float restriction by a few ulps of
+    // the derivative's.
     Box3 cb;
     for (const Vec3& p : cp) cb.extend(p);
-    const float cancellation = 2e-5f * maxAbs(cb) + 1e-30f;
-    du = widenedBox(du, 1e-5f * maxAbs(du) + cancellation);
-    dv = widenedBox(dv, 1e-5f * maxAbs(dv) + cancellation);
+    const float cancellation = 2e-5f * maxComponent(cb.extent()) + 1e-30f;
+    du = widenedBox(du, 1e-5f * du.magnitude() + cancellation);
+    dv = widenedBox(dv, 1e-5f * dv.magnitude() + cancellation);
     IVec3 n = cross(toIntervals(du), toIntervals(dv));
     // evaluate() computes dP/du x dP/dv in float: off by a few ulps of |P_u| |P_v|.
     const float evalError = 1e-5f * (length(vmax(vabs(du.lo), vabs(du.hi))) * length(vmax(vabs(dv.lo), vabs(dv.hi))));
@@ -171,7 +171,9 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
     for (float v : {v0, v1}) du.extend(detail::lerp(p10 - p00, p11 - p01, v));
     for (float u : {u0, u1}) dv.extend(detail::lerp(p01 - p00, p11 - p10, u));
     for (const Vec3& p : corners_) cb.extend(p);
-    const float roundError = 1e-5f * maxAbs(cb) + 1e-30f;
+    // Corner differences round by half an ulp of themselves (at most the extent), not of the
+    // corners' distance from the origin.
+    const float roundError = 1e-5f * maxComponent(cb.extent()) + 1e-30f;
     du = widenedBox(du, roundError);
     dv = widenedBox(dv, roundError);
     IVec3 n = cross(toIntervals(du), toIntervals(dv));
@@ -193,8 +195,10 @@ Box3 DisplacedPatch::boundsOver(float u0, float u1, float v0, float v1) const {
     r.lo[a] = c.lo;
     r.hi[a] = c.hi;
   }
-  // P + N h rounds twice per component, within the padding's relative margin.
-  return r.padded();
+  // The base box already holds the base's diced vertices. P + N h rounds the product and the
+  // sum (the sum's half ulp of the point is grownBy's own term); N's normalisation errs by a
+  // few roundings of |h|, outside the normal range: gamma(8) |h| covers all three.
+  return r.grownBy(gammaBound(8) * std::max(std::fabs(h.lo), std::fabs(h.hi)));
 }
 
 SurfacePoint DisplacedPatch::evaluate(float u, float v) const {

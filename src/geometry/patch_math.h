@@ -10,6 +10,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include "core/box.h"
 #include "core/vec.h"
 
 namespace rayes::detail {
@@ -45,18 +46,42 @@ inline Vec3 cubicBezier(Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, float t) {
   return p0 * (s * s * s) + p1 * (3.0f * t * s * s) + p2 * (3.0f * t * t * s) + p3 * (t * t * t);
 }
 
+// The cubic relative to its first control point: the blend's rounding is then a few ulps of
+// the curve's own extent, not of its distance from the origin; only the final addition rounds
+// at the origin's scale (half an ulp). Endpoints are returned exactly.
+inline Vec3 anchoredCubic(Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, float t) {
+  if (t == 0.0f) return p0;
+  if (t == 1.0f) return p3;
+  return p0 + cubicBezier(Vec3{0, 0, 0}, p1 - p0, p2 - p0, p3 - p0, t);
+}
+
+// Rounding of a point of a Bézier patch or border evaluated this way (anchoredCubic, or
+// BezierPatch's blends of its anchored control points): two Bernstein blends of 4 points,
+// each 4 products and 3 sums with weights off by at most 5 roundings (3 t s s), on values at
+// most 2 L in magnitude (L: the largest anchored coordinate): gamma(24) * 2 L, plus the final
+// addition of the anchor (half an ulp of the point, Box3::grownBy's own term).
+inline float anchoredEvaluationError(float anchoredMagnitude) {
+  return gammaBound(24) * 2.0f * anchoredMagnitude;
+}
+
 // The border curve with control points p0..p3 (in the caller's orientation) at t.
 inline Vec3 canonicalCubic(Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, float t) {
   int c = lexCompare(p0, p3);
   if (c == 0) c = lexCompare(p1, p2);
-  if (c < 0) return cubicBezier(p0, p1, p2, p3, t);
-  if (c > 0) return cubicBezier(p3, p2, p1, p0, 1.0f - t);
+  if (c < 0) return anchoredCubic(p0, p1, p2, p3, t);
+  if (c > 0) return anchoredCubic(p3, p2, p1, p0, 1.0f - t);
   // A palindrome: both orientations are the same sequence, and the curve is symmetric, so
   // fold t onto [0, 1/2] to make t and 1-t run the same operations.
-  return cubicBezier(p0, p1, p2, p3, std::min(t, 1.0f - t));
+  return anchoredCubic(p0, p1, p2, p3, std::min(t, 1.0f - t));
 }
 
 inline Vec3 lerp(Vec3 a, Vec3 b, float t) { return a * (1.0f - t) + b * t; }
+
+// Rounding of a bilinear point lerp(lerp(a, b, u), lerp(c, d, u), v) on corners of magnitude
+// at most M: per lerp 1 - t, two products and a sum (4 roundings, weights summing to 1), two
+// levels: gamma(8) * M. Relative to the origin, not the patch: bilinear patches need no border
+// regions, so this only widens their leaf box.
+inline float bilinearEvaluationError(float magnitude) { return gammaBound(8) * magnitude; }
 
 // The straight border a-b at t, in canonical orientation.
 inline Vec3 canonicalLerp(Vec3 a, Vec3 b, float t) {

@@ -285,7 +285,10 @@ struct BfrFace {
   int face = -1;
   uint64_t stamp = 0;
   Bfr::Surface<float> surface;
-  std::vector<float> points;
+  std::vector<float> points;  // relative to anchor: Bfr's blends round at the face's own scale
+  Box3 hull;                  // of the patch points (absolute)
+  Vec3 anchor;                // the hull's centre
+  float anchoredMagnitude = 0;
 
   void init(const SubdivTopology& t, const SubdivMesh::Impl& m, int f) {
     mesh = m.id;
@@ -293,12 +296,27 @@ struct BfrFace {
     t.factory->InitVertexSurface(f, &surface);
     points.resize(size_t(surface.GetNumPatchPoints()) * 3);
     surface.PreparePatchPoints(m.points.data(), PointDesc(3), points.data(), PointDesc(3));
+    hull = Box3{};
+    for (size_t k = 0; k + 2 < points.size(); k += 3) hull.extend(Vec3{points[k], points[k + 1], points[k + 2]});
+    anchor = hull.center();
+    anchoredMagnitude = 0;
+    for (size_t k = 0; k < points.size(); ++k) {
+      points[k] -= anchor[int(k % 3)];
+      anchoredMagnitude = std::max(anchoredMagnitude, std::fabs(points[k]));
+    }
+  }
+  // Rounding of a limit point: a blend of the N patch points (anchored) with weights whose
+  // absolute sum we take as at most 4 (B-spline weights are positive and sum to 1; Gregory
+  // patches at extraordinary vertices mix in negative ones): gamma(2N) * 4 * the anchored
+  // magnitude -- an estimate from the evaluation's form, not a proof over Bfr's code.
+  float evaluationError() const {
+    return gammaBound(2 * surface.GetNumPatchPoints()) * 4.0f * anchoredMagnitude;
   }
   // Position and dP/du x dP/dv at face coordinates.
   SurfacePoint eval(const float uv[2]) const {
     float P[3], Du[3], Dv[3];
     surface.Evaluate(uv, points.data(), PointDesc(3), P, Du, Dv);
-    return {{P[0], P[1], P[2]}, cross(Vec3{Du[0], Du[1], Du[2]}, Vec3{Dv[0], Dv[1], Dv[2]})};
+    return {anchor + Vec3{P[0], P[1], P[2]}, cross(Vec3{Du[0], Du[1], Du[2]}, Vec3{Dv[0], Dv[1], Dv[2]})};
   }
   // Position and the magnitudes of the second derivatives (uu, uv, vv) at face coordinates.
   Vec3 eval2(const float uv[2], float second[3]) const {
@@ -307,7 +325,7 @@ struct BfrFace {
     second[0] = length(Vec3{Duu[0], Duu[1], Duu[2]});
     second[1] = length(Vec3{Duv[0], Duv[1], Duv[2]});
     second[2] = length(Vec3{Dvv[0], Dvv[1], Dvv[2]});
-    return {P[0], P[1], P[2]};
+    return anchor + Vec3{P[0], P[1], P[2]};
   }
 };
 
@@ -529,11 +547,8 @@ std::shared_ptr<const SubdivMesh> SubdivMesh::build(std::shared_ptr<const Subdiv
       m.faceError[size_t(f)] = bez->dicingErrorCoefficient();
     } else {
       local.init(t, m, f);
-      Box3 box;
-      for (size_t k = 0; k + 2 < local.points.size(); k += 3)
-        box.extend(Vec3{local.points[k], local.points[k + 1], local.points[k + 2]});
-      m.faceBounds[size_t(f)] = box.padded();
-      m.faceError[size_t(f)] = box.longestSide();
+      m.faceBounds[size_t(f)] = local.hull.grownBy(local.evaluationError());
+      m.faceError[size_t(f)] = local.hull.longestSide();
     }
     m.faceTiny[size_t(f)] = detail::degenerateNormalThreshold(m.faceBounds[size_t(f)].longestSide());
     auto position = [&](const float uv[2]) { return bez ? bez->evaluate(uv[0], uv[1]).p : local.eval(uv).p; };
@@ -646,7 +661,7 @@ Box3 SubdivMesh::leafBoundsOver(int leaf, float u0, float u1, float v0, float v1
     }
   const float hs = gs ? (u1 - u0) / float(gs) : 0.0f, ht = gt ? (v1 - v0) / float(gt) : 0.0f;
   const float margin = 2.0f * (hs * hs * mss + ht * ht * mtt) / 8.0f;
-  box = Box3{box.lo - Vec3{margin, margin, margin}, box.hi + Vec3{margin, margin, margin}}.padded();
+  box = box.grownBy(margin + bfr.evaluationError());
   const Box3 all = leafBounds(leaf);
   return {vmax(box.lo, all.lo), vmin(box.hi, all.hi)};
 }

@@ -75,7 +75,7 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       if (!(length(cross(eu, ev)) > 0)) r.fail(p, "edge_u and edge_v span no area");
       const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
       const uint32_t m = emissiveMaterial(scene, "rect light " + std::to_string(l), le, twoSided());
-      addPatch(scene, std::make_shared<BilinearPatch>(c, c + eu, c + ev, c + eu + ev), m);
+      addPatch(r, p, scene, std::make_shared<BilinearPatch>(c, c + eu, c + ev, c + eu + ev), m);
     } else if (type == "disk") {
       r.object(light, p, {"type", "center", "normal", "radius", "radiance", "two_sided"});
       const Vec3 c = r.vec3(r.member(light, p, "center"), p + "/center");
@@ -84,7 +84,7 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       if (!(radius > 0)) r.fail(p + "/radius", "the radius must be positive");
       const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
       const uint32_t m = emissiveMaterial(scene, "disk light " + std::to_string(l), le, twoSided());
-      addPatch(scene, std::make_shared<DiskPatch>(c, n, radius), m);
+      addPatch(r, p, scene, std::make_shared<DiskPatch>(c, n, radius), m);
     } else if (type == "distant") {
       r.object(light, p, {"type", "direction", "irradiance", "angular_radius"});
       DistantLight d;

@@ -21,6 +21,8 @@ void readLights(const JsonReader& r, const json& j, Scene& scene);
 
 // Shared helpers of the section readers.
 uint32_t materialRef(const JsonReader& r, const json& shape, const std::string& ptr, const MaterialIndex& materials);
-void addPatch(Scene& scene, PatchPtr patch, uint32_t material);
+// Adds a patch, or fails at ptr where float cannot hold it: a non-finite or overflowing box,
+// or a patch too small for the float spacing at its position (representable.cpp).
+void addPatch(const JsonReader& r, const std::string& ptr, Scene& scene, PatchPtr patch, uint32_t material);
 
 }  // namespace rayes

@@ -20,11 +20,6 @@ uint32_t materialRef(const JsonReader& r, const json& shape, const std::string& 
   return it->second;
 }
 
-void addPatch(Scene& scene, PatchPtr patch, uint32_t material) {
-  scene.patches.push_back(std::move(patch));
-  scene.patchMaterial.push_back(material);
-}
-
 namespace {
 
 using KindReader = ShapeSource (*)(const ShapeContext&);
@@ -67,7 +62,7 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     const auto build = [&](const Transform& t) { return displacePatches(disp, source, t, source.build(t)); };
     // With "motion": one set of patches per time sample, each patch a MovingPatch of its versions.
     for (auto& patch : shape.contains("motion") ? movingPatches(readMotion(ctx), xf, build) : build(xf))
-      addPatch(scene, std::move(patch), mat);
+      addPatch(r, p, scene, std::move(patch), mat);
   }
 }
 

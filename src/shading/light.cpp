@@ -20,6 +20,20 @@ void toLatLong(Vec3 d, float& u, float& v, float& sinTheta) {
   v = std::min(theta / kPiF, 0.99999994f);
   sinTheta = rxy;
 }
+
+// Squared lengths and lengths of lights' vectors in double: dP/du x dP/dv is an area per unit
+// parameter, so its float square overflows once a light's edges reach ~4e9 scene units (and
+// underflows below ~1e-10); double holds every float vector's square exactly enough (its
+// exponent range is 8 times wider), and the ratios built from them (pdfs) are back in range.
+double lengthSquared(Vec3 a) { return double(a.x) * a.x + double(a.y) * a.y + double(a.z) * a.z; }
+double dotD(Vec3 a, Vec3 b) { return double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z; }
+
+// The solid-angle density of picking the point at squared distance d2 on a patch light with
+// area density 1 / jacobian, seen along a direction at cosine cosY to its normal.
+float patchSolidAnglePdf(float pick, double d2, double jacobian, double cosY) {
+  const double pdf = double(pick) * d2 / (jacobian * cosY);
+  return pdf < double(std::numeric_limits<float>::max()) ? float(pdf) : kInfF;
+}
 }  // namespace
 
 float SpotLight::falloff(float c) const {
@@ -107,7 +121,7 @@ LightSampler::LightSampler(std::vector<PointLight> points, std::vector<PatchLigh
       for (int i = 0; i < 8; ++i) {
         Vec3 pos, n;
         p.evaluate((i + 0.5f) / 8, (j + 0.5f) / 8, pos, n);
-        area += length(n) / 64.0;
+        area += std::sqrt(lengthSquared(n)) / 64.0;
       }
     const double sides = p.twoSided ? 2.0 : 1.0;
     power.push_back(std::numbers::pi * sides * area * std::max(0.0f, luminance(p.radiance)));
@@ -157,14 +171,14 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
     const bool spot = k >= spot0_;
     const Vec3 pos = spot ? more_.spots[k - spot0_].position : points_[k].position;
     const Vec3 d = pos - ref;
-    const float d2 = dot(d, d);
+    const double d2 = lengthSquared(d);
     if (!(d2 > 0) || !std::isfinite(d2)) return false;
-    out.distance = std::sqrt(d2);
-    out.wi = d * (1.0f / out.distance);
+    out.distance = float(std::sqrt(d2));
+    out.wi = d * float(1.0 / std::sqrt(d2));
     out.point = pos;
     Rgb intensity = spot ? more_.spots[k - spot0_].intensity : points_[k].intensity;
     if (spot) intensity = intensity * more_.spots[k - spot0_].falloff(-dot(out.wi, more_.spots[k - spot0_].direction));
-    out.radiance = intensity * (1.0f / d2);
+    out.radiance = intensity * float(1.0 / d2);
     out.pdf = pk;
     out.delta = true;
     return true;
@@ -173,20 +187,21 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
     const PatchLight& l = patches_[k - patch0_];
     Vec3 p, n;
     l.evaluate(u1, u2, p, n);
-    const float jacobian = length(n);
+    const double jacobian = std::sqrt(lengthSquared(n));
     if (!(jacobian > 0) || !std::isfinite(jacobian)) return false;
     const Vec3 d = p - ref;
-    const float d2 = dot(d, d);
+    const double d2 = lengthSquared(d);
     if (!(d2 > 0) || !std::isfinite(d2)) return false;
-    out.distance = std::sqrt(d2);
-    out.wi = d * (1.0f / out.distance);
-    float cosY = -dot(n, out.wi) / jacobian;
+    const double dist = std::sqrt(d2);
+    out.distance = float(dist);
+    out.wi = d * float(1.0 / dist);
+    double cosY = -dotD(n, d) / (jacobian * dist);
     if (l.twoSided) cosY = std::fabs(cosY);
     if (!(cosY > 0)) return false;
     out.radiance = l.radiance;
     out.point = p;
-    out.normal = n * (1.0f / jacobian);
-    out.pdf = pk * d2 / (jacobian * cosY);
+    out.normal = n * float(1.0 / jacobian);
+    out.pdf = patchSolidAnglePdf(pk, d2, jacobian, cosY);
     out.leaf = l.leaf;
     return std::isfinite(out.pdf) && out.pdf > 0;
   }
@@ -217,10 +232,10 @@ float LightSampler::patchPdf(int i, float u, float v, Vec3 wi, float dist) const
   const PatchLight& l = patches_[size_t(i)];
   Vec3 p, n;
   l.evaluate(u, v, p, n);
-  const float jacobian = length(n);
-  const float cosY = std::fabs(dot(n, wi)) / jacobian;
+  const double jacobian = std::sqrt(lengthSquared(n));
+  const double cosY = std::fabs(dotD(n, wi)) / jacobian;
   if (!(jacobian > 0) || !(cosY > 0)) return 0;
-  const float pdf = pick(patch0_ + size_t(i)) * dist * dist / (jacobian * cosY);
+  const float pdf = patchSolidAnglePdf(pick(patch0_ + size_t(i)), double(dist) * dist, jacobian, cosY);
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
