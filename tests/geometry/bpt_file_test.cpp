@@ -70,7 +70,7 @@ TEST_F(BptFileErrors, IndexOutOfRange) {
 }
 
 TEST_F(BptFileErrors, WrongCounts) {
-  EXPECT_EQ(errorPlace("2\n" + indices("2") + "2\n0,0,0\n1,2,3\n"), "line 3");      // "2" read as indices
+  EXPECT_EQ(errorPlace("2\n" + indices("2") + "5\n0,0,0\n0,0,0\n0,0,0\n0,0,0\n1,2,3\n"), "line 3");  // "5" read as indices
   EXPECT_EQ(errorPlace("1\n" + indices("2") + "3\n0,0,0\n1,2,3\n"), "line 6");      // EOF
   EXPECT_EQ(errorPlace("1\n" + indices("2") + "1\n0,0,0\n1,2,3\n"), "line 5");      // extra point
   EXPECT_EQ(errorPlace(""), "line 1");
