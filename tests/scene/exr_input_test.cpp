@@ -85,7 +85,7 @@ TEST(ExrInput, MultiPartHeadersAreWalkedToTheirEnd) {
 TEST(ExrInput, DataWindowAwayFromTheOriginReadsItsPixelsInOrder) {
   // A window at negative and positive offsets: texel (x, y) of the image is pixel
   // (min.x + x, min.y + y) of the file, and nothing is read outside the image's storage.
-  for (const Imath::V2i origin : {Imath::V2i(-3, -2), Imath::V2i(5, 7)}) {
+  for (const Imath::V2i& origin : {Imath::V2i(-3, -2), Imath::V2i(5, 7)}) {
     const std::string path = tempPath("window.exr");
     const Imath::Box2i dw(origin, origin + Imath::V2i(2, 1));  // 3 x 2 pixels
     Imf::Header header(Imath::Box2i(Imath::V2i(-10, -10), Imath::V2i(10, 10)), dw);
