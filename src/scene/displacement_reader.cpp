@@ -48,9 +48,9 @@ std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::s
     height = dw.max.y - dw.min.y + 1;
     texels.assign(size_t(width) * size_t(height), 0.0f);
     Imf::FrameBuffer fb;
-    char* base = reinterpret_cast<char*>(texels.data()) -
-                 (ptrdiff_t(dw.min.x) + ptrdiff_t(dw.min.y) * width) * ptrdiff_t(sizeof(float));
-    fb.insert(name.c_str(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * size_t(width)));
+    // Slice::Make places the data window's origin at texels[0] (OpenEXR does the pointer
+    // arithmetic; a pointer moved outside the vector here would be undefined behaviour).
+    fb.insert(name.c_str(), Imf::Slice::Make(Imf::FLOAT, texels.data(), dw, sizeof(float), sizeof(float) * size_t(width)));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
   } catch (const InputError&) {

@@ -23,12 +23,14 @@ std::shared_ptr<const Image> readExr(const std::filesystem::path& file) {
     im->height = dw.max.y - dw.min.y + 1;
     std::vector<float> rgb(size_t(im->width) * im->height * 3, 0.0f);
     const size_t f = sizeof(float);
-    char* base = (char*)rgb.data() - (size_t(dw.min.x) + size_t(dw.min.y) * im->width) * 3 * f;
     Imf::FrameBuffer fb;
     const Imf::ChannelList& ch = in->header().channels();
     const bool hasR = ch.findChannel("R"), hasG = ch.findChannel("G"), hasB = ch.findChannel("B"), hasY = ch.findChannel("Y");
     if (!hasR && !hasY) throw InputError(file.string(), "", "image has neither an R nor a Y channel");
-    auto slice = [&](int c) { return Imf::Slice(Imf::FLOAT, base + c * f, 3 * f, 3 * f * size_t(im->width)); };
+    // Slice::Make places the data window's origin at rgb[c] (OpenEXR does the pointer arithmetic:
+    // moving a pointer outside the vector here, for a window not at 0, is undefined behaviour;
+    // found by exr_fuzz).
+    auto slice = [&](int c) { return Imf::Slice::Make(Imf::FLOAT, rgb.data() + c, dw, 3 * f, 3 * f * size_t(im->width)); };
     fb.insert(hasR ? "R" : "Y", slice(0));
     if (hasG) fb.insert("G", slice(1));
     if (hasB) fb.insert("B", slice(2));
