@@ -80,7 +80,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.method = integratorMethodFromName(a.method, "--method");
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
-  options.lod = a.lod == "density" ? LodRule::Density : LodRule::PerRay;
+  options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
@@ -189,8 +189,9 @@ int runCommandLine(int argc, char** argv) {
                 "memory for ray, path and candidate buffers, e.g. 512M or 2G (default 1G); a smaller budget "
                 "means more batches and iterations, never a different image");
   r->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
-                                "or density (the thesis's 4^m >= R/spp; the image then depends on batching)")
-      ->check(CLI::IsMember({"per-ray", "density"}));
+                                "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
+                                "(every ray at --max-lod: one geometry for every ray, for references)")
+      ->check(CLI::IsMember({"per-ray", "density", "fixed"}));
   r->add_option("--trace-mode", a.traceMode, "sorted (default: the reorder pipeline) or alone (debug: every ray "
                                              "traced by itself, each patch diced per ray; slow)")
       ->check(CLI::IsMember({"sorted", "alone"}));

@@ -14,7 +14,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
   j["scene"]["leaf_kinds"] = kinds;
   j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
-                   {"lod", options.lod == LodRule::PerRay ? "per-ray" : "density"},
+                   {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
 

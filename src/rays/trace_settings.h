@@ -11,6 +11,8 @@ namespace rayes {
 enum class LodRule {
   PerRay,   // default: each ray's level from its own footprint (order independent)
   Density,  // thesis §6.1.2: smallest m with 4^m >= R/spp; ties the image to batching
+  Fixed,    // every ray at maxLod: one geometry for every ray, as a full tessellation has (the
+            // Embree engine's fixed level); for comparing integrators and making references
 };
 
 struct TraceSettings {

@@ -110,7 +110,9 @@ DiceBuffer& Tracer::localDiceBuffer() {
 
 int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
   int level;
-  if (leaf == b.originLeaf[ray]) {
+  if (settings_.lod == LodRule::Fixed) {
+    level = settings_.maxLod;
+  } else if (leaf == b.originLeaf[ray]) {
     level = std::min<int>(b.originLevel[ray], settings_.maxLod);
   } else {
     const float width = b.coneWidth[ray] + std::max(entry, 0.0f) * b.coneSpread[ray];

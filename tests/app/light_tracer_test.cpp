@@ -2,7 +2,10 @@
 // and the teapot (area lights, diffuse surfaces: no delta-only path reaches the camera) the
 // image mean and the mean of every 4x4 block of the image agree within 4 standard errors. The
 // standard errors come from independent seeds of each method (the spread of the K per-seed
-// block means, divided by sqrt(K)), so the tolerance is the estimators' own noise.
+// block means, divided by sqrt(K)), so the tolerance is the estimators' own noise. K = 64: with
+// a standard error estimated from K runs the test statistic is Student-t with K - 1 degrees of
+// freedom, and with 8 seeds |t| > 4 happens for one of the 17 comparisons in about 8 % of runs
+// (it did, after the sampler changed); with 64, in about 0.3 %.
 // Light tracing is order independent too: the splats of a batch are added in path-id order.
 #include <cmath>
 #include <gtest/gtest.h>
@@ -36,7 +39,11 @@ struct Estimate {
 Estimate estimate(Scene scene, IntegratorMethod method, int seeds) {
   RenderOptions o;
   o.method = method;
-  o.maxLod = 6;
+  // Both methods must see one geometry: with per-ray LOD the camera's rays and the lights' rays
+  // see the curved teapot at the levels of their own footprints, so the two images converge to
+  // renders of different surfaces (11-15 % apart on the teapot at this resolution).
+  o.lod = LodRule::Fixed;
+  o.maxLod = 5;
   std::vector<std::vector<double>> runs;
   for (int s = 0; s < seeds; ++s) {
     scene.integrator.seed = uint64_t(1000 + s);
@@ -74,11 +81,11 @@ Scene small(const std::string& file, int w, int h, int spp) {
 }
 
 TEST(LightTracer, CornellBoxConvergesToThePathTracersImage) {
-  expectSameImage(small("scenes/cornell-box.json", 16, 16, 8), 8);
+  expectSameImage(small("scenes/cornell-box.json", 16, 16, 8), 64);
 }
 
 TEST(LightTracer, TeapotConvergesToThePathTracersImage) {
-  expectSameImage(small("scenes/teapot.json", 16, 12, 8), 8);
+  expectSameImage(small("scenes/teapot.json", 16, 12, 8), 64);
 }
 
 TEST(LightTracer, OrderIndependent) {
