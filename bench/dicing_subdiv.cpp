@@ -37,18 +37,7 @@ SubdivMeshDesc grid() {
 
 using test::cube;
 const auto prism = test::pentagonalPrism;
-
-SubdivMeshDesc octahedron() {
-  SubdivMeshDesc d;
-  d.scheme = SubdivScheme::Loop;
-  d.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const int f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-  for (const auto& t : f) {
-    d.faceSizes.push_back(3);
-    for (int v : t) d.faceVertices.push_back(v);
-  }
-  return d;
-}
+using test::octahedron;
 
 struct Leaf {
   SubdivMeshPtr mesh;

@@ -20,6 +20,7 @@ using test::Random;
 using test::sameBits;
 using test::cube;
 using test::pentagonalPrism;
+using test::octahedron;
 
 // An n x n open grid of quads with a wavy height: interior faces are regular.
 SubdivMeshDesc wavyGrid(int n) {
@@ -33,18 +34,6 @@ SubdivMeshDesc wavyGrid(int n) {
       d.faceSizes.push_back(4);
       for (int v : {a, a + 1, a + n + 2, a + n + 1}) d.faceVertices.push_back(v);
     }
-  return d;
-}
-
-SubdivMeshDesc octahedron() {
-  SubdivMeshDesc d;
-  d.scheme = SubdivScheme::Loop;
-  d.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const int f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
-  for (const auto& t : f) {
-    d.faceSizes.push_back(3);
-    for (int v : t) d.faceVertices.push_back(v);
-  }
   return d;
 }
 
