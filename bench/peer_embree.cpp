@@ -212,7 +212,7 @@ struct EmbreeRun {
 EmbreeRun buildEmbree(const std::vector<PatchPtr>& patches, int m) {
   EmbreeSettings es;
   es.maxLod = m;
-  EmbreeRun run{std::make_unique<EmbreeEngine>(patches, es), {}};
+  EmbreeRun run{std::make_unique<EmbreeEngine>(StoredLeaves(patches), es), {}};
   run.stats = run.engine->engineStats();
   return run;
 }
@@ -252,7 +252,8 @@ size_t sortScratchBytes(size_t capacity, const GenerationStats& st) {
 RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, const TraceSettings& ts,
                   const RaySet& rs, bool forced, int repeat, RayBatch& batch) {
   RayesRun run;
-  Tracer tracer(top, patches, ts);
+  const StoredLeaves source(patches);
+  Tracer tracer(top, source, ts);
   {  // warm-up: allocates the dice buffers and per-ray state
     fillBatch(rs, forced, batch);
     GenerationStats st;

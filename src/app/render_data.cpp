@@ -2,18 +2,20 @@
 #include <algorithm>
 #include <limits>
 #include <map>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace rayes {
 namespace {
 
-SceneFeatures featuresOf(const Scene& scene) {
+SceneFeatures featuresOf(const Scene& scene, const std::vector<Box3>& leafBoxes, const std::vector<LeafFacts>& facts) {
   SceneFeatures f;
-  for (const PatchPtr& patch : scene.patches) {
-    f.movingLeaves += patch->timeSamples() > 1;
-    f.displacedLeaves += patch->isDisplaced();
-    f.subdivisionLeaves += patch->isSubdivision();
-    f.borderClosureLeaves += patch->needsBorderClosure();
-    const float spacing = patch->bounds().relativeSpacing();
+  for (size_t i = 0; i < facts.size(); ++i) {
+    f.movingLeaves += facts[i].timeSamples > 1;
+    f.displacedLeaves += facts[i].displaced;
+    f.subdivisionLeaves += facts[i].subdivision;
+    f.borderClosureLeaves += facts[i].borderClosure;
+    const float spacing = leafBoxes[i].relativeSpacing();
     f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
     f.lowPrecisionLeaves += spacing > 0x1p-16f;
   }
@@ -26,10 +28,10 @@ SceneFeatures featuresOf(const Scene& scene) {
 // Every emissive patch is an area light; shading sees it only through its surface function.
 std::vector<PatchLight> patchLightsOf(const Scene& scene) {
   std::vector<PatchLight> lights;
-  for (size_t i = 0; i < scene.patches.size(); ++i) {
-    const Material& m = scene.materials[scene.patchMaterial[i]];
+  for (size_t i = 0; i < scene.leaves.size(); ++i) {
+    const Material& m = scene.materials[scene.leafMaterial[i]];
     if (!m.emits()) continue;
-    PatchPtr patch = scene.patches[i];
+    PatchPtr patch = scene.leaves.patch(i);
     lights.push_back({[patch](float u, float v, Vec3& p, Vec3& nrm) {
                         const SurfacePoint sp = patch->evaluate(u, v);
                         p = sp.p; nrm = sp.n;
@@ -42,15 +44,21 @@ std::vector<PatchLight> patchLightsOf(const Scene& scene) {
 }  // namespace
 
 RenderData::RenderData(const Scene& scene) {
-  const size_t n = scene.patches.size();
+  const size_t n = scene.leaves.size();
   leafBoxes.resize(n);
+  // The facts are gathered once (a generated leaf's patch is made and dropped again); only
+  // the dicing error is kept per leaf.
+  std::vector<LeafFacts> facts(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      leafBoxes[i] = scene.leaves.bounds(i);
+      facts[i] = scene.leaves.facts(i);
+    }
+  });
   std::map<std::string, uint64_t> kinds;
-  for (size_t i = 0; i < n; ++i) {
-    leafBoxes[i] = scene.patches[i]->bounds();
-    ++kinds[scene.patches[i]->kind()];
-  }
+  for (const LeafFacts& f : facts) ++kinds[f.kind];
   leafKinds.assign(kinds.begin(), kinds.end());
-  features = featuresOf(scene);
+  features = featuresOf(scene, leafBoxes, facts);
   top.build(leafBoxes);
 
   const CameraDesc& cam = scene.camera;
@@ -61,12 +69,12 @@ RenderData::RenderData(const Scene& scene) {
   shading.samplesPerPixel = scene.samplesPerPixel;
   shading.integrator = scene.integrator;
   shading.materials = scene.materials;
-  shading.leafMaterial = scene.patchMaterial;
+  shading.leafMaterial = scene.leafMaterial;
   shading.leafSide.resize(n);
   shading.leafDicingError.resize(n);
   for (size_t i = 0; i < n; ++i) {
     shading.leafSide[i] = leafBoxes[i].longestSide();
-    shading.leafDicingError[i] = scene.patches[i]->dicingErrorCoefficient();
+    shading.leafDicingError[i] = facts[i].dicingError;
   }
   // Lights at infinity are picked by power through a disk of the scene's bounding radius, and
   // light paths leave them from such a disk about the scene's centre.
@@ -75,6 +83,11 @@ RenderData::RenderData(const Scene& scene) {
   const float radius = all.empty() ? 1.0f : std::max(std::numeric_limits<float>::min(), 0.5f * length(all.extent()));
   const Vec3 center = all.empty() ? Vec3{} : all.center();
   shading.lights = LightSampler(scene.pointLights, patchLightsOf(scene), scene.moreLights, radius, center);
+}
+
+size_t RenderData::leafTableBytes() const {
+  return leafBoxes.capacity() * sizeof(Box3) + shading.leafMaterial.capacity() * sizeof(uint32_t) +
+         shading.leafSide.capacity() * sizeof(float) + shading.leafDicingError.capacity() * sizeof(float);
 }
 
 }  // namespace rayes

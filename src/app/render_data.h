@@ -43,6 +43,9 @@ struct RenderData {
   ShadingScene shading;
   SceneFeatures features;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;  // (Patch::kind, leaves), by name
+
+  // Bytes of the per-leaf tables above (boxes, and shading's material, size and dicing error).
+  size_t leafTableBytes() const;
 };
 
 }  // namespace rayes

@@ -12,7 +12,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   stats_.features = data_.features;
   stats_.leafKinds = data_.leafKinds;
   stats_.topLevelBytes = data_.top.bytes();
-  stats_.micropolygonsPotential = uint64_t(scene.patches.size()) << (2 * options.maxLod);
+  stats_.micropolygonsPotential = uint64_t(scene.leaves.size()) << (2 * options.maxLod);
   integrator_ = makeIntegrator(options.method, data_.shading);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
@@ -37,7 +37,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     const PerspectiveCamera& camera = data_.shading.camera;
     es.camera = {camera.position(), camera.apertureRadius(), camera.pixelSpread()};
     es.memoryLimit = options.memoryLimitBytes;
-    engine_ = std::make_unique<EmbreeEngine>(scene.patches, es);
+    engine_ = std::make_unique<EmbreeEngine>(scene.leaves, es);
   } else {
     TraceSettings ts;
     ts.maxLod = options.maxLod;
@@ -45,10 +45,23 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.samplesPerPixel = scene.samplesPerPixel;
     ts.candidateCapacity = stats_.candidateCapacity;
     ts.sortByLeaf = options.sortByLeaf;
-    engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
+    engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
   }
   stats_.engine = engine_->engineStats();
+  stats_.memory = memoryAtSetup(raysPerPath);
   stats_.timeSetup = secondsSince(t0);
+}
+
+MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
+  MemoryByOwner m;
+  const uint64_t slots = stats_.pathsPerBatch * raysPerPath;
+  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * RayBatch::bytesPerRay());
+  m.candidatesAndSort = size_t(slots * engine_->bytesPerRay());
+  m.topLevel = data_.top.bytes();
+  m.leaves = scene_.leaves.size();
+  m.sceneDescription = scene_.leaves.descriptionBytes() + scene_.leafMaterial.capacity() * sizeof(uint32_t) +
+                       data_.leafTableBytes() + stats_.engine.leafTableBytes;
+  return m;
 }
 
 Renderer::~Renderer() = default;
@@ -92,6 +105,8 @@ Film Renderer::render(const Progress& progress) {
   }
   stats_.engine = engine_->engineStats();
   stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
+  stats_.memory.diceBuffers = engine_->fixedBytes();
+  stats_.memory.film = film.bytes();
   stats_.timeTotal = secondsSince(t0);
   return film;
 }

@@ -54,6 +54,20 @@ struct ErrorSample {
   double rmse;
 };
 
+// Memory by owner (docs/stats.md): what each part of a render holds at its largest. Only the
+// scene description grows with the leaf count; nothing grows with the micropolygons a scene
+// could produce.
+struct MemoryByOwner {
+  size_t rayBuffers = 0;         // the RayBatch and the integrator's path state, at the batch size
+  size_t candidatesAndSort = 0;  // the engine's per-ray-slot state: candidates, sort scratch, trace state
+  size_t topLevel = 0;           // the top-level BVH's nodes
+  size_t diceBuffers = 0;        // Rayes: the per-thread dice buffers; Embree: the whole tessellation
+  size_t diceCache = 0;          // diced grids kept between uses (none yet)
+  size_t film = 0;
+  size_t sceneDescription = 0;   // the leaves (records, boxes, stored patches) and every per-leaf table
+  uint64_t leaves = 0;
+};
+
 struct RenderStats {
   SceneFeatures features;
   std::vector<GenerationRecord> generations;
@@ -64,6 +78,7 @@ struct RenderStats {
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
+  MemoryByOwner memory;
   std::vector<ErrorSample> errorCurve;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;
 };
@@ -82,6 +97,8 @@ class Renderer {
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
 
  private:
+  MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
+
   const Scene& scene_;
   RenderOptions options_;
   RenderData data_;

@@ -8,7 +8,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                            const RunInfo& run) {
   using json = nlohmann::json;
   json j;
-  j["scene"] = {{"file", run.scenePath}, {"leaves", scene.patches.size()}, {"resolution", {run.width, run.height}},
+  j["scene"] = {{"file", run.scenePath}, {"leaves", scene.leaves.size()}, {"resolution", {run.width, run.height}},
                 {"spp", run.spp}};
   json kinds = json::object();
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
@@ -65,6 +65,18 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                  {"candidate_capacity", s.candidateCapacity},
                  {"toplevel_bytes", s.topLevelBytes},
                  {"dice_buffer_bytes", s.diceBufferBytes}};
+  const MemoryByOwner& m = s.memory;
+  j["memory"]["by_owner"] = {
+      {"ray_buffers", m.rayBuffers},
+      {"candidates_and_sort", m.candidatesAndSort},
+      {"top_level", m.topLevel},
+      {"dice_buffers", m.diceBuffers},
+      {"dice_cache", m.diceCache},
+      {"film", m.film},
+      {"scene_description", m.sceneDescription},
+  };
+  j["memory"]["scene_bytes_per_leaf"] = m.leaves ? double(m.sceneDescription) / double(m.leaves) : 0.0;
+  j["memory"]["peak_rss_bytes"] = peakRssBytes();
   const EngineStats& e = s.engine;
   j["engine"] = {{"name", e.name}, {"fixed_bytes", e.fixedBytes}};
   if (options.engine == EngineKind::Embree) {

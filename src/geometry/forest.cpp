@@ -204,8 +204,13 @@ Forest::Forest(const ForestParams& prm, uint64_t maxLeaves) : params_(prm) {
   }
   // Each leaf's box is its patch's own conservative bound; the patch is dropped again.
   bounds_.resize(leaves_.size());
+  size_.resize(leaves_.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves_.size(), 256), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) bounds_[i] = makePatch(i)->bounds();
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const PatchPtr patch = makePatch(i);
+      bounds_[i] = patch->bounds();
+      size_[i] = {patch->sizeBound(), patch->dicingErrorCoefficient()};
+    }
   });
 }
 
@@ -273,7 +278,7 @@ uint64_t Forest::countOf(ForestLeaf::Part part) const {
 
 double Forest::bytesPerLeaf() const {
   if (leaves_.empty()) return 0;
-  const double bytes = double(leaves_.size()) * double(sizeof(ForestLeaf) + sizeof(Box3)) +
+  const double bytes = double(leaves_.size()) * double(sizeof(ForestLeaf) + sizeof(Box3) + sizeof(LeafSize)) +
                        double(branches_.size()) * double(sizeof(Branch)) + double(foliage_.size()) * double(sizeof(Foliage));
   return bytes / double(leaves_.size());
 }

@@ -3,7 +3,8 @@
 // branch ends in `branching` children, `detail` levels deep) whose branches are tubes of
 // displaced bicubic patches (bark) and whose twigs carry small flat leaves.
 //
-// What it keeps is compact: per leaf of the top level an 8-byte record and its box, per branch
+// What it keeps is compact: per leaf of the top level an 8-byte record, its box and its patch's
+// size bound and dicing error (8 bytes, for level of detail and ray offsets), per branch
 // its spine (a cubic Bézier) and radii, per foliage leaf its centre and two half axes. A leaf's
 // Patch is made by makePatch() when it is needed — to dice it — and may be dropped right after:
 // the memory of a forest grows with its leaf count, never with the micropolygons it can make.
@@ -61,6 +62,9 @@ class Forest {
   size_t size() const { return leaves_.size(); }
   const ForestLeaf& leaf(size_t i) const { return leaves_[i]; }
   const Box3& bounds(size_t i) const { return bounds_[i]; }
+  // The patch's sizeBound() and dicingErrorCoefficient(), recorded at generation.
+  float sizeBound(size_t i) const { return size_[i].sizeBound; }
+  float dicingError(size_t i) const { return size_[i].dicingError; }
   PatchPtr makePatch(size_t i) const;
 
   // Leaves of a forest with these parameters, without growing it (for limits and stats).
@@ -96,6 +100,10 @@ class Forest {
   std::vector<Foliage> foliage_;
   std::vector<ForestLeaf> leaves_;
   std::vector<Box3> bounds_;
+  struct LeafSize {
+    float sizeBound, dicingError;
+  };
+  std::vector<LeafSize> size_;
 };
 
 }  // namespace rayes

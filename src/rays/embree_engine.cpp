@@ -1,4 +1,5 @@
 #include "rays/embree_engine.h"
+#include "core/memory.h"
 #include <embree3/rtcore.h>
 #include <algorithm>
 #include <atomic>
@@ -24,10 +25,6 @@ constexpr size_t kChunk = 256;  // rays per stream call
 size_t gridVertices(int level) {
   const size_t res = (size_t(1) << level) + 1;
   return res * res;
-}
-
-std::string readableBytes(size_t bytes) {
-  return bytes >= (size_t(1) << 20) ? std::to_string(bytes >> 20) + " MiB" : std::to_string(bytes) + " bytes";
 }
 
 // Embree's allocations, counted through the device's memory monitor.
@@ -109,23 +106,24 @@ int EmbreeEngine::timeSteps(const Patch& patch) {
   return kMaxTimeSegments + 1;
 }
 
-EmbreeEngine::EmbreeEngine(const std::vector<PatchPtr>& patches, const EmbreeSettings& s) {
+EmbreeEngine::EmbreeEngine(const LeafSource& patches, const EmbreeSettings& s) {
   stats_.name = "embree";
   leaves_.resize(patches.size());
+  stats_.leafTableBytes = leaves_.capacity() * sizeof(Leaf);
   stats_.minLevel = s.maxLod;
   size_t vertices = 0;
   for (size_t i = 0; i < patches.size(); ++i) {
-    const Patch& p = *patches[i];
+    const LeafFacts f = patches.facts(i);
     Leaf& leaf = leaves_[i];
-    leaf.level = s.autoLod ? autoLevel(p.bounds(), p.sizeBound(), s.camera, s.maxLod) : s.maxLod;
-    leaf.steps = timeSteps(p);
+    leaf.level = s.autoLod ? autoLevel(patches.bounds(i), f.sizeBound, s.camera, s.maxLod) : s.maxLod;
+    leaf.steps = f.timeSamples > 1 ? timeSteps(*patches.patch(i)) : 1;
     leaf.first = vertices;
     vertices += gridVertices(leaf.level) * size_t(leaf.steps);
     stats_.micropolygons += (uint64_t(1) << (2 * leaf.level)) * uint64_t(leaf.steps);
     stats_.minLevel = std::min(stats_.minLevel, leaf.level);
     stats_.maxLevel = std::max(stats_.maxLevel, leaf.level);
   }
-  if (patches.empty()) stats_.minLevel = 0;
+  if (patches.size() == 0) stats_.minLevel = 0;
   stats_.vertices = vertices;
   stats_.estimatedBytes = vertices * (kOwnBytesPerVertex + kEmbreeBytesPerVertex);
   if (s.memoryLimit > 0 && stats_.estimatedBytes > s.memoryLimit)
@@ -140,7 +138,7 @@ EmbreeEngine::EmbreeEngine(const std::vector<PatchPtr>& patches, const EmbreeSet
 
 EmbreeEngine::~EmbreeEngine() = default;
 
-void EmbreeEngine::tessellate(const std::vector<PatchPtr>& patches) {
+void EmbreeEngine::tessellate(const LeafSource& patches) {
   const auto t0 = Clock::now();
   positions_.resize(stats_.vertices + 1);  // + 1: Embree reads 16 bytes at the last vertex
   normals_.resize(stats_.vertices);
@@ -148,7 +146,8 @@ void EmbreeEngine::tessellate(const std::vector<PatchPtr>& patches) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, patches.size(), 1), [&](const auto& r) {
     std::vector<Vec3> pa, na, pb, nb;
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Patch& patch = *patches[i];
+      const PatchPtr made = patches.patch(i);
+      const Patch& patch = *made;
       const Leaf& leaf = leaves_[i];
       const size_t n = gridVertices(leaf.level), res = (size_t(1) << leaf.level) + 1;
       // Step j: the patch at time j / (steps - 1), blended between its keyframes like

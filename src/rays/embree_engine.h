@@ -37,7 +37,7 @@
 #include <memory>
 #include <vector>
 #include "core/box.h"
-#include "geometry/patch.h"
+#include "geometry/leaf_source.h"
 #include "rays/ray_engine.h"
 
 namespace rayes {
@@ -59,8 +59,10 @@ struct EmbreeSettings {
 
 class EmbreeEngine : public RayEngine {
  public:
-  // Throws InputError("--memory-limit") when estimatedBytes exceeds settings.memoryLimit.
-  EmbreeEngine(const std::vector<PatchPtr>& leaves, const EmbreeSettings& settings);
+  // Throws InputError("--memory-limit") when estimatedBytes exceeds settings.memoryLimit. The
+  // estimate reads only the leaves' boxes and facts: a generated leaf's patch is made when it
+  // is tessellated, never before the check.
+  EmbreeEngine(const LeafSource& leaves, const EmbreeSettings& settings);
   ~EmbreeEngine() override;
   EmbreeEngine(const EmbreeEngine&) = delete;
   EmbreeEngine& operator=(const EmbreeEngine&) = delete;
@@ -91,7 +93,7 @@ class EmbreeEngine : public RayEngine {
     size_t first = 0;  // first vertex of step 0 in positions_/normals_
   };
   struct Device;
-  void tessellate(const std::vector<PatchPtr>& patches);
+  void tessellate(const LeafSource& leaves);
   void build();
   void closestHit(const RayBatch& b, uint32_t i, uint32_t leaf, float t, float eu, float ev, RayHit& hit) const;
 

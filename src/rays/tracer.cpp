@@ -26,14 +26,19 @@ float searchLimit(const RayBatch& b, uint32_t i) {
 }
 }  // namespace
 
-Tracer::Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& s)
+Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
     : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)) {
   leafSize_.resize(leaves.size());
   leafBox_.resize(leaves.size());
-  for (size_t i = 0; i < leaves.size(); ++i) {
-    leafSize_[i] = leaves[i]->sizeBound();
-    leafBox_[i] = leaves[i]->bounds();
-  }
+  leafMoving_.resize(leaves.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 1024), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const LeafFacts f = leaves.facts(i);
+      leafSize_[i] = f.sizeBound;
+      leafMoving_[i] = f.timeSamples > 1;
+      leafBox_[i] = leaves.bounds(i);
+    }
+  });
   if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves);
 }
 
@@ -41,13 +46,15 @@ Tracer::Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, cons
 // points (in either order) and the same midpoint: canonical border evaluation makes these
 // bits equal exactly when the border control rows are the same. A border with no partner or
 // more than one keeps its regions.
-std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const std::vector<PatchPtr>& leaves) {
+std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves) {
   using Key = std::array<float, 9>;
   std::map<Key, std::vector<std::pair<uint32_t, int>>> borders;
   const float corner[4][4] = {{0, 0, 1, 0}, {1, 0, 1, 1}, {0, 1, 1, 1}, {0, 0, 0, 1}};  // (u0, v0, u1, v1)
   for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf) {
-    const Patch& p = *leaves[leaf];
-    if (p.timeSamples() != 1 || std::strcmp(p.kind(), "bezier") != 0 || !p.needsBorderClosure()) continue;
+    const LeafFacts f = leaves.facts(leaf);
+    if (f.timeSamples != 1 || std::strcmp(f.kind, "bezier") != 0 || !f.borderClosure) continue;
+    const PatchPtr patch = leaves.patch(leaf);
+    const Patch& p = *patch;
     for (int e = 0; e < 4; ++e) {
       const float* c = corner[e];
       Vec3 a = p.evaluate(c[0], c[1]).p, z = p.evaluate(c[2], c[3]).p;
@@ -98,6 +105,8 @@ EngineStats Tracer::engineStats() const {
   EngineStats s;
   s.name = "rayes";
   s.fixedBytes = fixedBytes();
+  s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafBox_.capacity() * sizeof(Box3) +
+                     leafMoving_.capacity() + borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
   s.maxLevel = settings_.maxLod;
   return s;
 }
@@ -143,12 +152,13 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
 // its time, on a moving leaf), the result into the slot (its only writer). True when the
 // nearest hit was a border box.
-bool Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, int m) {
+bool Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
+                           int m) {
   const uint32_t i = slotRay_[s];
   const int level = settings_.lod == LodRule::Density ? m : levelOn(b, i, leaf);
   const float limit = searchLimit(b, i);
   BottomQuery query;
-  query.alpha = dice.moving() ? timeInterval(*leaves_[leaf], b.time[i]).alpha : 0.0f;
+  query.alpha = dice.moving() ? timeInterval(patch, b.time[i]).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
   if (b.kind[i] == RayKind::Shadow) {
@@ -245,8 +255,10 @@ void Tracer::diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, Tra
       const uint32_t* slots = sort_.order.data() + sort_.runs[run];
       const size_t count = sort_.runs[run + 1] - sort_.runs[run];
       const uint32_t leaf = cand_.leaf[slots[0]];
-      if (leaves_[leaf]->timeSamples() < 2) diceAndIntersect(b, dice, slots, count, leaf, -1, times, counters);
-      else diceAndIntersectMoving(b, dice, slots, count, leaf, times, counters);
+      // A generated leaf's patch lives only for this run.
+      const PatchPtr patch = leaves_.patch(leaf);
+      if (!leafMoving_[leaf]) diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, times, counters);
+      else diceAndIntersectMoving(b, dice, slots, count, leaf, *patch, times, counters);
     }
   });
   stats.leavesDiced += counters.dicings.load();
@@ -258,8 +270,8 @@ void Tracer::diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, Tra
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
 // changes) and dices each interval present once.
 void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
-                                    uint32_t leaf, TraceTimes& times, DicingCounters& counters) {
-  const Patch& patch = *leaves_[leaf];
+                                    uint32_t leaf, const Patch& patch, TraceTimes& times,
+                                    DicingCounters& counters) {
   IntervalScratch& sc = intervals_.local();
   const int intervals = patch.timeSamples() - 1;
   sc.interval.resize(count);
@@ -276,7 +288,7 @@ void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const u
   }
   for (int iv = 0; iv < intervals; ++iv) {
     const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
-    if (k1 > k0) diceAndIntersect(b, dice, sc.slots.data() + k0, k1 - k0, leaf, iv, times, counters);
+    if (k1 > k0) diceAndIntersect(b, dice, sc.slots.data() + k0, k1 - k0, leaf, patch, iv, times, counters);
   }
 }
 
@@ -286,7 +298,7 @@ void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const u
 // intersect against the same, now read-only, buffer; the chunk loop is isolated so this thread
 // cannot pick up another leaf's task (which would re-dice its buffer) while it waits.
 void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                              int interval, TraceTimes& times, DicingCounters& counters) {
+                              const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters) {
   int m = 0;
   if (settings_.lod == LodRule::Density) {
     m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
@@ -295,8 +307,8 @@ void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_
   }
   {
     ScopedTimer timer(times.dice);
-    if (interval < 0) dice.dice(*leaves_[leaf], m);
-    else dice.diceInterval(*leaves_[leaf], interval, m);
+    if (interval < 0) dice.dice(patch, m);
+    else dice.diceInterval(patch, interval, m);
   }
   const uint64_t grids = interval < 0 ? 1 : 2;
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
@@ -305,7 +317,7 @@ void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     uint64_t borders = 0;
-    for (size_t k = k0; k < k1; ++k) borders += intersectSlot(b, dice, slots[k], leaf, m);
+    for (size_t k = k0; k < k1; ++k) borders += intersectSlot(b, dice, slots[k], leaf, patch, m);
     if (borders) counters.borderHits.fetch_add(borders, std::memory_order_relaxed);
   };
   constexpr size_t kChunk = 1024;
@@ -378,7 +390,8 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
           const uint32_t leaf = local[j].leaf;
           if (leaf == b.ignoreLeaf[i]) continue;
           const int level = levelOn(b, i, leaf);
-          const Patch& patch = *leaves_[leaf];
+          const PatchPtr made = leaves_.patch(leaf);
+          const Patch& patch = *made;
           const TimeInterval when = timeInterval(patch, b.time[i]);
           dice.diceInterval(patch, when.interval, level);
           diced.fetch_add(1, std::memory_order_relaxed);

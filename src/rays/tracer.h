@@ -32,7 +32,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include "core/ray_batch.h"
 #include "dicing/dice_buffer.h"
-#include "geometry/patch.h"
+#include "geometry/leaf_source.h"
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
 #include "rays/ray_engine.h"
@@ -43,7 +43,9 @@ namespace rayes {
 
 class Tracer : public RayEngine {
  public:
-  Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, const TraceSettings& settings);
+  // `leaves` must outlive the Tracer; a generated leaf's patch is made once per dicing and
+  // dropped after its rays are intersected.
+  Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& settings);
 
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
@@ -55,7 +57,7 @@ class Tracer : public RayEngine {
   // Per leaf and border e (DiceBuffer's numbering: v = 0, u = 1, v = 1, u = 0), the static
   // Bézier leaf across it, or kNoLeaf (other kinds, moving leaves, unshared borders). Empty
   // when no leaf has a neighbour.
-  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const std::vector<PatchPtr>& leaves);
+  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves);
   static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
   // Everything one candidate slot costs: the slot itself, its ray index, and the sort's
   // working storage (filled list, pairs and scratch, order) when the slot is filled.
@@ -87,9 +89,9 @@ class Tracer : public RayEngine {
   size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
   void diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, TraceTimes& times);  // 3, 4
   void diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
-                              uint32_t leaf, TraceTimes& times, DicingCounters& counters);
+                              uint32_t leaf, const Patch& patch, TraceTimes& times, DicingCounters& counters);
   void diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                        int interval, TraceTimes& times, DicingCounters& counters);
+                        const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters);
   void reduceHits(RayBatch& b, size_t nNow, int N);                 // 5
   void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
@@ -109,14 +111,15 @@ class Tracer : public RayEngine {
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
     return settings_.closeBorders && leaf != b.originLeaf[i];
   }
-  bool intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, int m);
+  bool intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m);
   DiceBuffer& localDiceBuffer();
 
   const TopLevelBvh& top_;
-  const std::vector<PatchPtr>& leaves_;
+  const LeafSource& leaves_;
   TraceSettings settings_;
-  std::vector<float> leafSize_;  // Patch::sizeBound per leaf, for LOD
-  std::vector<Box3> leafBox_;    // Patch::bounds per leaf, for levelOn
+  std::vector<float> leafSize_;  // LeafFacts::sizeBound per leaf, for LOD
+  std::vector<Box3> leafBox_;    // LeafSource::bounds per leaf, for levelOn
+  std::vector<uint8_t> leafMoving_;  // more than one time sample: diced per time interval
   std::vector<std::array<uint32_t, 4>> borderNeighbour_;  // borderNeighbours(leaves), per-ray LOD only
 
   CandidateBuffer cand_;

@@ -17,9 +17,7 @@ namespace rayes {
 constexpr float kMaxCoordinate = 0x1p60f;
 constexpr float kMinResolution = 0x1p-8f;
 
-void addPatch(const JsonReader& r, const std::string& ptr, Scene& scene, PatchPtr patch, uint32_t material) {
-  const Box3 b = patch->bounds();
-  const size_t leaf = scene.patches.size();
+void checkRepresentable(const JsonReader& r, const std::string& ptr, size_t leaf, const Box3& b) {
   if (b.empty() || !isFinite(b.lo) || !isFinite(b.hi))
     r.fail(ptr, "patch " + std::to_string(leaf) + "'s bounding box overflows float (inf or NaN coordinates)");
   const float magnitude = b.magnitude();
@@ -36,8 +34,12 @@ void addPatch(const JsonReader& r, const std::string& ptr, Scene& scene, PatchPt
          " (move the scene nearer the origin or scale it up)";
     r.fail(ptr, m.str());
   }
-  scene.patches.push_back(std::move(patch));
-  scene.patchMaterial.push_back(material);
+}
+
+void addPatch(const JsonReader& r, const std::string& ptr, Scene& scene, PatchPtr patch, uint32_t material) {
+  checkRepresentable(r, ptr, scene.leaves.size(), patch->bounds());
+  scene.leaves.add(std::move(patch));
+  scene.leafMaterial.push_back(material);
 }
 
 }  // namespace rayes

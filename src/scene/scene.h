@@ -1,12 +1,13 @@
-// START HERE for scenes. A Scene is everything a render needs, already resolved: patches are
-// built (one per top-level leaf, transforms applied), materials are indexed, rectangle lights
+// START HERE for scenes. A Scene is everything a render needs, already resolved: its leaves
+// (geometry/leaf_source.h: patches built with transforms applied, and generated parts such as a
+// forest, whose patches are made only when diced), materials are indexed, rectangle lights
 // have become emissive bilinear patches (so they are seen by camera rays and sampled by NEE
 // through one code path). Produced by loadScene() (scene_loader.h) from the JSON format of
 // docs/scene-format.md; immutable afterwards.
 #pragma once
 #include <string>
 #include <vector>
-#include "geometry/patch.h"
+#include "geometry/leaf_source.h"
 #include "shading/light.h"
 #include "shading/material.h"
 #include "shading/shading_scene.h"
@@ -27,8 +28,8 @@ struct Scene {
   int width = 640, height = 480, samplesPerPixel = 16;
   IntegratorSettings integrator;
   std::vector<Material> materials;
-  std::vector<PatchPtr> patches;          // leaf id = index
-  std::vector<uint32_t> patchMaterial;    // per patch
+  LeafList leaves;                        // leaf id = index
+  std::vector<uint32_t> leafMaterial;     // per leaf
   std::vector<PointLight> pointLights;
   SceneLights moreLights;                 // spot, distant and environment lights
 };

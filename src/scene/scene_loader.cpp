@@ -92,7 +92,7 @@ Scene parseScene(const std::string& fileText, const std::string& path) {
   const auto dir = std::filesystem::path(path).parent_path();
   readShapes(r, r.member(doc, "", "shapes"), scene, materials, dir);
   if (doc.contains("lights")) readLights(r, doc["lights"], scene);
-  if (scene.patches.empty()) r.fail("/shapes", "the scene has no shapes");
+  if (scene.leaves.empty()) r.fail("/shapes", "the scene has no shapes");
   return scene;
 }
 

@@ -13,10 +13,12 @@ std::filesystem::path ShapeContext::file(const char* key) const {
   return fp;
 }
 
-uint32_t materialRef(const JsonReader& r, const json& shape, const std::string& p, const MaterialIndex& materials) {
-  const std::string name = r.string(r.member(shape, p, "material"), p + "/material");
+uint32_t materialRef(const JsonReader& r, const json& obj, const std::string& p, const MaterialIndex& materials,
+                     const char* key) {
+  const std::string at = p + "/" + key;
+  const std::string name = r.string(r.member(obj, p, key), at);
   auto it = materials.find(name);
-  if (it == materials.end()) r.fail(p + "/material", "no material named '" + name + "'");
+  if (it == materials.end()) r.fail(at, "no material named '" + name + "'");
   return it->second;
 }
 
@@ -45,10 +47,15 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     const json& shape = j[s];
     if (!shape.is_object()) r.fail(p, "expected an object");
     const std::string type = r.string(r.member(shape, p, "type"), p + "/type");
+    if (type == "forest") {  // generated leaves, not a ShapeSource of patches
+      readForestShape(r, shape, p, scene, materials);
+      continue;
+    }
     const auto kind = shapeKinds().find(type);
     if (kind == shapeKinds().end()) {
       std::string known;
       for (const auto& [name, _] : shapeKinds()) known += (known.empty() ? "" : ", ") + name;
+      known += ", forest";
       r.fail(p + "/type", "unknown shape type '" + type + "' (expected " + known + ")");
     }
     const ShapeContext ctx{r, shape, p, sceneDir};

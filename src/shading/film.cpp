@@ -65,4 +65,11 @@ std::vector<float> Film::albedo() const { return meanOverHits(albedo_, hits_, 3)
 std::vector<float> Film::materialId() const { return std::vector<float>(material_.begin(), material_.end()); }
 std::vector<float> Film::sampleCount() const { return std::vector<float>(count_.begin(), count_.end()); }
 
+size_t Film::bytes() const {
+  const size_t doubles = rgb_.capacity() + alpha_.capacity() + depth_.capacity() + normal_.capacity() +
+                         lod_.capacity() + albedo_.capacity() + splat_.capacity();
+  return doubles * sizeof(double) + material_.capacity() * sizeof(int32_t) +
+         (count_.capacity() + hits_.capacity()) * sizeof(uint32_t);
+}
+
 }  // namespace rayes

@@ -46,6 +46,8 @@ class Film {
   std::vector<float> albedo() const;      // rgb per pixel
   std::vector<float> materialId() const;  // of the first sample (in sample order) that hit; -1: none
   std::vector<float> sampleCount() const;
+  // Bytes of the sums held (for the stats' memory by owner).
+  size_t bytes() const;
 
  private:
   int width_, height_;

@@ -108,7 +108,7 @@ TEST(Engines, EmbreeStatsSayWhatWasTessellated) {
   EXPECT_GT(j["engine"]["embree_bytes"].get<uint64_t>(), 0u);
   EXPECT_EQ(j["engine"]["fixed_bytes"].get<uint64_t>(),
             j["engine"]["vertex_bytes"].get<uint64_t>() + j["engine"]["embree_bytes"].get<uint64_t>() +
-                12 * scene.patches.size());
+                12 * scene.leaves.size());
 }
 
 TEST(Engines, BadEngineOptionsAreOneMessageNamingTheOption) {

@@ -139,10 +139,10 @@ TEST_F(Motion, StaticSceneDicesOneTimeSampleAndMovingSceneTwo) {
   EXPECT_EQ(stillMoving, 0u);
   EXPECT_GT(movingMoving, 0u);
   const Scene a = loadScene(write("a.json", movingSquare("[0, 1]")));
-  EXPECT_EQ(a.patches[0]->timeSamples(), 2);
+  EXPECT_EQ(a.leaves.patch(0)->timeSamples(), 2);
   const Scene b = loadScene(write("b.json", movingSquare("[0, 1]", "[0, 1]",
                                                           R"([[{"translate": [1, 0, 0]}], [{"translate": [1, 0, 0]}]])")));
-  EXPECT_EQ(b.patches[0]->timeSamples(), 1);
+  EXPECT_EQ(b.leaves.patch(0)->timeSamples(), 1);
 }
 
 // docs/design.md, invariant 2 with motion: scenes/motion-cubes.json (a translating and a turning cube,

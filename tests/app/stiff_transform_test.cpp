@@ -154,11 +154,14 @@ class StiffTransform : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(StiffTransform, SameImageOrRefused) { expectSameImage(testing::sourcePath("scenes/" + GetParam())); }
 
-// Every shipped scene.
+// Every shipped scene but the forests: a forest is generated in world space and takes no
+// transform (docs/scene-format.md); its leaves pass the loader's representability check like
+// every other leaf.
 std::vector<std::string> shippedScenes() {
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(testing::sourcePath("scenes")))
-    if (e.path().extension() == ".json") names.push_back(e.path().filename().string());
+    if (e.path().extension() == ".json" && e.path().stem().string().rfind("forest-", 0) != 0)
+      names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   return names;
 }

@@ -39,7 +39,8 @@ Escapes shootFromInside(const std::vector<PatchPtr>& patches, uint64_t total, bo
   s.maxLod = kMaxLod;
   s.closeBorders = closeBorders;
   s.levelHook = randomLevel;
-  Tracer tracer(top, patches, s);
+  const StoredLeaves source(patches);
+  Tracer tracer(top, source, s);
   Escapes e;
   constexpr uint32_t kBatch = 1 << 18;
   RayBatch b;

@@ -25,6 +25,7 @@ constexpr int kLod = 4;
 // The teapot, a floor of four quads and, in front of the teapot, a patch moving in x and z.
 struct World {
   std::vector<PatchPtr> leaves;
+  StoredLeaves source;  // the leaves, as the engines read them
   TopLevelBvh top;
   explicit World(bool moving) : leaves(test::teapotOnFloor()) {
     if (moving) {
@@ -40,6 +41,7 @@ struct World {
     }
     std::vector<Box3> boxes;
     for (const auto& l : leaves) boxes.push_back(l->bounds());
+    source = StoredLeaves(leaves);
     top.build(boxes);
   }
 };
@@ -65,7 +67,7 @@ void traceRayes(const World& w, RayBatch& b) {
   TraceSettings s;
   s.maxLod = kLod;
   s.closeBorders = false;
-  Tracer tracer(w.top, w.leaves, s);
+  Tracer tracer(w.top, w.source, s);
   GenerationStats stats;
   TraceTimes times;
   tracer.trace(b, stats, times);
@@ -75,7 +77,7 @@ void traceRayes(const World& w, RayBatch& b) {
 GenerationStats traceEmbree(const World& w, RayBatch& b) {
   EmbreeSettings s;
   s.maxLod = kLod;
-  EmbreeEngine engine(w.leaves, s);
+  EmbreeEngine engine(w.source, s);
   GenerationStats stats;
   TraceTimes times;
   engine.trace(b, stats, times);
@@ -218,14 +220,14 @@ TEST(EmbreeEngine, RefusesATessellationOverTheMemoryLimitBeforeAllocating) {
   s.maxLod = 12;  // 37 patches x 4097^2 vertices x 60 B: 37 GB
   s.memoryLimit = size_t(1) << 30;
   try {
-    EmbreeEngine engine(w.leaves, s);
+    EmbreeEngine engine(w.source, s);
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "--memory-limit");
     EXPECT_NE(std::string(e.what()).find("than the limit of 1024 MiB"), std::string::npos) << e.what();
   }
   s.maxLod = 6;
-  EmbreeEngine small(w.leaves, s);
+  EmbreeEngine small(w.source, s);
   const EngineStats st = small.engineStats();
   EXPECT_EQ(st.micropolygons, w.leaves.size() << 12);
   EXPECT_EQ(st.vertices, w.leaves.size() * 65 * 65);

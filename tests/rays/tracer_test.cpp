@@ -17,6 +17,7 @@ constexpr int kLod = 4;
 
 struct World {
   std::vector<PatchPtr> leaves;
+  StoredLeaves source;  // the leaves, as the Tracer reads them
   std::vector<Box3> boxes;
   std::vector<std::array<uint32_t, 4>> neighbours;  // Tracer::borderNeighbours
   TopLevelBvh top;
@@ -25,7 +26,8 @@ struct World {
     leaves.push_back(std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 6}, Vec3{5, 5, 6}));
     for (const auto& l : leaves) boxes.push_back(l->bounds());
     top.build(boxes);
-    neighbours = Tracer::borderNeighbours(leaves);
+    source = StoredLeaves(leaves);
+    neighbours = Tracer::borderNeighbours(source);
   }
 };
 
@@ -84,7 +86,7 @@ GenerationStats traceAll(const World& w, RayBatch& b, size_t capacity, bool sort
   s.maxLod = kLod;
   s.candidateCapacity = capacity;
   s.sortByLeaf = sorted;
-  Tracer tracer(w.top, w.leaves, s);
+  Tracer tracer(w.top, w.source, s);
   GenerationStats stats;
   TraceTimes times;
   tracer.trace(b, stats, times);
@@ -138,7 +140,7 @@ TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   World w;
   TraceSettings s;
   s.maxLod = kLod;
-  Tracer tracer(w.top, w.leaves, s);
+  Tracer tracer(w.top, w.source, s);
   RayBatch b;
   b.resize(2);
   const uint32_t wall = uint32_t(w.leaves.size() - 1);

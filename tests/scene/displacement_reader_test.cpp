@@ -22,9 +22,9 @@ using testing::writeOneChannelExr;
 TEST(DisplacementReader, NoiseWrapsEveryPatch) {
   const Scene s = parseScene(test::minimalScene(R"(, "displacement": {"type": "noise", "amplitude": 0.5, "frequency": 2,
       "octaves": 3, "ridged": true, "seed": 4})"), "ok.json");
-  ASSERT_EQ(s.patches.size(), 1u);
-  EXPECT_STREQ(s.patches[0]->kind(), "displaced-bilinear");
-  const Box3 b = s.patches[0]->bounds();
+  ASSERT_EQ(s.leaves.size(), 1u);
+  EXPECT_STREQ(s.leaves.patch(0)->kind(), "displaced-bilinear");
+  const Box3 b = s.leaves.patch(0)->bounds();
   EXPECT_GT(b.hi.z, 0.0f);
   EXPECT_LE(b.hi.z, 0.51f);
   EXPECT_GE(b.lo.z, -0.01f);  // ridged noise is in [0, 1]
@@ -35,9 +35,9 @@ TEST(DisplacementReader, TransformedShapeKeepsItsPattern) {
   const Scene a = parseScene(test::minimalScene(d), "a.json");
   const Scene b = parseScene(test::minimalScene(R"(, "transform": [{"translate": [50, 0, 0]}])" + d), "b.json");
   for (float u : {0.2f, 0.6f}) {
-    const Vec3 pa = a.patches[0]->evaluate(u, 0.4f).p, pb = b.patches[0]->evaluate(u, 0.4f).p;
+    const Vec3 pa = a.leaves.patch(0)->evaluate(u, 0.4f).p, pb = b.leaves.patch(0)->evaluate(u, 0.4f).p;
     EXPECT_NEAR(pa.z, pb.z, 1e-5f);
-    EXPECT_TRUE(b.patches[0]->bounds().contains(pb));
+    EXPECT_TRUE(b.leaves.patch(0)->bounds().contains(pb));
   }
 }
 
@@ -48,20 +48,20 @@ TEST(DisplacementReader, HeightMapFromExr) {
   const Scene s = parseScene(test::minimalScene(R"(, "displacement": {"type": "image", "file": ")" + (dir / "h.exr").string() +
                                        R"(", "amplitude": 0.1, "offset": -0.5})"),
                              "ok.json");
-  ASSERT_EQ(s.patches.size(), 1u);
-  const auto* d = dynamic_cast<const DisplacedPatch*>(s.patches[0].get());
+  ASSERT_EQ(s.leaves.size(), 1u);
+  const auto* d = dynamic_cast<const DisplacedPatch*>(s.leaves.patch(0).get());
   ASSERT_NE(d, nullptr);
   EXPECT_STREQ(d->displacement().kind(), "image");
   // The first texel row is v = 0; the corner (0, 0) reads texel (0, 0) = 0: h = -0.5.
-  EXPECT_NEAR(s.patches[0]->evaluate(0, 0).p.z, -0.5f, 1e-5f);
-  EXPECT_NEAR(s.patches[0]->evaluate(1, 1).p.z, -0.5f + 1.1f, 1e-5f);
+  EXPECT_NEAR(s.leaves.patch(0)->evaluate(0, 0).p.z, -0.5f, 1e-5f);
+  EXPECT_NEAR(s.leaves.patch(0)->evaluate(1, 1).p.z, -0.5f + 1.1f, 1e-5f);
   // A relative name is relative to the scene file.
   const std::string scenePath = (dir / "scene.json").string();
   FILE* f = std::fopen(scenePath.c_str(), "w");
   const std::string text = test::minimalScene(R"(, "displacement": {"type": "image", "file": "h.exr", "channel": "Y"})");
   std::fwrite(text.data(), 1, text.size(), f);
   std::fclose(f);
-  EXPECT_STREQ(loadScene(scenePath).patches[0]->kind(), "displaced-bilinear");
+  EXPECT_STREQ(loadScene(scenePath).leaves.patch(0)->kind(), "displaced-bilinear");
   std::filesystem::remove_all(dir);
 }
 

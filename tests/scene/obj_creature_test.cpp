@@ -181,7 +181,7 @@ TEST(Creature, SeamsAreBitwiseAndRaysAtThemNeverMiss) {
 TEST(Creature, SceneLoads) {
   const Scene s = loadScene(RAYES_SOURCE_DIR "/scenes/subdiv-creature.json");
   size_t subdiv = 0;
-  for (const auto& p : s.patches) subdiv += std::strcmp(p->kind(), "subdiv") == 0;
+  for (size_t i = 0; i < s.leaves.size(); ++i) subdiv += std::strcmp(s.leaves.facts(i).kind, "subdiv") == 0;
   EXPECT_EQ(subdiv, creature().patches.size());
 }
 

@@ -115,8 +115,8 @@ class SubdivScene : public ::testing::Test {
 TEST_F(SubdivScene, FileFormLoads) {
   write("cube.obj", kCube);
   const Scene s = loadScene(write("s.json", scene(R"({"type": "subdiv", "material": "m", "file": "cube.obj"})")));
-  EXPECT_EQ(s.patches.size(), 5u);  // one face is a hole
-  EXPECT_STREQ(s.patches[0]->kind(), "subdiv");
+  EXPECT_EQ(s.leaves.size(), 5u);  // one face is a hole
+  EXPECT_STREQ(s.leaves.patch(0)->kind(), "subdiv");
 }
 
 TEST_F(SubdivScene, InlineFormAndLoadLoad) {
@@ -125,7 +125,7 @@ TEST_F(SubdivScene, InlineFormAndLoadLoad) {
       "faces": [[0,2,4],[2,1,4],[1,3,4],[3,0,4],[2,0,5],[1,2,5],[3,1,5],[0,3,5]],
       "creases": [[0, 2, 2.0]], "corners": [[4, 1.0]],
       "transform": [{"scale": 2}]})")));
-  EXPECT_EQ(s.patches.size(), 24u);
+  EXPECT_EQ(s.leaves.size(), 24u);
 }
 
 TEST_F(SubdivScene, TopologyErrorsNameTheObjLine) {

@@ -24,15 +24,15 @@ TEST(SceneLoader, MinimalSceneLoads) {
   EXPECT_EQ(s.width, 32);
   EXPECT_EQ(s.height, 24);
   EXPECT_EQ(s.samplesPerPixel, 4);
-  ASSERT_EQ(s.patches.size(), 1u);
-  EXPECT_STREQ(s.patches[0]->kind(), "bilinear");
+  ASSERT_EQ(s.leaves.size(), 1u);
+  EXPECT_STREQ(s.leaves.patch(0)->kind(), "bilinear");
 }
 
 TEST(SceneLoader, ShippedScenesLoad) {
   const Scene teapot = loadScene(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.json");
-  EXPECT_EQ(teapot.patches.size(), 32u + 6u + 1u);  // teapot, box, the rect light
+  EXPECT_EQ(teapot.leaves.size(), 32u + 6u + 1u);  // teapot, box, the rect light
   const Scene one = loadScene(std::string(RAYES_SOURCE_DIR) + "/scenes/one-patch.json");
-  EXPECT_EQ(one.patches.size(), 2u);
+  EXPECT_EQ(one.leaves.size(), 2u);
   EXPECT_EQ(one.pointLights.size(), 1u);
 }
 
@@ -40,7 +40,7 @@ TEST(SceneLoader, TransformsApplyInOrder) {
   const std::string t = replaced(kMinimal, R"("quads")",
                                  R"("transform": [{"scale": 2}, {"translate": [0, 0, 5]}], "quads")");
   const Scene s = parseScene(t, "t.json");
-  const Box3 b = s.patches[0]->bounds();
+  const Box3 b = s.leaves.patch(0)->bounds();
   EXPECT_NEAR(b.lo.x, -2.0f, 1e-3f);
   EXPECT_NEAR(b.hi.z, 5.0f, 1e-3f);
 }
