@@ -131,6 +131,12 @@ InputFile heightMapScene(const std::string& file) {
                     R"("displacement": {"type": "image", "file": ")" + file + R"("}}])");
 }
 
+// A forest shape of one small tree with `extra` keys.
+std::string forestShape(const std::string& extra) {
+  return R"([{"type": "forest", "materials": {"terrain": "m", "bark": "m", "foliage": "m"}, )" + extra +
+         "}]";
+}
+
 std::vector<std::string> renderWith(std::vector<std::string> extra) {
   std::vector<std::string> args = {"render", "$D/s.json", "-o", "$D/out/o.exr", "-q"};
   args.insert(args.end(), extra.begin(), extra.end());
@@ -302,6 +308,22 @@ std::vector<HostileCase> catalogue() {
        {}, "s.json:6:", "/shapes/0/transform/0"},
       {"MotionIsNumber", {withShapes(R"([{"type": "bilinear", "material": "m", "quads": [[[-1,-1,0],[1,-1,0],[-1,1,0],[1,1,0]]], "motion": 3}])")},
        {}, "s.json:6:", "/shapes/0/motion"},
+      // The forest: refused before anything is grown (a leaf count beyond what memory could describe
+      // is found by Forest::leafCount, without growing a tree).
+      {"ForestNegativeTreeCount", {withShapes(forestShape(R"("trees": -1)"))}, {}, "s.json:6:",
+       "/shapes/0/trees: must be in [0, 16777216]"},
+      {"ForestTreesNotANumber", {withShapes(forestShape(R"("trees": "many")"))}, {}, "s.json:6:",
+       "/shapes/0/trees: expected an integer, got string"},
+      {"ForestAbsurdDetail", {withShapes(forestShape(R"("trees": 16777216, "detail": 8, "branching": 6)"))}, {},
+       "s.json:6:", "more than this machine's memory allows"},
+      {"ForestDetailOutOfRange", {withShapes(forestShape(R"("detail": 9)"))}, {}, "s.json:6:",
+       "/shapes/0/detail: must be in [0, 8]"},
+      {"ForestFractionalSeed", {withShapes(forestShape(R"("seed": 1.5)"))}, {}, "s.json:6:",
+       "/shapes/0/seed: expected a non-negative integer"},
+      {"ForestUnknownPartMaterial", {withShapes(R"([{"type": "forest", "materials": {"terrain": "m", "bark": "x", "foliage": "m"}}])")},
+       {}, "s.json:6:", "/shapes/0/materials/bark: no material named 'x'"},
+      {"ForestWithTransform", {withShapes(forestShape(R"("transform": [])"))}, {}, "s.json:6:",
+       "/shapes/0/transform: unknown key 'transform'"},
       {"DisplacementUnknownType", {withShapes(R"([{"type": "bilinear", "material": "m", "quads": [[[-1,-1,0],[1,-1,0],[-1,1,0],[1,1,0]]], "displacement": {"type": "wave"}}])")},
        {}, "s.json:6:", "/shapes/0/displacement/type"},
       {"DisplacementNaNFrequency", {withShapes(R"([{"type": "bilinear", "material": "m", "quads": [[[-1,-1,0],[1,-1,0],[-1,1,0],[1,1,0]]], "displacement": {"type": "noise", "frequency": 0}}])")},
