@@ -40,6 +40,7 @@ struct RenderOptions {
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
   IntegratorMethod method = IntegratorMethod::PathTracing;
+  IntegratorOptions integrator;  // --caustic-paths, the photon options
   std::vector<float> reference;  // RGB per pixel; empty: no error curve
 };
 
@@ -98,6 +99,7 @@ class Renderer {
 
  private:
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
+  void traceLightPass(int s0, int s1, int pass, int& batch);
 
   const Scene& scene_;
   RenderOptions options_;

@@ -39,14 +39,15 @@ Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSett
       leafBox_[i] = leaves.bounds(i);
     }
   });
-  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves);
+  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top);
 }
 
 // Two static Bézier leaves share border e and e' when the border curves have the same end
 // points (in either order) and the same midpoint: canonical border evaluation makes these
 // bits equal exactly when the border control rows are the same. A border with no partner or
-// more than one keeps its regions.
-std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves) {
+// more than one keeps its regions, unless it is free (no other leaf's box meets its box).
+std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves,
+                                                              const TopLevelBvh& top) {
   using Key = std::array<float, 9>;
   std::map<Key, std::vector<std::pair<uint32_t, int>>> borders;
   const float corner[4][4] = {{0, 0, 1, 0}, {1, 0, 1, 1}, {0, 1, 1, 1}, {0, 0, 0, 1}};  // (u0, v0, u1, v1)
@@ -70,6 +71,30 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
     out[sides[0].first][sides[0].second] = sides[1].first;
     out[sides[1].first][sides[1].second] = sides[0].first;
   }
+  // Free borders, found in parallel (a generated leaf's patch is made for it and dropped):
+  // bit e of freeBorders[leaf] for border e.
+  std::vector<uint8_t> freeBorders(leaves.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 256), [&](const auto& r) {
+    for (size_t leaf = r.begin(); leaf != r.end(); ++leaf) {
+      if (!leaves.facts(leaf).borderClosure) continue;
+      const PatchPtr patch = leaves.patch(leaf);
+      const Patch& p = *patch;
+      for (int e = 0; e < 4; ++e) {
+        if (!out.empty() && out[leaf][e] != kNoLeaf) continue;
+        const float* c = corner[e];
+        Box3 border;
+        for (int sample = 0; sample < p.timeSamples(); ++sample)
+          border.extend(p.boundsOverAt(sample, c[0], c[2], c[1], c[3]));
+        if (!top.anyOtherLeafMeets(border, uint32_t(leaf))) freeBorders[leaf] |= uint8_t(1u << e);
+      }
+    }
+  });
+  for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf)
+    for (int e = 0; e < 4; ++e) {
+      if (!(freeBorders[leaf] >> e & 1u)) continue;
+      if (out.empty()) out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
+      out[leaf][e] = kFreeBorder;
+    }
   return out;
 }
 
@@ -87,6 +112,10 @@ uint8_t Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_
   const RayBoxQuery q(b.org[i], b.dir[i]);
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = borderNeighbour_[leaf][e];
+    if (nb == kFreeBorder) {
+      skip |= uint8_t(1u << e);
+      continue;
+    }
     if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
     float t0, t1;
     if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, b.tmin[i], kInf, t0, t1)) continue;
