@@ -13,6 +13,7 @@ namespace rayes {
 
 struct ConvergeRow {
   double seconds;   // wall clock of this render alone (setup and render, not loading)
+  double cpuSeconds;  // the process's CPU time over the same span (all threads; steadier under load)
   int spp;
   uint64_t photons; // photons traced (pm, ppm), else 0
   double rmse, relMse, regionBias;

@@ -42,7 +42,7 @@ TEST_F(Converge, WritesTheCurveAndAChart) {
                                          "--region", "0,0,8,6"}));
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string text = read(csv());
-  EXPECT_EQ(text.rfind("seconds,spp,photons,rmse,rel_mse,region_bias\n", 0), 0u) << text;
+  EXPECT_EQ(text.rfind("seconds,cpu_seconds,spp,photons,rmse,rel_mse,region_bias\n", 0), 0u) << text;
   EXPECT_NE(text.find(",1,"), std::string::npos) << "the first render has 1 spp: " << text;
   EXPECT_NE(text.find(",1,100,"), std::string::npos) << "pm traces --photons per sample: " << text;
   EXPECT_NE(read(dir.path("curve.svg")).find("<polyline"), std::string::npos);
