@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include "core/timer.h"
 
 namespace rayes {
@@ -44,11 +45,13 @@ std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& option
     Scene scene = base;
     scene.samplesPerPixel = spp;
     const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
     Renderer renderer(scene, o);
     const Film film = renderer.render();
     const double seconds = secondsSince(t0);
+    const double cpuSeconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
     const std::vector<float> rgba = film.beautyRgba();
-    const ConvergeRow row{seconds, spp, renderer.stats().shade.photonsTraced.load(), rmseAgainst(film, reference),
+    const ConvergeRow row{seconds, cpuSeconds, spp, renderer.stats().shade.photonsTraced.load(), rmseAgainst(film, reference),
                           relMseAgainst(rgba, reference), regionBias(rgba, reference, region, scene.width, scene.height)};
     rows.push_back(row);
     if (report) report(row);
@@ -60,10 +63,10 @@ std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& option
 }
 
 std::string convergeCsv(const std::vector<ConvergeRow>& rows) {
-  std::string out = "seconds,spp,photons,rmse,rel_mse,region_bias\n";
+  std::string out = "seconds,cpu_seconds,spp,photons,rmse,rel_mse,region_bias\n";
   char line[256];
   for (const ConvergeRow& r : rows) {
-    std::snprintf(line, sizeof line, "%.4f,%d,%llu,%.6g,%.6g,%.6g\n", r.seconds, r.spp,
+    std::snprintf(line, sizeof line, "%.4f,%.4f,%d,%llu,%.6g,%.6g,%.6g\n", r.seconds, r.cpuSeconds, r.spp,
                   static_cast<unsigned long long>(r.photons), r.rmse, r.relMse, r.regionBias);
     out += line;
   }

@@ -2,7 +2,7 @@
 // (spp 1, 2, 4, ...; photon counts are per sample, so pm and ppm double their photons too)
 // until the time budget would be exceeded, and every render is compared with a reference:
 // RMSE and relative MSE over the image, and the mean signed error (bias) inside a region
-// (a pixel box, or the non-zero pixels of a mask EXR; docs/converge.md). One CSV row per
+// (a pixel box, or the non-zero pixels of a mask EXR; docs/design.md, "Caustic paths"). One CSV row per
 // render, and an SVG chart of RMSE against seconds (log-log).
 #pragma once
 #include <string>
@@ -13,6 +13,7 @@ namespace rayes {
 
 struct ConvergeRow {
   double seconds;   // wall clock of this render alone (setup and render, not loading)
+  double cpuSeconds;  // the process's CPU time over the same span (all threads; steadier under load)
   int spp;
   uint64_t photons; // photons traced (pm, ppm), else 0
   double rmse, relMse, regionBias;

@@ -58,11 +58,17 @@ struct Material {
 // (delta lobes) and the glossy Gaussian lobe, whose narrow lobes path tracing from the camera
 // cannot aim at a small light. Beams and photons travel light -> (caustic scatterer)+ -> the
 // first other surface; `--method lbt|pm|ppm` estimate exactly those paths and the path tracer
-// excludes them (PathTracer::Options::excludeCausticPaths). Every other reflecting material
+// excludes them (--caustic-paths without: CausticPaths in integrator.h). Every other reflecting material
 // (diffuse, plastic, Phong, rough GGX) is a "diffuse" vertex: where caustics are gathered.
-// Delta-ness is the BSDF's own test (smooth GGX widths, index-matched glass), so the two never disagree.
+// Delta-ness is the BSDF's own test (smooth GGX widths, index-matched glass), so the two never
+// disagree; neither model reads a texture, so this costs no texture lookup per vertex.
 inline bool isCausticScatterer(const Material& m) {
-  return m.type == MaterialType::Glossy || (!m.reflectsNothing() && m.bsdfAt(0, 0).isDelta());
+  switch (m.type) {
+    case MaterialType::Glossy: return true;
+    case MaterialType::Conductor: return Conductor{m.eta, m.k, m.roughness}.isDelta();
+    case MaterialType::Dielectric: return Dielectric{m.eta.x, m.roughness}.isDelta();
+    default: return false;
+  }
 }
 
 }  // namespace rayes

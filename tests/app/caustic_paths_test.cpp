@@ -42,42 +42,12 @@ TEST(CausticPaths, OnlyAndWithoutPartitionThePathTracer) {
   EXPECT_GT(caustic, 0) << "the scene has no caustic the path tracer finds";
 }
 
-// Block means (4 x 3 blocks, last: the image) of the channel average over `seeds` seeds.
-struct Estimate {
-  std::vector<double> mean, se;
-};
-Estimate estimate(const Scene& base, const RenderOptions& o, int seeds) {
-  constexpr int bx = 4, by = 3;
-  std::vector<double> sum(bx * by + 1, 0.0), sum2(sum.size(), 0.0);
-  for (int s = 0; s < seeds; ++s) {
-    Scene scene = base;
-    scene.integrator.seed = uint64_t(500 + s);
-    const auto rgba = testing::renderBeauty(scene, o, 2);
-    std::vector<double> m(sum.size(), 0.0);
-    for (int y = 0; y < scene.height; ++y)
-      for (int x = 0; x < scene.width; ++x) {
-        const size_t p = size_t(y) * scene.width + x;
-        const double v = (double(rgba[4 * p]) + rgba[4 * p + 1] + rgba[4 * p + 2]) / 3;
-        m[size_t(y * by / scene.height) * bx + size_t(x * bx / scene.width)] += v / (double(scene.width / bx) * (scene.height / by));
-        m.back() += v / (double(scene.width) * scene.height);
-      }
-    for (size_t b = 0; b < m.size(); ++b) { sum[b] += m[b]; sum2[b] += m[b] * m[b]; }
-  }
-  Estimate e;
-  for (size_t b = 0; b < sum.size(); ++b) {
-    const double mean = sum[b] / seeds;
-    e.mean.push_back(mean);
-    e.se.push_back(std::sqrt(std::max(0.0, (sum2[b] - seeds * mean * mean) / (seeds - 1)) / seeds));
-  }
-  return e;
-}
-
 TEST(CausticPaths, PathTracerWithoutThemPlusLightTracedCausticsIsThePathTracer) {
   const Scene scene = testing::mirrorCausticScene(16, 12, 4);
   constexpr int kSeeds = 64;
-  const Estimate all = estimate(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::All), kSeeds);
-  const Estimate without = estimate(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Without), kSeeds);
-  const Estimate caustic = estimate(scene, methodWith(IntegratorMethod::LightTracing, CausticPaths::Only), kSeeds);
+  const testing::BlockEstimate all = testing::blockEstimate(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::All), kSeeds);
+  const testing::BlockEstimate without = testing::blockEstimate(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Without), kSeeds);
+  const testing::BlockEstimate caustic = testing::blockEstimate(scene, methodWith(IntegratorMethod::LightTracing, CausticPaths::Only), kSeeds);
   EXPECT_GT(caustic.mean.back(), 4 * caustic.se.back()) << "no caustic to split";
   for (size_t b = 0; b < all.mean.size(); ++b) {
     const double se = std::sqrt(all.se[b] * all.se[b] + without.se[b] * without.se[b] + caustic.se[b] * caustic.se[b]);
