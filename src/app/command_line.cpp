@@ -63,7 +63,8 @@ void parseResolution(const std::string& text, int& width, int& height) {
 struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted",
               method = "pt";
-  std::string engine = "rayes", embreeLod, memoryLimit;
+  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G";
+  int beamResolution = 128, beamDepth = 4;
   std::optional<int> spp;
   std::optional<int64_t> seed;
   int threads = 0, maxLod = 10;
@@ -80,6 +81,11 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.method = integratorMethodFromName(a.method, "--method");
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
+  if (a.beamResolution < 1 || a.beamResolution > 4096) throw InputError("--beam-resolution", "", "must be in [1, 4096]");
+  if (a.beamDepth < 1 || a.beamDepth > 64) throw InputError("--beam-depth", "", "must be in [1, 64]");
+  options.beams.resolution = a.beamResolution;
+  options.beams.maxDepth = a.beamDepth;
+  options.beams.memoryBytes = parseBytes(a.beamMemory, "--beam-memory");
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
@@ -195,10 +201,18 @@ int runCommandLine(int argc, char** argv) {
   r->add_option("--trace-mode", a.traceMode, "sorted (default: the reorder pipeline) or alone (debug: every ray "
                                              "traced by itself, each patch diced per ray; slow)")
       ->check(CLI::IsMember({"sorted", "alone"}));
-  r->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS) or "
+  r->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS), "
                                       "lt (light tracing: paths from the lights, every vertex connected to the "
                                       "camera; the reference for caustics; lights at infinity seen directly are "
-                                      "missing)");
+                                      "missing) or lbt (path tracing plus light beams from point, spot and distant "
+                                      "lights through specular and glossy surfaces, gathered at the other surfaces)");
+  r->add_option("--beam-resolution", a.beamResolution, "with --method lbt: cells per side of each light's grid of "
+                                                       "beams (cube-map face for point and spot lights), 1..4096 "
+                                                       "(default 128)");
+  r->add_option("--beam-depth", a.beamDepth, "with --method lbt: most specular/glossy bounces a beam follows, "
+                                             "1..64 (default 4)");
+  r->add_option("--beam-memory", a.beamMemory, "with --method lbt: budget for the beam segments and their leaf bins, "
+                                               "e.g. 256M (default 1G); a render whose beams do not fit is refused");
   r->add_option("--engine", a.engine, "ray engine: rayes (default; sorted rays, patches diced on demand) or embree "
                                       "(the peer: every patch diced up front into Embree grids)")
       ->check(CLI::IsMember({"rayes", "embree"}));

@@ -3,6 +3,7 @@
 #include <cmath>
 #include "core/error.h"
 #include "core/timer.h"
+#include "shading/path_tracer.h"
 
 namespace rayes {
 
@@ -13,7 +14,14 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   stats_.leafKinds = data_.leafKinds;
   stats_.topLevelBytes = data_.top.bytes();
   stats_.micropolygonsPotential = uint64_t(scene.patches.size()) << (2 * options.maxLod);
-  integrator_ = makeIntegrator(options.method, data_.shading);
+  PathTracer* beamReceiver = nullptr;
+  if (options.method == IntegratorMethod::LightBeams) {
+    auto pt = std::make_unique<PathTracer>(data_.shading);
+    beamReceiver = pt.get();
+    integrator_ = std::move(pt);
+  } else {
+    integrator_ = makeIntegrator(options.method, data_.shading);
+  }
 
   // The memory budget: whole paths per batch, and the candidate buffer.
   const bool embree = options.engine == EngineKind::Embree;
@@ -47,8 +55,49 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.sortByLeaf = options.sortByLeaf;
     engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
   }
+  if (beamReceiver) buildBeams(*beamReceiver);
+  else stats_.beams.skipped = "--method is not lbt: no beams traced";
   stats_.engine = engine_->engineStats();
   stats_.timeSetup = secondsSince(t0);
+}
+
+void Renderer::buildBeams(PathTracer& pathTracer) {
+  const auto t0 = Clock::now();
+  const ShadingScene& shading = data_.shading;
+  std::vector<Box3> scatterers;
+  for (size_t l = 0; l < data_.leafBoxes.size(); ++l)
+    if (scattersBeams(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty())
+      scatterers.push_back(data_.leafBoxes[l]);
+  const BeamLights lights{scene_.pointLights, scene_.moreLights.spots, scene_.moreLights.distants};
+  BeamRenderStats& bs = stats_.beams;
+  if (scatterers.empty() || lights.empty()) {
+    bs.skipped = scatterers.empty() ? "no specular or glossy surface: no beams traced, lbt is the path tracer"
+                                    : "no point, spot or distant light: no beams traced, lbt is the path tracer";
+    return;
+  }
+  const Box3 bounds = data_.top.bounds();
+  const BeamSeeds seeds = seedBeams(lights, scatterers, bounds, options_.beams.resolution);
+  const size_t raysPerTrace = std::max<size_t>(1, stats_.pathsPerBatch * integrator_->raysPerPath());
+  const float far = 4 * (length(bounds.extent()) + bounds.magnitude()) + 1;
+  auto trace = [&](RayBatch& rays) {
+    GenerationStats gs;
+    engine_->trace(rays, gs, stats_.trace);
+  };
+  std::vector<BeamSegment> segments =
+      traceBeams(shading, seeds, options_.beams.maxDepth, far, raysPerTrace, trace, bs.trace);
+  if (segments.empty()) {
+    bs.skipped = "no beam reached past a specular or glossy surface: lbt is the path tracer";
+    bs.seconds = secondsSince(t0);
+    return;
+  }
+  beams_ = std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes);
+  std::vector<uint8_t> receives(shading.materials.size());
+  for (size_t m = 0; m < receives.size(); ++m) receives[m] = scattersBeams(shading.materials[m]) ? 0 : 1;
+  pathTracer.setCaustics(beams_.get(), std::move(receives));
+  bs.built = true;
+  bs.binEntries = beams_->binEntries();
+  bs.bytes = beams_->bytes();
+  bs.seconds = secondsSince(t0);
 }
 
 Renderer::~Renderer() = default;

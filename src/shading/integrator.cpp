@@ -6,18 +6,20 @@
 namespace rayes {
 
 const std::vector<std::string>& integratorMethodNames() {
-  static const std::vector<std::string> names{"pt", "lt"};
+  static const std::vector<std::string> names{"pt", "lt", "lbt"};
   return names;
 }
 
 IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where) {
   if (name == "pt") return IntegratorMethod::PathTracing;
   if (name == "lt") return IntegratorMethod::LightTracing;
-  throw InputError(where, "", "unknown method '" + name + "' (use pt: path tracing, or lt: light tracing)");
+  if (name == "lbt") return IntegratorMethod::LightBeams;
+  throw InputError(where, "", "unknown method '" + name +
+                   "' (use pt: path tracing, lt: light tracing, or lbt: path tracing with light beams for caustics)");
 }
 
 const char* integratorMethodName(IntegratorMethod method) {
-  return method == IntegratorMethod::LightTracing ? "lt" : "pt";
+  return method == IntegratorMethod::LightTracing ? "lt" : method == IntegratorMethod::LightBeams ? "lbt" : "pt";
 }
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene) {

@@ -49,9 +49,11 @@ class Integrator {
   virtual void finish(Film& film, ShadeStats& stats) = 0;
 };
 
-enum class IntegratorMethod { PathTracing, LightTracing };
+// LightBeams: the path tracer plus the caustic gather of light beams (src/lbt; the app builds
+// the beams and hands them to the path tracer).
+enum class IntegratorMethod { PathTracing, LightTracing, LightBeams };
 
-// "pt" and "lt", the names of the command line and the stats.
+// "pt", "lt" and "lbt", the names of the command line and the stats.
 const std::vector<std::string>& integratorMethodNames();
 // Throws InputError naming `where` for an unknown name.
 IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where);

@@ -136,6 +136,27 @@ void recordFirstHit(const Vertex& v, PathBatch& paths) {
   aov.materialId = int32_t(v.matId);
 }
 
+// Step 3b (`--method lbt`): the caustic gather, each beam's irradiance times the BSDF toward
+// the direction it arrives from (the irradiance already holds the cosine).
+void gatherCaustics(const CausticGather& gather, const Vertex& v, const ShadingFrame& frame, Vec3 woL, PathBatch& paths,
+                    ShadeStats& stats) {
+  struct Sink final : CausticGather::Sink {
+    const Vertex& v;
+    const ShadingFrame& frame;
+    Vec3 woL;
+    Rgb sum;
+    Sink(const Vertex& vertex, const ShadingFrame& f, Vec3 wo) : v(vertex), frame(f), woL(wo) {}
+    void add(Vec3 psi, Rgb irradiance) override {
+      const Vec3 wi = -psi;
+      const Vec3 wiL = frame.toLocal(wi);
+      if (!v.at.consistent(wi, wiL, v.wo, woL)) return;
+      sum += v.bsdf.eval(woL, wiL) * irradiance;
+    }
+  } sink(v, frame, woL);
+  gather.gather(v.h.leaf, v.at.p, v.h.ng, sink);
+  addFinite(paths.radiance[v.k], paths.throughput[v.k] * sink.sum, stats);
+}
+
 // Step 4, next-event estimation: one light sampled, its MIS-weighted contribution stored and a
 // shadow ray written into slot 2k+1. Returns whether a ray was written.
 bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFrame& frame, Vec3 woL, const RngKey& key,
@@ -272,6 +293,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const ShadingFrame frame(v.bsdf.transmits() ? h.ns : (v.front ? h.ns : -h.ns));
   const Vec3 woL = frame.toLocal(wo);
 
+  if (caustics_ && !v.bsdf.isDelta() && causticReceiver_[v.matId]) gatherCaustics(*caustics_, v, frame, woL, paths, stats);
   // 4. Next-event estimation; 5. the continuation.
   const size_t shadow = writeShadowRay(scene_, v, frame, woL, key, paths, rays, stats) ? 1 : 0;
   if (writeContinuation(scene_, bounce, v, frame, woL, key, paths, rays, stats)) return shadow + 1;

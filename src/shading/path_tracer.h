@@ -23,6 +23,7 @@
 #pragma once
 #include <cstdint>
 #include <vector>
+#include "shading/caustic_gather.h"
 #include "shading/integrator.h"
 
 namespace rayes {
@@ -48,6 +49,14 @@ struct PathBatch {
 class PathTracer final : public Integrator {
  public:
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
+
+  // `--method lbt`: at every vertex whose material receives caustics (receives[material] != 0;
+  // the caustic scatterers themselves do not) the gather's irradiance is added, times the
+  // BSDF toward each contribution's direction. The gather must outlive the tracer.
+  void setCaustics(const CausticGather* gather, std::vector<uint8_t> receives) {
+    caustics_ = gather;
+    causticReceiver_ = std::move(receives);
+  }
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
   static constexpr uint32_t kRaysPerPath = 2;  // slot 2k: closest hit, 2k+1: shadow ray
@@ -93,6 +102,8 @@ class PathTracer final : public Integrator {
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
 
   const ShadingScene& scene_;
+  const CausticGather* caustics_ = nullptr;
+  std::vector<uint8_t> causticReceiver_;  // per material
   struct SortItem { uint64_t key; uint32_t path; };
   std::vector<SortItem> order_;
   PathBatch paths_;

@@ -57,6 +57,10 @@ class TopLevelBvh {
   int collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resumeEntry, uint32_t resumeLeaf,
               Candidate* out, int maxCount, float& nextEntry, TraversalScratch& scratch) const;
 
+  // The leaves whose boxes overlap `box` (closed: touching counts), appended to `out` in
+  // increasing leaf id. Thread-safe; a box query for what is not a ray (light beam segments).
+  void overlapping(const Box3& box, std::vector<uint32_t>& out, TraversalScratch& scratch) const;
+
   size_t leafCount() const { return leafCount_; }  // leaf ids, empty boxes included
   size_t nodeCount() const;
   size_t bytes() const;     // memory held by the nodes

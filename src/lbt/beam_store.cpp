@@ -1,0 +1,109 @@
+#include "lbt/beam_store.h"
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include "core/error.h"
+
+namespace rayes {
+namespace {
+constexpr int kMaxCellsPerAxis = 64;
+constexpr double kSegmentsPerCell = 4;
+
+// A leaf's grid: about count / kSegmentsPerCell cubic-ish cells over its box, only along the
+// axes the box extends in.
+void shapeGrid(BeamStore::LeafGrid& g, size_t count) {
+  const Vec3 e = g.box.extent();
+  const float longest = maxComponent(e);
+  int dims = 0;
+  for (int a = 0; a < 3; ++a) dims += e[a] > 1e-3f * longest;
+  const double target = std::max(1.0, double(count) / kSegmentsPerCell);
+  const double h = dims > 0 ? longest / std::pow(target, 1.0 / dims) : 1.0;
+  for (int a = 0; a < 3; ++a)
+    g.n[a] = e[a] > 1e-3f * longest && h > 0 ? std::clamp(int(std::ceil(e[a] / h)), 1, kMaxCellsPerAxis) : 1;
+}
+
+int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
+  const float e = g.box.hi[a] - g.box.lo[a];
+  if (g.n[a] == 1 || !(e > 0)) return 0;
+  const float c = (x - g.box.lo[a]) / e * float(g.n[a]);
+  return std::clamp(int(c), 0, g.n[a] - 1);  // NaN and ±inf clamp too (int of NaN avoided below)
+}
+int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
+}  // namespace
+
+BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+                     size_t budget)
+    : segments_(std::move(segments)) {
+  const size_t leaves = top.leafCount();
+  if (!segments_.empty() && bytesFor(1, 1, leaves + 1) > budget)
+    throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
+                     std::to_string(bytesFor(1, 1, leaves + 1)) + " bytes with the per-leaf grids)");
+  // Each segment's box and leaves.
+  std::vector<Box3> boxes(segments_.size());
+  std::vector<std::vector<uint32_t>> hits(segments_.size());
+  tbb::enumerable_thread_specific<TraversalScratch> scratch;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
+    TraversalScratch& s = scratch.local();
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      boxes[i] = beamBounds(segments_[i]);
+      top.overlapping(boxes[i], hits[i], s);
+    }
+  });
+  // Each leaf's grid, sized by how many segments reach it.
+  std::vector<size_t> perLeaf(leaves, 0);
+  for (const auto& h : hits)
+    for (uint32_t l : h) ++perLeaf[l];
+  grids_.resize(leaves);
+  uint64_t cells = 0;
+  for (size_t l = 0; l < leaves; ++l) {
+    LeafGrid& g = grids_[l];
+    g.box = l < leafBoxes.size() ? leafBoxes[l] : Box3{};
+    if (perLeaf[l] && !g.box.empty()) shapeGrid(g, perLeaf[l]);
+    g.first = cells;
+    cells += perLeaf[l] && !g.box.empty() ? uint64_t(g.n[0]) * g.n[1] * g.n[2] : 0;
+  }
+  // A counting sort of (cell, segment) pairs: segment order kept within a cell.
+  offsets_.assign(cells + 1, 0);
+  auto forCells = [&](uint32_t i, auto&& visit) {
+    for (uint32_t l : hits[i]) {
+      const LeafGrid& g = grids_[l];
+      if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
+      int lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, boxes[i].lo[a]), hi[a] = safeCell(g, a, boxes[i].hi[a]);
+      for (int z = lo[2]; z <= hi[2]; ++z)
+        for (int y = lo[1]; y <= hi[1]; ++y)
+          for (int x = lo[0]; x <= hi[0]; ++x) visit(g.first + (uint64_t(z) * g.n[1] + y) * g.n[0] + x);
+    }
+  };
+  for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { ++offsets_[c + 1]; });
+  for (uint64_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
+  const size_t total = offsets_[cells];
+  if (bytesFor(segments_.size(), total, offsets_.size()) > budget)
+    throw InputError("--beam-memory", "", "the beams need " +
+                     std::to_string(bytesFor(segments_.size(), total, offsets_.size())) + " bytes (" +
+                     std::to_string(segments_.size()) + " segments in " + std::to_string(total) +
+                     " bin entries), more than the budget of " + std::to_string(budget) +
+                     " bytes; raise it or lower --beam-resolution");
+  entries_.resize(total);
+  std::vector<uint64_t> fill(offsets_.begin(), offsets_.end() - 1);
+  for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });
+}
+
+void BeamStore::gather(uint32_t leaf, Vec3 x, Vec3 normal, Sink& sink) const {
+  if (leaf >= grids_.size()) return;
+  const LeafGrid& g = grids_[leaf];
+  const uint64_t end = leaf + 1 < grids_.size() ? grids_[leaf + 1].first : offsets_.size() - 1;
+  if (g.first == end) return;
+  const uint64_t c = g.first + (uint64_t(safeCell(g, 2, x.z)) * g.n[1] + safeCell(g, 1, x.y)) * g.n[0] +
+                     safeCell(g, 0, x.x);
+  for (uint64_t e = offsets_[c]; e != offsets_[c + 1]; ++e) {
+    Vec3 psi;
+    const Rgb irradiance = beamIrradiance(segments_[entries_[e]], x, normal, psi);
+    if (maxComponent(irradiance) > 0) sink.add(psi, irradiance);
+  }
+}
+
+}  // namespace rayes
