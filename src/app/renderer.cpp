@@ -90,9 +90,12 @@ void Renderer::buildBeams(PathTracer& pathTracer) {
     bs.seconds = secondsSince(t0);
     return;
   }
-  beams_ = std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes);
   std::vector<uint8_t> receives(shading.materials.size());
   for (size_t m = 0; m < receives.size(); ++m) receives[m] = scattersBeams(shading.materials[m]) ? 0 : 1;
+  std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
+  for (size_t l = 0; l < leafReceives.size(); ++l) leafReceives[l] = receives[shading.leafMaterial[l]];
+  beams_ = std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
+                                       leafReceives);
   pathTracer.setCaustics(beams_.get(), std::move(receives));
   bs.built = true;
   bs.binEntries = beams_->binEntries();

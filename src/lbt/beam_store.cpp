@@ -32,10 +32,31 @@ int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
   return std::clamp(int(c), 0, g.n[a] - 1);  // NaN and ±inf clamp too (int of NaN avoided below)
 }
 int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
+
+constexpr int kPieces = 8;
+
+// The box of the part of a segment between fractions u0 < u1 of its corner rays' lengths: the
+// cross-sections are linear in u, so the six corner points bound it; glossy: grown by 5σ of
+// angle at the far end (as beamBounds).
+Box3 pieceBounds(const BeamSegment& s, float u0, float u1) {
+  Box3 box;
+  float far = 0;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u0));
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u1));
+    far = std::max(far, s.t[i] * u1);
+  }
+  if (s.sigma > 0) {
+    const float pad = far * std::tan(std::min(5.0f * s.sigma, 1.3f));
+    box.lo -= Vec3{pad, pad, pad};
+    box.hi += Vec3{pad, pad, pad};
+  }
+  return box;
+}
 }  // namespace
 
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
-                     size_t budget)
+                     size_t budget, std::span<const uint8_t> receives)
     : segments_(std::move(segments)) {
   const size_t leaves = top.leafCount();
   if (!segments_.empty() && bytesFor(1, 1, leaves + 1) > budget)
@@ -54,8 +75,10 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   });
   // Each leaf's grid, sized by how many segments reach it.
   std::vector<size_t> perLeaf(leaves, 0);
-  for (const auto& h : hits)
+  for (auto& h : hits) {
+    if (!receives.empty()) std::erase_if(h, [&](uint32_t l) { return l >= receives.size() || !receives[l]; });
     for (uint32_t l : h) ++perLeaf[l];
+  }
   grids_.resize(leaves);
   uint64_t cells = 0;
   for (size_t l = 0; l < leaves; ++l) {
@@ -67,16 +90,35 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   }
   // A counting sort of (cell, segment) pairs: segment order kept within a cell.
   offsets_.assign(cells + 1, 0);
-  auto forCells = [&](uint32_t i, auto&& visit) {
-    for (uint32_t l : hits[i]) {
-      const LeafGrid& g = grids_[l];
-      if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
-      int lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, boxes[i].lo[a]), hi[a] = safeCell(g, a, boxes[i].hi[a]);
-      for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-          for (int x = lo[0]; x <= hi[0]; ++x) visit(g.first + (uint64_t(z) * g.n[1] + y) * g.n[0] + x);
+  // The cells of leaf grids a segment reaches: the segment cut into kPieces along its length,
+  // each piece's box (its six corner points, grown by the lobe) clipped to the leaf's box, so
+  // a long tilted beam does not claim the whole box of its diagonal. Cells in increasing order.
+  std::vector<std::vector<uint64_t>> cellsOf(segments_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const BeamSegment& seg = segments_[i];
+      std::vector<uint64_t>& out = cellsOf[i];
+      for (uint32_t l : hits[i]) {
+        const LeafGrid& g = grids_[l];
+        if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
+        for (int k = 0; k < kPieces; ++k) {
+          Box3 piece = pieceBounds(seg, float(k) / kPieces, float(k + 1) / kPieces);
+          piece.lo = vmax(piece.lo, g.box.lo);
+          piece.hi = vmin(piece.hi, g.box.hi);
+          if (piece.empty()) continue;
+          int lo[3], hi[3];
+          for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, piece.lo[a]), hi[a] = safeCell(g, a, piece.hi[a]);
+          for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+              for (int x = lo[0]; x <= hi[0]; ++x) out.push_back(g.first + (uint64_t(z) * g.n[1] + y) * g.n[0] + x);
+        }
+      }
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
     }
+  });
+  auto forCells = [&](uint32_t i, auto&& visit) {
+    for (uint64_t c : cellsOf[i]) visit(c);
   };
   for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { ++offsets_[c + 1]; });
   for (uint64_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];

@@ -4,7 +4,8 @@
 // their ends, widened for glossy segments by 5σ of angle (beamBounds); the boxes are binned
 // with the same top-level BVH the camera rays use (TopLevelBvh::overlapping), so segments need
 // no hierarchy of their own. Within a leaf the segments are binned again into a uniform grid
-// over the leaf's box (about 4 segments per cell, at most 64 cells per axis), so a large
+// over the leaf's box (about 4 segments per cell, at most 64 cells per axis; a segment goes to
+// the cells its eight lengthwise pieces' boxes reach), so a large
 // receiver patch under many beams does not make every gather visit all of them; a gather at a
 // point of leaf L visits the segments of the cell of L's grid that holds the point.
 //
@@ -28,9 +29,10 @@ namespace rayes {
 
 class BeamStore final : public CausticGather {
  public:
-  // leafBoxes: the boxes the top level was built over (Patch::bounds per leaf).
+  // leafBoxes: the boxes the top level was built over (Patch::bounds per leaf); receives: per
+  // leaf, whether gathers happen there (empty: every leaf), so scatterers get no bins.
   BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
-            size_t memoryBudget);
+            size_t memoryBudget, std::span<const uint8_t> receives = {});
   void gather(uint32_t leaf, Vec3 x, Vec3 normal, Sink& sink) const override;
 
   size_t segmentCount() const { return segments_.size(); }
