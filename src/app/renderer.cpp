@@ -3,6 +3,7 @@
 #include <cmath>
 #include "core/error.h"
 #include "core/timer.h"
+#include "lbt/photon_mapper.h"
 #include "shading/path_tracer.h"
 
 namespace rayes {
@@ -14,14 +15,11 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   stats_.leafKinds = data_.leafKinds;
   stats_.topLevelBytes = data_.top.bytes();
   stats_.micropolygonsPotential = uint64_t(scene.patches.size()) << (2 * options.maxLod);
-  PathTracer* beamReceiver = nullptr;
-  if (options.method == IntegratorMethod::LightBeams) {
-    auto pt = std::make_unique<PathTracer>(data_.shading);
-    beamReceiver = pt.get();
-    integrator_ = std::move(pt);
-  } else {
-    integrator_ = makeIntegrator(options.method, data_.shading);
-  }
+  const bool photons = options.method == IntegratorMethod::PhotonMapping ||
+                       options.method == IntegratorMethod::ProgressivePhotonMapping;
+  integrator_ = photons ? makePhotonMapper(options.method == IntegratorMethod::ProgressivePhotonMapping, data_.shading,
+                                           options.integrator)
+                        : makeIntegrator(options.method, data_.shading, options.integrator);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
   const bool embree = options.engine == EngineKind::Embree;
@@ -55,18 +53,18 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.sortByLeaf = options.sortByLeaf;
     engine_ = std::make_unique<Tracer>(data_.top, scene.patches, ts);
   }
-  if (beamReceiver) buildBeams(*beamReceiver);
+  if (options.method == IntegratorMethod::LightBeams) buildBeams();
   else stats_.beams.skipped = "--method is not lbt: no beams traced";
   stats_.engine = engine_->engineStats();
   stats_.timeSetup = secondsSince(t0);
 }
 
-void Renderer::buildBeams(PathTracer& pathTracer) {
+void Renderer::buildBeams() {
   const auto t0 = Clock::now();
   const ShadingScene& shading = data_.shading;
   std::vector<Box3> scatterers;
   for (size_t l = 0; l < data_.leafBoxes.size(); ++l)
-    if (scattersBeams(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty())
+    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty())
       scatterers.push_back(data_.leafBoxes[l]);
   const BeamLights lights{scene_.pointLights, scene_.moreLights.spots, scene_.moreLights.distants};
   BeamRenderStats& bs = stats_.beams;
@@ -90,13 +88,14 @@ void Renderer::buildBeams(PathTracer& pathTracer) {
     bs.seconds = secondsSince(t0);
     return;
   }
-  std::vector<uint8_t> receives(shading.materials.size());
-  for (size_t m = 0; m < receives.size(); ++m) receives[m] = scattersBeams(shading.materials[m]) ? 0 : 1;
   std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
-  for (size_t l = 0; l < leafReceives.size(); ++l) leafReceives[l] = receives[shading.leafMaterial[l]];
+  for (size_t l = 0; l < leafReceives.size(); ++l)
+    leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
   beams_ = std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
                                        leafReceives);
-  pathTracer.setCaustics(beams_.get(), std::move(receives));
+  // The path tracer leaves caustic paths to the beams (same bytes per path as the one the
+  // budget was computed with).
+  integrator_ = std::make_unique<PathTracer>(data_.shading, PathTracer::Options{CausticPaths::Without, beams_.get()});
   bs.built = true;
   bs.binEntries = beams_->binEntries();
   bs.bytes = beams_->bytes();
@@ -104,6 +103,26 @@ void Renderer::buildBeams(PathTracer& pathTracer) {
 }
 
 Renderer::~Renderer() = default;
+
+// The integrator's own paths before a pass's camera paths (photons), batched by the same budget.
+void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
+  const Integrator::IdRange ids = integrator_->lightPaths(s0, s1);
+  if (ids.first == ids.end) return;
+  RayBatch rays;
+  for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
+    const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
+    integrator_->startLight(first, count, rays);
+    for (int depth = 0;; ++depth) {
+      GenerationRecord rec{pass, batch, depth, {}};
+      engine_->trace(rays, rec.stats, stats_.trace);
+      stats_.generations.push_back(std::move(rec));
+      if (integrator_->shadeLight(uint32_t(depth), rays, stats_.shade) == 0) break;
+    }
+    integrator_->finishLightBatch(stats_.shade);
+    ++stats_.batches;
+  }
+  integrator_->lightPassDone(stats_.shade);
+}
 
 Film Renderer::render(const Progress& progress) {
   const auto t0 = Clock::now();
@@ -118,6 +137,7 @@ Film Renderer::render(const Progress& progress) {
     const int s1 = std::min(spp, s0 + std::max(1, s0));  // 1, 1, 2, 4, ...
     const uint64_t end = uint64_t(s1) * pixels;
     int batch = 0;
+    traceLightPass(s0, s1, pass, batch);
     for (uint64_t first = uint64_t(s0) * pixels; first < end; first += stats_.pathsPerBatch, ++batch) {
       const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, end - first));
       integrator_->start(first, count, rays);

@@ -31,8 +31,6 @@
 
 namespace rayes {
 
-class PathTracer;
-
 enum class EngineKind { Rayes, Embree };
 
 struct BeamOptions {
@@ -62,6 +60,7 @@ struct RenderOptions {
   bool sortByLeaf = true;
   IntegratorMethod method = IntegratorMethod::PathTracing;
   BeamOptions beams;
+  IntegratorOptions integrator;  // --caustic-paths, the photon options
   std::vector<float> reference;  // RGB per pixel; empty: no error curve
 };
 
@@ -107,6 +106,8 @@ class Renderer {
   const BeamStore* beams() const { return beams_.get(); }
 
  private:
+  void traceLightPass(int s0, int s1, int pass, int& batch);
+
   const Scene& scene_;
   RenderOptions options_;
   RenderData data_;
@@ -115,7 +116,7 @@ class Renderer {
   std::unique_ptr<BeamStore> beams_;
   RenderStats stats_;
   // `--method lbt`: the light phase, run once at setup through the engine.
-  void buildBeams(PathTracer& pathTracer);
+  void buildBeams();
 };
 
 // Root-mean-square difference of the film's mean RGB against a reference (RGB per pixel).

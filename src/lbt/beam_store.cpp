@@ -134,18 +134,27 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });
 }
 
-void BeamStore::gather(uint32_t leaf, Vec3 x, Vec3 normal, Sink& sink) const {
-  if (leaf >= grids_.size()) return;
+std::pair<uint64_t, uint64_t> BeamStore::cellRange(uint32_t leaf, Vec3 x) const {
+  if (leaf >= grids_.size()) return {0, 0};
   const LeafGrid& g = grids_[leaf];
   const uint64_t end = leaf + 1 < grids_.size() ? grids_[leaf + 1].first : offsets_.size() - 1;
-  if (g.first == end) return;
+  if (g.first == end) return {0, 0};
   const uint64_t c = g.first + (uint64_t(safeCell(g, 2, x.z)) * g.n[1] + safeCell(g, 1, x.y)) * g.n[0] +
                      safeCell(g, 0, x.x);
-  for (uint64_t e = offsets_[c]; e != offsets_[c + 1]; ++e) {
-    Vec3 psi;
-    const Rgb irradiance = beamIrradiance(segments_[entries_[e]], x, normal, psi);
-    if (maxComponent(irradiance) > 0) sink.add(psi, irradiance);
-  }
+  return {offsets_[c], offsets_[c + 1]};
+}
+
+Rgb BeamStore::radiance(const DiffuseVertex& v) const {
+  Rgb sum;
+  gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance) {
+    const Vec3 wi = -psi;
+    const Vec3 wiL = v.frame->toLocal(wi);
+    // Both directions on the sides of the true surface the shading frame claims.
+    const float s = dot(v.ng, wi) * dot(v.ng, v.wo);
+    if (wiL.z * v.woL.z > 0 ? !(s > 0) : !(s < 0)) return;
+    sum += v.bsdf->eval(v.woL, wiL) * irradiance;
+  });
+  return sum;
 }
 
 }  // namespace rayes

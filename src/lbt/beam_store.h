@@ -1,6 +1,6 @@
 // START HERE for light beam tracing. The beam segments of a render binned to the top-level
 // leaves their volume overlaps (docs/design.md, "Light beam tracing"), and the caustic gather
-// over them (shading/caustic_gather.h). A segment's volume is the box of its corner rays up to
+// over them: the path tracer's CausticRadiance (shading/path_tracer.h). A segment's volume is the box of its corner rays up to
 // their ends, widened for glossy segments by 5σ of angle (beamBounds); the boxes are binned
 // with the same top-level BVH the camera rays use (TopLevelBvh::overlapping), so segments need
 // no hierarchy of their own. Within a leaf the segments are binned again into a uniform grid
@@ -22,18 +22,30 @@
 #include <span>
 #include <vector>
 #include "lbt/beam_segment.h"
-#include "shading/caustic_gather.h"
+#include "shading/path_tracer.h"
 #include "toplevel/toplevel_bvh.h"
 
 namespace rayes {
 
-class BeamStore final : public CausticGather {
+class BeamStore final : public CausticRadiance {
  public:
   // leafBoxes: the boxes the top level was built over (Patch::bounds per leaf); receives: per
   // leaf, whether gathers happen there (empty: every leaf), so scatterers get no bins.
   BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
             size_t memoryBudget, std::span<const uint8_t> receives = {});
-  void gather(uint32_t leaf, Vec3 x, Vec3 normal, Sink& sink) const override;
+  // Calls add(psi, E) for each segment of the cell of `leaf`'s grid holding x that lights x
+  // (psi: the light's unit direction there, E: irradiance, cosine included), in segment order.
+  template <class Add>
+  void gather(uint32_t leaf, Vec3 x, Vec3 normal, Add&& add) const {
+    const auto [first, last] = cellRange(leaf, x);
+    for (uint64_t e = first; e != last; ++e) {
+      Vec3 psi;
+      const Rgb irradiance = beamIrradiance(segments_[entries_[e]], x, normal, psi);
+      if (maxComponent(irradiance) > 0) add(psi, irradiance);
+    }
+  }
+  // The caustic radiance at a diffuse vertex: Σ f(wo, -psi)·E over the gathered segments.
+  Rgb radiance(const DiffuseVertex& v) const override;
 
   size_t segmentCount() const { return segments_.size(); }
   size_t binEntries() const { return entries_.size(); }
@@ -53,6 +65,7 @@ class BeamStore final : public CausticGather {
   };
 
  private:
+  std::pair<uint64_t, uint64_t> cellRange(uint32_t leaf, Vec3 x) const;
   std::vector<BeamSegment> segments_;
   std::vector<LeafGrid> grids_;
   std::vector<uint64_t> offsets_;   // cell c's segments: entries_[offsets_[c], offsets_[c + 1])

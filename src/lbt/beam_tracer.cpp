@@ -41,7 +41,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   s.material = scene.leafMaterial[h.leaf];
   s.front = dot(h.ng, c.dir) < 0;
   const Material& m = scene.materials[s.material];
-  if (!scattersBeams(m) || !isFinite(p) || !isFinite(h.ns)) return s;
+  if (!isCausticScatterer(m) || !isFinite(p) || !isFinite(h.ns)) return s;
   const Vec3 w = -c.dir;  // toward where the light came from
   Vec3 next;
   if (m.type == MaterialType::Dielectric) {
@@ -89,15 +89,6 @@ bool coaxial(const Vec3 (&d)[3]) {
 }
 
 }  // namespace
-
-bool scattersBeams(const Material& m) {
-  switch (m.type) {
-    case MaterialType::Conductor: return Conductor{m.eta, m.k, m.roughness}.smooth();
-    case MaterialType::Dielectric: return Dielectric{m.eta.x, m.roughness}.smooth() && m.eta.x != 1.0f;
-    case MaterialType::Glossy: return true;
-    default: return false;
-  }
-}
 
 std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, int maxDepth, float far,
                                     size_t raysPerTrace, const TraceRays& trace, BeamTraceStats& stats) {

@@ -37,9 +37,6 @@ struct BeamTraceStats {
   uint64_t stoppedDivergent = 0;    // corner rays no longer roughly coaxial
 };
 
-// Whether beams pass through a material: smooth conductors and dielectrics, glossy lobes.
-bool scattersBeams(const Material& m);
-
 using TraceRays = std::function<void(RayBatch&)>;
 
 // maxDepth ≥ 1 scatterings; far: the length given to a corner ray that escapes the scene;

@@ -61,6 +61,10 @@ class TopLevelBvh {
   // increasing leaf id. Thread-safe; a box query for what is not a ray (light beam segments).
   void overlapping(const Box3& box, std::vector<uint32_t>& out, TraversalScratch& scratch) const;
 
+  // Whether a leaf other than `except` has a box that meets `box` (closed boxes: touching
+  // counts). For set-up questions such as "can anything lie across this border", not per ray.
+  bool anyOtherLeafMeets(const Box3& box, uint32_t except) const;
+
   size_t leafCount() const { return leafCount_; }  // leaf ids, empty boxes included
   size_t nodeCount() const;
   size_t bytes() const;     // memory held by the nodes

@@ -19,15 +19,10 @@ RenderOptions lbtOptions(int resolution = 64) {
   return o;
 }
 
-struct Sum final : CausticGather::Sink {
-  Rgb e;
-  void add(Vec3, Rgb irradiance) override { e += irradiance; }
-};
-
 double gatherAt(const BeamStore& beams, uint32_t leaf, Vec3 x, Vec3 n) {
-  Sum s;
-  beams.gather(leaf, x, n, s);
-  return s.e.x;
+  double e = 0;
+  beams.gather(leaf, x, n, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
+  return e;
 }
 
 // lbt-mirror.json: I = 10 at (0, 0, 1), a glossy mirror of ρ = 0.9 and σ = 0.001 on [-1, 1]² at

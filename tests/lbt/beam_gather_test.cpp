@@ -65,15 +65,10 @@ struct Ceiling {
   }
 };
 
-struct Sum final : CausticGather::Sink {
-  Rgb e;
-  void add(Vec3, Rgb irradiance) override { e += irradiance; }
-};
-
 double irradiance(const BeamStore& store, const Ceiling& c, float x, float y) {
-  Sum s;
-  store.gather(c.leafAt(x, y), {x, y, 2}, {0, 0, -1}, s);
-  return s.e.x;
+  double e = 0;
+  store.gather(c.leafAt(x, y), {x, y, 2}, {0, 0, -1}, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
+  return e;
 }
 
 double exactMirror(double x, double y) {
