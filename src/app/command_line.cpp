@@ -65,7 +65,8 @@ void parseResolution(const std::string& text, int& width, int& height) {
 struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted",
               method = "pt", causticPaths = "all";
-  std::string engine = "rayes", embreeLod, memoryLimit;
+  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G";
+  int beamResolution = 128, beamDepth = 4;
   std::optional<int> spp;
   int64_t photons = 20000;
   int photonK = 32;
@@ -99,6 +100,11 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.integrator.photonAlpha = a.photonAlpha;
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
+  if (a.beamResolution < 1 || a.beamResolution > 4096) throw InputError("--beam-resolution", "", "must be in [1, 4096]");
+  if (a.beamDepth < 1 || a.beamDepth > 64) throw InputError("--beam-depth", "", "must be in [1, 64]");
+  options.beams.resolution = a.beamResolution;
+  options.beams.maxDepth = a.beamDepth;
+  options.beams.memoryBytes = parseBytes(a.beamMemory, "--beam-memory");
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
@@ -274,8 +280,16 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                                       "lt (light tracing: paths from the lights, every vertex connected to the "
                                       "camera; the reference for caustics; lights at infinity seen directly are "
                                       "missing), pm (photon mapping: pt without caustic paths plus a k-nearest "
-                                      "photon estimate of them) or ppm (progressive photon mapping: a photon map "
-                                      "per pass, radius shrinking per sample)");
+                                      "photon estimate of them), ppm (progressive photon mapping: a photon map "
+                                      "per pass, radius shrinking per sample) or lbt (light beams: pt without "
+                                      "caustic paths plus beams from point, spot and distant lights through "
+                                      "mirrors, glass and glossy surfaces, gathered at diffuse surfaces)");
+  c->add_option("--beam-resolution", a.beamResolution, "lbt: cells per side of each light's grid of beams "
+                                                       "(cube-map face for point and spot lights), 1..4096 "
+                                                       "(default 128)");
+  c->add_option("--beam-depth", a.beamDepth, "lbt: most specular/glossy bounces a beam follows, 1..64 (default 4)");
+  c->add_option("--beam-memory", a.beamMemory, "lbt: budget for the beam segments and their bins, e.g. 256M "
+                                               "(default 1G); a render whose beams do not fit is refused");
   c->add_option("--photons", a.photons, "pm, ppm: photons per sample per pixel of the render (default 20000): pm "
                                         "traces photons x spp into one map, ppm photons x the pass's samples per pass");
   c->add_option("--photon-k", a.photonK, "pm: neighbours of the k-nearest estimate, 1..4096 (default 32)");

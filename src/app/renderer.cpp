@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "lbt/photon_mapper.h"
+#include "shading/path_tracer.h"
 
 namespace rayes {
 
@@ -52,6 +53,8 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.sortByLeaf = options.sortByLeaf;
     engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
   }
+  if (options.method == IntegratorMethod::LightBeams) buildBeams();
+  else stats_.beams.skipped = "--method is not lbt: no beams traced";
   stats_.engine = engine_->engineStats();
   stats_.memory = memoryAtSetup(raysPerPath);
   stats_.timeSetup = secondsSince(t0);
@@ -67,6 +70,49 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   m.sceneDescription = scene_.leaves.descriptionBytes() + scene_.leafMaterial.capacity() * sizeof(uint32_t) +
                        data_.leafTableBytes() + stats_.engine.leafTableBytes;
   return m;
+}
+
+void Renderer::buildBeams() {
+  const auto t0 = Clock::now();
+  const ShadingScene& shading = data_.shading;
+  std::vector<Box3> scatterers;
+  for (size_t l = 0; l < data_.leafBoxes.size(); ++l)
+    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty())
+      scatterers.push_back(data_.leafBoxes[l]);
+  const BeamLights lights{scene_.pointLights, scene_.moreLights.spots, scene_.moreLights.distants};
+  BeamRenderStats& bs = stats_.beams;
+  if (scatterers.empty() || lights.empty()) {
+    bs.skipped = scatterers.empty() ? "no specular or glossy surface: no beams traced, lbt is the path tracer"
+                                    : "no point, spot or distant light: no beams traced, lbt is the path tracer";
+    return;
+  }
+  const Box3 bounds = data_.top.bounds();
+  const BeamSeeds seeds = seedBeams(lights, scatterers, bounds, options_.beams.resolution);
+  const size_t raysPerTrace = std::max<size_t>(1, stats_.pathsPerBatch * integrator_->raysPerPath());
+  const float far = 4 * (length(bounds.extent()) + bounds.magnitude()) + 1;
+  auto trace = [&](RayBatch& rays) {
+    GenerationStats gs;
+    engine_->trace(rays, gs, stats_.trace);
+  };
+  std::vector<BeamSegment> segments =
+      traceBeams(shading, seeds, options_.beams.maxDepth, far, raysPerTrace, trace, bs.trace);
+  if (segments.empty()) {
+    bs.skipped = "no beam reached past a specular or glossy surface: lbt is the path tracer";
+    bs.seconds = secondsSince(t0);
+    return;
+  }
+  std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
+  for (size_t l = 0; l < leafReceives.size(); ++l)
+    leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
+  beams_ = std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
+                                       leafReceives);
+  // The path tracer leaves caustic paths to the beams (same bytes per path as the one the
+  // budget was computed with).
+  integrator_ = std::make_unique<PathTracer>(data_.shading, PathTracer::Options{CausticPaths::Without, beams_.get()});
+  bs.built = true;
+  bs.binEntries = beams_->binEntries();
+  bs.bytes = beams_->bytes();
+  bs.seconds = secondsSince(t0);
 }
 
 Renderer::~Renderer() = default;

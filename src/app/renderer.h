@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 #include "app/render_data.h"
+#include "lbt/beam_store.h"
+#include "lbt/beam_tracer.h"
 #include "rays/embree_engine.h"
 #include "rays/tracer.h"
 #include "scene/scene.h"
@@ -31,6 +33,23 @@ namespace rayes {
 
 enum class EngineKind { Rayes, Embree };
 
+struct BeamOptions {
+  int resolution = 128;           // cells per side of a light's grid
+  int maxDepth = 4;               // specular/glossy bounces
+  size_t memoryBytes = size_t(1) << 30;
+};
+
+// What the light phase of `--method lbt` did (the stats file's "beams" section), or why
+// nothing was built (skipped).
+struct BeamRenderStats {
+  bool built = false;
+  std::string skipped;            // the reason, when not built
+  BeamTraceStats trace;
+  uint64_t binEntries = 0;
+  size_t bytes = 0;
+  double seconds = 0;
+};
+
 struct RenderOptions {
   EngineKind engine = EngineKind::Rayes;
   bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
@@ -40,6 +59,7 @@ struct RenderOptions {
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
   IntegratorMethod method = IntegratorMethod::PathTracing;
+  BeamOptions beams;
   IntegratorOptions integrator;  // --caustic-paths, the photon options
   std::vector<float> reference;  // RGB per pixel; empty: no error curve
 };
@@ -82,6 +102,7 @@ struct RenderStats {
   MemoryByOwner memory;
   std::vector<ErrorSample> errorCurve;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;
+  BeamRenderStats beams;
 };
 
 class Renderer {
@@ -96,6 +117,8 @@ class Renderer {
   const RenderStats& stats() const { return stats_; }
   // What one path costs in the ray memory budget (the unit of --ray-memory).
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
+  // `--method lbt`: the beams built at setup (null when none were: stats().beams.skipped says why).
+  const BeamStore* beams() const { return beams_.get(); }
 
  private:
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
@@ -106,7 +129,10 @@ class Renderer {
   RenderData data_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<RayEngine> engine_;
+  std::unique_ptr<BeamStore> beams_;
   RenderStats stats_;
+  // `--method lbt`: the light phase, run once at setup through the engine.
+  void buildBeams();
 };
 
 // Root-mean-square difference of the film's mean RGB against a reference (RGB per pixel).

@@ -121,7 +121,18 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
   if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";
   if (!f.environment) skipped["environment"] = "no environment light: escaping rays gather nothing";
-  skipped["beams"] = "light beam tracing is not built yet: no beams traced";
+  if (s.beams.built) {
+    const BeamRenderStats& b = s.beams;
+    j["beams"] = {{"generator_triangles", b.trace.generatorTriangles}, {"corner_rays", b.trace.cornerRays},
+                  {"generations", b.trace.generations}, {"segments", b.trace.segments},
+                  {"bin_entries", b.binEntries}, {"bytes", b.bytes}, {"seconds", b.seconds},
+                  {"resolution", options.beams.resolution}, {"max_depth", options.beams.maxDepth},
+                  {"memory_budget_bytes", options.beams.memoryBytes},
+                  {"stopped", {{"mixed", b.trace.stoppedMixed}, {"silhouette", b.trace.stoppedSilhouette},
+                               {"tir_straddle", b.trace.stoppedTir}, {"divergent", b.trace.stoppedDivergent}}}};
+  } else {
+    skipped["beams"] = s.beams.skipped;
+  }
   skipped["volumes"] = "volumes are not built yet: OpenVDB not used";
   j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {

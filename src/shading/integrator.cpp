@@ -6,7 +6,7 @@
 namespace rayes {
 
 const std::vector<std::string>& integratorMethodNames() {
-  static const std::vector<std::string> names{"pt", "lt", "pm", "ppm"};
+  static const std::vector<std::string> names{"pt", "lt", "pm", "ppm", "lbt"};
   return names;
 }
 
@@ -15,7 +15,7 @@ IntegratorMethod integratorMethodFromName(const std::string& name, const std::st
   for (size_t i = 0; i < names.size(); ++i)
     if (name == names[i]) return IntegratorMethod(i);
   throw InputError(where, "", "unknown method '" + name + "' (use pt: path tracing, lt: light tracing, pm: photon "
-                              "mapping, ppm: progressive photon mapping)");
+                              "mapping, ppm: progressive photon mapping, lbt: light beams)");
 }
 
 const char* integratorMethodName(IntegratorMethod method) {

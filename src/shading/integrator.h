@@ -62,7 +62,9 @@ class Integrator {
   virtual void lightPassDone(ShadeStats& /*stats*/) {}
 };
 
-enum class IntegratorMethod { PathTracing, LightTracing, PhotonMapping, ProgressivePhotonMapping };
+// LightBeams: the path tracer without caustic paths plus the caustic gather of light beams
+// (src/lbt; the app builds the beams and hands them to the path tracer).
+enum class IntegratorMethod { PathTracing, LightTracing, PhotonMapping, ProgressivePhotonMapping, LightBeams };
 
 // Which paths an estimate counts, split at caustic paths (light -> (caustic scatterer)+ ->
 // diffuse vertex -> ..., isCausticScatterer in shading/material.h): all, all but those, or
@@ -85,7 +87,7 @@ struct IntegratorOptions {
   float photonAlpha = 2.0f / 3.0f;     // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
 };
 
-// "pt", "lt", "pm", "ppm": the names of the command line and the stats.
+// "pt", "lt", "pm", "ppm", "lbt": the names of the command line and the stats.
 const std::vector<std::string>& integratorMethodNames();
 // Throws InputError naming `where` for an unknown name.
 IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where);

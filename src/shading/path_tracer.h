@@ -64,6 +64,7 @@ struct DiffuseVertex {
   const ShadingFrame* frame;
   const Bsdf* bsdf;
   uint32_t sample;    // the path's sample number (progressive methods shrink with it)
+  uint32_t leaf = kNoLeaf;  // the leaf hit (light beams gather from that leaf's bins)
 };
 
 // Reflected radiance along wo carried by caustic paths (light -> caustic scatterers -> here).
@@ -81,6 +82,7 @@ class PathTracer final : public Integrator {
   };
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
   PathTracer(const ShadingScene& scene, Options options) : scene_(scene), options_(options) {}
+
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
   static constexpr uint32_t kRaysPerPath = 2;  // slot 2k: closest hit, 2k+1: shadow ray

@@ -299,6 +299,38 @@ size_t TopLevelBvh::nodeCount() const { return impl_->nodes.size(); }
 size_t TopLevelBvh::bytes() const { return impl_->nodes.capacity() * sizeof(Node4); }
 Box3 TopLevelBvh::bounds() const { return impl_->bounds; }
 
+void TopLevelBvh::overlapping(const Box3& box, std::vector<uint32_t>& out, TraversalScratch& scratch) const {
+  using toplevel::isLeafRef;
+  const Impl& m = *impl_;
+  const size_t first = out.size();
+  if (m.root == toplevel::kNoRoot || box.empty()) return;
+  auto overlaps = [&](const Box3& b) {
+    return b.lo.x <= box.hi.x && b.hi.x >= box.lo.x && b.lo.y <= box.hi.y && b.hi.y >= box.lo.y &&
+           b.lo.z <= box.hi.z && b.hi.z >= box.lo.z;
+  };
+  if (!overlaps(m.bounds)) return;
+  if (isLeafRef(m.root)) {
+    out.push_back(toplevel::refLeafId(m.root));
+    return;
+  }
+  auto& stack = scratch.heap;
+  stack.clear();
+  stack.push_back({0.0f, m.root});
+  while (!stack.empty()) {
+    const uint32_t ref = stack.back().ref;
+    stack.pop_back();
+    const toplevel::Node4& node = m.nodes[ref];
+    for (int c = 0; c < 4; ++c) {
+      if (node.child[c] == toplevel::kEmptyRef) continue;
+      const Box3 child{{node.lo[0][c], node.lo[1][c], node.lo[2][c]}, {node.hi[0][c], node.hi[1][c], node.hi[2][c]}};
+      if (!overlaps(child)) continue;
+      if (isLeafRef(node.child[c])) out.push_back(toplevel::refLeafId(node.child[c]));
+      else stack.push_back({0.0f, node.child[c]});
+    }
+  }
+  std::sort(out.begin() + first, out.end());
+}
+
 namespace toplevel {
 std::span<const Node4> Inspector::nodes(const TopLevelBvh& bvh) { return bvh.impl_->nodes; }
 uint32_t Inspector::root(const TopLevelBvh& bvh) { return bvh.impl_->root; }

@@ -1,0 +1,151 @@
+#include "lbt/beam_segment.h"
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include "lbt/gaussian_triangle.h"
+
+namespace rayes {
+namespace {
+// A gather point may lie this far (relative to the segment's length) beyond the plane of the
+// corner rays' ends: the ends lie on the receiver, and so does x, but a curved receiver bulges
+// out of that plane.
+constexpr double kCapSlack = 0.02;
+// Below this flux-triangle area (relative to r²) the segment is at a focus.
+constexpr double kFocusArea = 1e-12;
+// Below this angular area (relative to σ²) P is the lobe's density times the area (the exact
+// integral would cancel catastrophically).
+constexpr double kSmallLobeArea = 1e-6;
+
+struct D3 {
+  double x, y, z;
+};
+D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
+D3 sub(D3 a, D3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+D3 add(D3 a, D3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+D3 mul(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+double dotD(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+D3 crossD(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double lengthD(D3 a) { return std::sqrt(dotD(a, a)); }
+double angleD(D3 a, D3 b) { return std::atan2(lengthD(crossD(a, b)), dotD(a, b)); }
+double cross2(FlatPoint a, FlatPoint b) { return a.x * b.y - a.y * b.x; }
+}  // namespace
+
+Box3 beamBounds(const BeamSegment& s) {
+  Box3 box;
+  float far = 0;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(s.o[i]);
+    box.extend(s.o[i] + s.d[i] * s.t[i]);
+    far = std::max(far, s.t[i]);
+  }
+  if (s.sigma > 0) {
+    const float pad = far * std::tan(std::min(5.0f * s.sigma, 1.3f));
+    box.lo -= Vec3{pad, pad, pad};
+    box.hi += Vec3{pad, pad, pad};
+  }
+  return box;
+}
+
+Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
+  const D3 x = d3(xf);
+  D3 d[3], o[3];
+  for (int i = 0; i < 3; ++i) d[i] = d3(s.d[i]), o[i] = d3(s.o[i]);
+  const D3 sum = add(add(d[0], d[1]), d[2]);
+  const double len = lengthD(sum);
+  if (!(len > 0) || !std::isfinite(len)) return {};
+  const D3 c = mul(sum, 1 / len);
+  psi = Vec3{float(c.x), float(c.y), float(c.z)};
+  Vec3 e1f, e2f;
+  orthonormalBasis(psi, e1f, e2f);
+  const D3 e1 = d3(e1f), e2 = d3(e2f);
+
+  // Where the corner rays cross the flux plane through x, relative to x, in the plane's basis.
+  FlatPoint a[3];
+  double along[3];
+  for (int i = 0; i < 3; ++i) {
+    const double ci = dotD(d[i], c);
+    if (!(ci >= kCoaxialCos)) return {};
+    along[i] = dotD(sub(x, o[i]), c) / ci;
+    const D3 rel = sub(add(o[i], mul(d[i], along[i])), x);
+    a[i] = {dotD(rel, e1), dotD(rel, e2)};
+  }
+  const double area2 = cross2({a[1].x - a[0].x, a[1].y - a[0].y}, {a[2].x - a[0].x, a[2].y - a[0].y});
+  // x's barycentrics in the flux triangle (x is the plane's origin), and the same clamped
+  // into the triangle for what must be interpolated from the corners (cap, direction).
+  double lambda[3] = {cross2(a[1], a[2]) / area2, cross2(a[2], a[0]) / area2, cross2(a[0], a[1]) / area2};
+  double clamped[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  bool inside = area2 != 0;
+  if (area2 != 0 && std::isfinite(lambda[0] + lambda[1] + lambda[2])) {
+    double total = 0;
+    for (int i = 0; i < 3; ++i) {
+      inside = inside && lambda[i] >= 0;
+      total += std::max(0.0, lambda[i]);
+    }
+    if (total > 0)
+      for (int i = 0; i < 3; ++i) clamped[i] = std::max(0.0, lambda[i]) / total;
+  } else {
+    inside = false;
+  }
+  if (s.sigma == 0 && !inside) return {};
+
+  // The segment's extent: x must lie past the generator, and not beyond the plane of the
+  // corner rays' ends (on a flat receiver the ends and x lie in one plane, wherever the lobe
+  // spreads); when the ends are degenerate, not beyond their interpolated distance.
+  double r = 0, cap = 0;
+  D3 dir{0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    r += clamped[i] * along[i];
+    cap += clamped[i] * double(s.t[i]);
+    dir = add(dir, mul(d[i], clamped[i]));
+  }
+  if (!(r > 0)) return {};
+  D3 end[3];
+  for (int i = 0; i < 3; ++i) end[i] = add(o[i], mul(d[i], double(s.t[i])));
+  D3 endNormal = crossD(sub(end[1], end[0]), sub(end[2], end[0]));
+  const double endLen = lengthD(endNormal);
+  if (endLen > kFocusArea * cap * cap && std::isfinite(endLen)) {
+    endNormal = mul(endNormal, dotD(endNormal, c) < 0 ? -1 / endLen : 1 / endLen);
+    if (dotD(sub(x, end[0]), endNormal) > kCapSlack * cap) return {};
+  } else if (r > cap * (1 + kCapSlack)) {
+    return {};
+  }
+  const double dirLen = lengthD(dir);
+  if (!(dirLen > 0)) return {};
+  const double cosN = std::fabs(dotD(dir, d3(nf))) / dirLen;
+  psi = Vec3{float(dir.x / dirLen), float(dir.y / dirLen), float(dir.z / dirLen)};
+  const double areaPerp = std::fabs(area2) / 2;
+  const bool focus = !(areaPerp > kFocusArea * r * r);
+
+  double perArea;  // P / A⊥
+  if (s.sigma == 0) {
+    if (focus) return {};  // a specular focus: unbounded irradiance, no value to give
+    perArea = 1 / areaPerp;
+  } else {
+    const double sigma = s.sigma;
+    FlatPoint phi[3];
+    for (int i = 0; i < 3; ++i) {
+      const double angle = angleD(d[i], sub(x, o[i]));
+      const double dist = std::hypot(a[i].x, a[i].y);
+      phi[i] = dist > 0 ? FlatPoint{angle * a[i].x / dist, angle * a[i].y / dist} : FlatPoint{0, 0};
+    }
+    const double areaAngle =
+        std::fabs(cross2({phi[1].x - phi[0].x, phi[1].y - phi[0].y}, {phi[2].x - phi[0].x, phi[2].y - phi[0].y})) / 2;
+    if (focus || areaAngle < kSmallLobeArea * sigma * sigma) {
+      // P = density at the blended offset times the angular area; the angular area over A⊥
+      // tends to 1/r² at a focus, where both vanish.
+      const FlatPoint mid{clamped[0] * phi[0].x + clamped[1] * phi[1].x + clamped[2] * phi[2].x,
+                          clamped[0] * phi[0].y + clamped[1] * phi[1].y + clamped[2] * phi[2].y};
+      const double q = (mid.x * mid.x + mid.y * mid.y) / (sigma * sigma);
+      const double density = std::exp(-q / 2) / (2 * std::numbers::pi * sigma * sigma);
+      perArea = density * (focus ? 1 / (r * r) : areaAngle / areaPerp);
+    } else {
+      perArea = gaussianTriangleMass(phi[0], phi[1], phi[2], sigma) / areaPerp;
+    }
+  }
+  const double scale = perArea * cosN;
+  if (!std::isfinite(scale)) return {};
+  const Rgb e = s.power * float(scale);
+  return isFinite(e) ? e : Rgb{};
+}
+
+}  // namespace rayes

@@ -1,0 +1,160 @@
+#include "lbt/beam_store.h"
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include "core/error.h"
+
+namespace rayes {
+namespace {
+constexpr int kMaxCellsPerAxis = 64;
+constexpr double kSegmentsPerCell = 4;
+
+// A leaf's grid: about count / kSegmentsPerCell cubic-ish cells over its box, only along the
+// axes the box extends in.
+void shapeGrid(BeamStore::LeafGrid& g, size_t count) {
+  const Vec3 e = g.box.extent();
+  const float longest = maxComponent(e);
+  int dims = 0;
+  for (int a = 0; a < 3; ++a) dims += e[a] > 1e-3f * longest;
+  const double target = std::max(1.0, double(count) / kSegmentsPerCell);
+  const double h = dims > 0 ? longest / std::pow(target, 1.0 / dims) : 1.0;
+  for (int a = 0; a < 3; ++a)
+    g.n[a] = e[a] > 1e-3f * longest && h > 0 ? std::clamp(int(std::ceil(e[a] / h)), 1, kMaxCellsPerAxis) : 1;
+}
+
+int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
+  const float e = g.box.hi[a] - g.box.lo[a];
+  if (g.n[a] == 1 || !(e > 0)) return 0;
+  const float c = (x - g.box.lo[a]) / e * float(g.n[a]);
+  return std::clamp(int(c), 0, g.n[a] - 1);  // NaN and ±inf clamp too (int of NaN avoided below)
+}
+int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
+
+constexpr int kPieces = 8;
+
+// The box of the part of a segment between fractions u0 < u1 of its corner rays' lengths: the
+// cross-sections are linear in u, so the six corner points bound it; glossy: grown by 5σ of
+// angle at the far end (as beamBounds).
+Box3 pieceBounds(const BeamSegment& s, float u0, float u1) {
+  Box3 box;
+  float far = 0;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u0));
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u1));
+    far = std::max(far, s.t[i] * u1);
+  }
+  if (s.sigma > 0) {
+    const float pad = far * std::tan(std::min(5.0f * s.sigma, 1.3f));
+    box.lo -= Vec3{pad, pad, pad};
+    box.hi += Vec3{pad, pad, pad};
+  }
+  return box;
+}
+}  // namespace
+
+BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+                     size_t budget, std::span<const uint8_t> receives)
+    : segments_(std::move(segments)) {
+  const size_t leaves = top.leafCount();
+  if (!segments_.empty() && bytesFor(1, 1, leaves + 1) > budget)
+    throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
+                     std::to_string(bytesFor(1, 1, leaves + 1)) + " bytes with the per-leaf grids)");
+  // Each segment's box and leaves.
+  std::vector<Box3> boxes(segments_.size());
+  std::vector<std::vector<uint32_t>> hits(segments_.size());
+  tbb::enumerable_thread_specific<TraversalScratch> scratch;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
+    TraversalScratch& s = scratch.local();
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      boxes[i] = beamBounds(segments_[i]);
+      top.overlapping(boxes[i], hits[i], s);
+    }
+  });
+  // Each leaf's grid, sized by how many segments reach it.
+  std::vector<size_t> perLeaf(leaves, 0);
+  for (auto& h : hits) {
+    if (!receives.empty()) std::erase_if(h, [&](uint32_t l) { return l >= receives.size() || !receives[l]; });
+    for (uint32_t l : h) ++perLeaf[l];
+  }
+  grids_.resize(leaves);
+  uint64_t cells = 0;
+  for (size_t l = 0; l < leaves; ++l) {
+    LeafGrid& g = grids_[l];
+    g.box = l < leafBoxes.size() ? leafBoxes[l] : Box3{};
+    if (perLeaf[l] && !g.box.empty()) shapeGrid(g, perLeaf[l]);
+    g.first = cells;
+    cells += perLeaf[l] && !g.box.empty() ? uint64_t(g.n[0]) * g.n[1] * g.n[2] : 0;
+  }
+  // A counting sort of (cell, segment) pairs: segment order kept within a cell.
+  offsets_.assign(cells + 1, 0);
+  // The cells of leaf grids a segment reaches: the segment cut into kPieces along its length,
+  // each piece's box (its six corner points, grown by the lobe) clipped to the leaf's box, so
+  // a long tilted beam does not claim the whole box of its diagonal. Cells in increasing order.
+  std::vector<std::vector<uint64_t>> cellsOf(segments_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const BeamSegment& seg = segments_[i];
+      std::vector<uint64_t>& out = cellsOf[i];
+      for (uint32_t l : hits[i]) {
+        const LeafGrid& g = grids_[l];
+        if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
+        for (int k = 0; k < kPieces; ++k) {
+          Box3 piece = pieceBounds(seg, float(k) / kPieces, float(k + 1) / kPieces);
+          piece.lo = vmax(piece.lo, g.box.lo);
+          piece.hi = vmin(piece.hi, g.box.hi);
+          if (piece.empty()) continue;
+          int lo[3], hi[3];
+          for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, piece.lo[a]), hi[a] = safeCell(g, a, piece.hi[a]);
+          for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+              for (int x = lo[0]; x <= hi[0]; ++x) out.push_back(g.first + (uint64_t(z) * g.n[1] + y) * g.n[0] + x);
+        }
+      }
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+  });
+  auto forCells = [&](uint32_t i, auto&& visit) {
+    for (uint64_t c : cellsOf[i]) visit(c);
+  };
+  for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { ++offsets_[c + 1]; });
+  for (uint64_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
+  const size_t total = offsets_[cells];
+  if (bytesFor(segments_.size(), total, offsets_.size()) > budget)
+    throw InputError("--beam-memory", "", "the beams need " +
+                     std::to_string(bytesFor(segments_.size(), total, offsets_.size())) + " bytes (" +
+                     std::to_string(segments_.size()) + " segments in " + std::to_string(total) +
+                     " bin entries), more than the budget of " + std::to_string(budget) +
+                     " bytes; raise it or lower --beam-resolution");
+  entries_.resize(total);
+  std::vector<uint64_t> fill(offsets_.begin(), offsets_.end() - 1);
+  for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });
+}
+
+std::pair<uint64_t, uint64_t> BeamStore::cellRange(uint32_t leaf, Vec3 x) const {
+  if (leaf >= grids_.size()) return {0, 0};
+  const LeafGrid& g = grids_[leaf];
+  const uint64_t end = leaf + 1 < grids_.size() ? grids_[leaf + 1].first : offsets_.size() - 1;
+  if (g.first == end) return {0, 0};
+  const uint64_t c = g.first + (uint64_t(safeCell(g, 2, x.z)) * g.n[1] + safeCell(g, 1, x.y)) * g.n[0] +
+                     safeCell(g, 0, x.x);
+  return {offsets_[c], offsets_[c + 1]};
+}
+
+Rgb BeamStore::radiance(const DiffuseVertex& v) const {
+  Rgb sum;
+  gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance) {
+    const Vec3 wi = -psi;
+    const Vec3 wiL = v.frame->toLocal(wi);
+    // Both directions on the sides of the true surface the shading frame claims.
+    const float s = dot(v.ng, wi) * dot(v.ng, v.wo);
+    if (wiL.z * v.woL.z > 0 ? !(s > 0) : !(s < 0)) return;
+    sum += v.bsdf->eval(v.woL, wiL) * irradiance;
+  });
+  return sum;
+}
+
+}  // namespace rayes
