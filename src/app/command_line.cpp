@@ -65,7 +65,8 @@ struct RenderArgs {
               method = "pt";
   std::string engine = "rayes", embreeLod, memoryLimit;
   std::optional<int> spp;
-  std::optional<int64_t> seed;
+  std::optional<int64_t> seed, diceCache;
+  int lodBias = 0;
   int threads = 0, maxLod = 10;
   bool quiet = false;
 };
@@ -87,6 +88,19 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
     throw InputError("--embree-lod", "", "only applies to --engine embree");
   options.embreeAutoLod = a.embreeLod == "auto";
+  if (a.diceCache) {
+    if (*a.diceCache < 1 || *a.diceCache > (int64_t(1) << 32))
+      throw InputError("--dice-cache", "", "must be a whole number of entries in [1, 2^32]");
+    if (options.engine == EngineKind::Embree) throw InputError("--dice-cache", "", "does not apply to --engine embree");
+    if (!options.sortByLeaf)
+      throw InputError("--dice-cache", "", "traces every ray alone already; leave out --trace-mode alone");
+    options.diceCacheEntries = size_t(*a.diceCache);
+  }
+  if (a.lodBias < -TraceSettings::kMaxLodBias || a.lodBias > TraceSettings::kMaxLodBias)
+    throw InputError("--lod-bias", "", "must be a whole number of levels in [-12, 12]");
+  if (a.lodBias != 0 && options.engine == EngineKind::Embree)
+    throw InputError("--lod-bias", "", "does not apply to --engine embree");
+  options.lodBias = a.lodBias;
   // The default limit keeps a fifth of the machine for everything else.
   options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(physicalMemoryBytes() / 5 * 4)
                                                    : parseBytes(a.memoryLimit, "--memory-limit");
@@ -207,6 +221,11 @@ int runCommandLine(int argc, char** argv) {
       ->check(CLI::IsMember({"fixed", "auto"}));
   r->add_option("--memory-limit", a.memoryLimit, "with --engine embree: refuse, before allocating, a tessellation "
                                                  "estimated larger than this, e.g. 8G (default: 80% of physical memory)");
+  r->add_option("--dice-cache", a.diceCache, "trace rays one at a time, unsorted, keeping the last K diced patches "
+                                             "in an LRU cache (the thesis's alternative to reordering; same image, "
+                                             "one thread, for counting dicings). K >= 1");
+  r->add_option("--lod-bias", a.lodBias, "shift every ray's dicing level by B levels, -12..12 (default 0; negative: "
+                                         "coarser and faster, positive: finer)");
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
                                             "RMSE after every pass against time (error_vs_time)");
   r->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
