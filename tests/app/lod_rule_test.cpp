@@ -8,11 +8,14 @@
 namespace rayes {
 namespace {
 
-uint64_t micropolygons(const RenderStats& s) {
+// A GenerationStats counter summed over the render.
+uint64_t total(const RenderStats& s, uint64_t GenerationStats::*counter) {
   uint64_t n = 0;
-  for (const auto& g : s.generations) n += g.stats.micropolygonsCreated;
+  for (const auto& g : s.generations) n += g.stats.*counter;
   return n;
 }
+uint64_t micropolygons(const RenderStats& s) { return total(s, &GenerationStats::micropolygonsCreated); }
+uint64_t dicings(const RenderStats& s) { return total(s, &GenerationStats::leavesDiced); }
 
 TEST(LodRule, DensityRuleRendersAndDicesByRayCount) {
   const Scene s = testing::smallTeapot(32, 24, 1);
@@ -31,12 +34,6 @@ TEST(LodRule, DensityRuleRendersAndDicesByRayCount) {
   // 768 camera rays over 39 leaves: 4^m >= R/spp gives m <= 5 everywhere, while pixel-sized
   // footprints on the walls of a 32x24 image need about m = 5..7.
   EXPECT_LT(micropolygons(b.stats()), micropolygons(a.stats()));
-}
-
-uint64_t dicings(const RenderStats& s) {
-  uint64_t n = 0;
-  for (const auto& g : s.generations) n += g.stats.leavesDiced;
-  return n;
 }
 
 // --lod-bias B shifts every ray's level: coarser dicings for B < 0, finer for B > 0; at the
