@@ -43,6 +43,7 @@ struct RenderOptions {
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
   IntegratorMethod method = IntegratorMethod::PathTracing;
+  IntegratorOptions integrator;  // --caustic-paths, the photon options
   std::vector<float> reference;  // RGB per pixel; empty: no error curve
 };
 
@@ -85,6 +86,8 @@ class Renderer {
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
 
  private:
+  void traceLightPass(int s0, int s1, int pass, int& batch);
+
   const Scene& scene_;
   RenderOptions options_;
   RenderData data_;
