@@ -4,15 +4,20 @@
 # all with the same seed, so the RMSE between a biased render and the reference is the error the
 # coarser geometry makes (the sampling noise is shared, not measured). Writes OUT.csv (bias,
 # seconds, dicings, micropolygons, rmse) and OUT.svg (rmse and seconds against bias).
-# Usage: bench/lod_bias_sweep.sh SCENE RES SPP OUT [BIASES...]
-#   e.g. nice -n 5 bench/lod_bias_sweep.sh scenes/displaced-terrain.json 160x90 4 bench/lod-bias-terrain -4 -3 -2 -1 0 1
+# Usage: bench/lod_bias_sweep.sh SCENE RES SPP OUT [BIASES...] [-- RAYES_OPTIONS...]
+#   e.g. nice -n 5 bench/lod_bias_sweep.sh scenes/displaced-terrain.json 160x90 4 bench/lod-bias-terrain \
+#          -4 -3 -2 -1 0 1 -- --max-lod 8
+# (the reference at every ray's finest level is the slow part: --max-lod bounds it)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=$1 res=$2 spp=$3 out=$4; shift 4
-biases=("$@"); [ ${#biases[@]} -gt 0 ] || biases=(-4 -3 -2 -1 0 1)
+biases=(); extra=()
+while [ $# -gt 0 ] && [ "$1" != "--" ]; do biases+=("$1"); shift; done
+[ $# -gt 0 ] && { shift; extra=("$@"); }
+[ ${#biases[@]} -gt 0 ] || biases=(-4 -3 -2 -1 0 1)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-common=(render "$scene" --res "$res" --spp "$spp" --seed 7 -q)
+common=(render "$scene" --res "$res" --spp "$spp" --seed 7 -q "${extra[@]}")
 build/bin/rayes "${common[@]}" --lod fixed -o "$tmp/ref.exr" --stats "$tmp/ref.json"
 for b in "${biases[@]}"; do
   build/bin/rayes "${common[@]}" --lod-bias "$b" --reference "$tmp/ref.exr" -o "$tmp/b$b.exr" --stats "$tmp/b$b.json"
