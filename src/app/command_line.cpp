@@ -71,7 +71,8 @@ struct RenderArgs {
   int64_t photons = 20000;
   int photonK = 32;
   float photonRadius = 0, photonAlpha = 2.0f / 3.0f;
-  std::optional<int64_t> seed;
+  std::optional<int64_t> seed, diceCache;
+  int lodBias = 0;
   int threads = 0, maxLod = 10;
   bool quiet = false;
   // converge
@@ -112,6 +113,19 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
     throw InputError("--embree-lod", "", "only applies to --engine embree");
   options.embreeAutoLod = a.embreeLod == "auto";
+  if (a.diceCache) {
+    if (*a.diceCache < 1 || *a.diceCache > (int64_t(1) << 32))
+      throw InputError("--dice-cache", "", "must be a whole number of entries in [1, 2^32]");
+    if (options.engine == EngineKind::Embree) throw InputError("--dice-cache", "", "does not apply to --engine embree");
+    if (!options.sortByLeaf)
+      throw InputError("--dice-cache", "", "traces every ray alone already; leave out --trace-mode alone");
+    options.diceCacheEntries = size_t(*a.diceCache);
+  }
+  if (a.lodBias < -TraceSettings::kMaxLodBias || a.lodBias > TraceSettings::kMaxLodBias)
+    throw InputError("--lod-bias", "", "must be a whole number of levels in [-12, 12]");
+  if (a.lodBias != 0 && options.engine == EngineKind::Embree)
+    throw InputError("--lod-bias", "", "does not apply to --engine embree");
+  options.lodBias = a.lodBias;
   // The default limit keeps a fifth of the machine for everything else.
   options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(physicalMemoryBytes() / 5 * 4)
                                                    : parseBytes(a.memoryLimit, "--memory-limit");
@@ -307,6 +321,11 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
       ->check(CLI::IsMember({"fixed", "auto"}));
   c->add_option("--memory-limit", a.memoryLimit, "with --engine embree: refuse, before allocating, a tessellation "
                                                  "estimated larger than this, e.g. 8G (default: 80% of physical memory)");
+  c->add_option("--dice-cache", a.diceCache, "trace rays one at a time, unsorted, keeping the last K diced patches "
+                                             "in an LRU cache (the thesis's alternative to reordering; same image, "
+                                             "one thread, for counting dicings). K >= 1");
+  c->add_option("--lod-bias", a.lodBias, "shift every ray's dicing level by B levels, -12..12 (default 0; negative: "
+                                         "coarser and faster, positive: finer)");
   c->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
   c->add_flag("-q,--quiet", a.quiet, "no progress output");
 }

@@ -24,7 +24,10 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   // The memory budget: whole paths per batch, and the candidate buffer.
   const bool embree = options.engine == EngineKind::Embree;
   const uint64_t raysPerPath = integrator_->raysPerPath();
-  const size_t engineBytesPerRay = embree ? EmbreeEngine::bytesPerRaySlot() : Tracer::bytesPerRaySlot();
+  const bool caching = !embree && options.diceCacheEntries > 0;
+  const size_t engineBytesPerRay = embree    ? EmbreeEngine::bytesPerRaySlot()
+                                   : caching ? CachingEngine::bytesPerRaySlot()
+                                             : Tracer::bytesPerRaySlot();
   stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay() + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
@@ -34,7 +37,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                      " bytes cannot hold one path (" + std::to_string(stats_.bytesPerPath) + " bytes)");
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
-  stats_.candidateCapacity = embree ? 0 : raysPerPath * perBatch * Tracer::kCandidatesPerRay;
+  stats_.candidateCapacity = embree || caching ? 0 : raysPerPath * perBatch * Tracer::kCandidatesPerRay;
 
   if (embree) {
     EmbreeSettings es;
@@ -48,10 +51,12 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     TraceSettings ts;
     ts.maxLod = options.maxLod;
     ts.lod = options.lod;
+    ts.lodBias = options.lodBias;
     ts.samplesPerPixel = scene.samplesPerPixel;
     ts.candidateCapacity = stats_.candidateCapacity;
     ts.sortByLeaf = options.sortByLeaf;
-    engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
+    if (caching) engine_ = std::make_unique<CachingEngine>(data_.top, scene.leaves, ts, options.diceCacheEntries);
+    else engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
   }
   if (options.method == IntegratorMethod::LightBeams) buildBeams();
   else stats_.beams.skipped = "--method is not lbt: no beams traced";

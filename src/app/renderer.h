@@ -23,6 +23,7 @@
 #include "app/render_data.h"
 #include "lbt/beam_store.h"
 #include "lbt/beam_tracer.h"
+#include "rays/caching_engine.h"
 #include "rays/embree_engine.h"
 #include "rays/tracer.h"
 #include "scene/scene.h"
@@ -54,8 +55,10 @@ struct RenderOptions {
   EngineKind engine = EngineKind::Rayes;
   bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
   size_t memoryLimitBytes = 0;   // Embree engine: refuse a tessellation larger than this (0: none)
+  size_t diceCacheEntries = 0;   // > 0: the CachingEngine with this many entries (--dice-cache)
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
+  int lodBias = 0;               // TraceSettings::lodBias (--lod-bias)
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
   IntegratorMethod method = IntegratorMethod::PathTracing;

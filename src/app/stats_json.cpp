@@ -16,6 +16,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
+                   {"lod_bias", options.lodBias},
+                   {"dice_cache_entries", options.diceCacheEntries},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
 
   json gens = json::array();
@@ -82,6 +84,12 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   j["memory"]["peak_rss_bytes"] = peakRssBytes();
   const EngineStats& e = s.engine;
   j["engine"] = {{"name", e.name}, {"fixed_bytes", e.fixedBytes}};
+  if (options.diceCacheEntries > 0 && options.engine == EngineKind::Rayes) {
+    j["engine"].update({{"cache_entries", e.cacheEntries},
+                        {"cache_hits", e.cacheHits},
+                        {"cache_misses", e.cacheMisses},
+                        {"cache_peak_bytes", e.cachePeakBytes}});
+  }
   if (options.engine == EngineKind::Embree) {
     j["engine"].update({{"lod", options.embreeAutoLod ? "auto" : "fixed"},
                         {"min_level", e.minLevel},

@@ -175,6 +175,8 @@ class DiceBuffer {
 // (Precedence: maxLevel <= 0 gives 0, then patchSize <= 0 gives 0; a NaN or infinite
 // patchSize gives maxLevel, the safe choice for an unknown size.)
 int levelForFootprint(float patchSize, float footprintWidth, int maxLevel);
+// `level` shifted by `bias` (--lod-bias), clamped to [0, maxLevel] (maxLevel < 0 counts as 0).
+int biasedLevel(int level, int bias, int maxLevel);
 
 // The thesis's batch-density rule (--lod density): the smallest m with 4^m >= rays / spp,
 // clamped to [0, maxLevel]. spp <= 0 counts as 1; rays == 0 gives 0.

@@ -1,6 +1,8 @@
 // Level-of-detail rules (declared in dice_buffer.h). Integer and exact power-of-two arithmetic
 // only, so the choice has no rounding surprises and every input has a defined result.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include "dicing/dice_buffer.h"
 
 namespace rayes {
@@ -14,6 +16,11 @@ int levelForFootprint(float patchSize, float footprintWidth, int maxLevel) {
   for (int m = 0; m < maxLevel; ++m)
     if (patchSize <= std::ldexp(footprintWidth, m)) return m;
   return maxLevel;
+}
+
+int biasedLevel(int level, int bias, int maxLevel) {
+  // In int64 so no bias can overflow; the clamp keeps the result a level the buffer holds.
+  return int(std::clamp<int64_t>(int64_t(level) + bias, 0, std::max(maxLevel, 0)));
 }
 
 int levelForDensity(uint64_t rays, int spp, int maxLevel) {

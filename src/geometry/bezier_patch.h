@@ -41,16 +41,18 @@ class BezierPatch final : public Patch {
 
   const std::array<Vec3, 16>& controlPoints() const { return cp_; }
 
- private:
-  // The u-direction curve at a fixed v: its control points and their v-derivatives. dice()
-  // computes it once per row; evaluate() once per call, with identical arithmetic.
+  // The u-direction curve at a fixed v: its control points and their v-derivatives.
+  // evaluate(u, v) is pointOnRow(rowAt(v), u, v), bit for bit: callers evaluating many points of
+  // one row (dice(), DisplacedPatch::dice()) compute the row once.
   struct RowAtV {
     Vec3 q[4];
     Vec3 dq[4];
   };
-  static Vec3 rawNormal(const RowAtV& row, const float bu[4], float u);  // dP/du x dP/dv
   RowAtV rowAt(float v) const;
   SurfacePoint pointOnRow(const RowAtV& row, float u, float v) const;
+
+ private:
+  static Vec3 rawNormal(const RowAtV& row, const float bu[4], float u);  // dP/du x dP/dv
   Vec3 normalAt(float u, float v) const;
   Vec3 borderPoint(float u, float v) const;  // precondition: u or v is exactly 0 or 1
 

@@ -201,27 +201,63 @@ Box3 DisplacedPatch::boundsOver(float u0, float u1, float v0, float v1) const {
   return r.grownBy(gammaBound(8) * std::max(std::fabs(h.lo), std::fabs(h.hi)));
 }
 
+// The step of the one-sided differences at u: forward, backward where it would leave the patch.
+static float differencePoint(float u) {
+  const float h = DisplacedPatch::kDifferenceStep;
+  return u + h <= 1.0f ? u + h : u - h;
+}
+
 SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
-  const SurfacePoint c = base_->evaluate(u, v);
-  const Vec3 n = unitOrZero(c.n);
-  const float h = kDifferenceStep;
-  // One-sided differences of the base at a fixed step: forward, backward where the step
-  // would leave the patch. Two extra base evaluations per point (central differences took
-  // four, for no visible gain in a shading normal).
-  const float ua = u + h <= 1.0f ? u + h : u - h, va = v + h <= 1.0f ? v + h : v - h;
-  const SurfacePoint pua = base_->evaluate(ua, v), pva = base_->evaluate(u, va);
-  const float iu = 1.0f / (ua - u), iv = 1.0f / (va - v);
-  const Vec3 pu = (pua.p - c.p) * iu, pv = (pva.p - c.p) * iv;
-  const Vec3 nu = (unitOrZero(pua.n) - n) * iu, nv = (unitOrZero(pva.n) - n) * iv;
-  HeightSample s;
-  if (reference_ == base_) {
-    s = displacement_->sample(c.p, pu, pv, u, v);
-  } else {
-    const Vec3 r = reference_->evaluate(u, v).p;
-    const Vec3 ru = (reference_->evaluate(ua, v).p - r) * iu;
-    const Vec3 rv = (reference_->evaluate(u, va).p - r) * iv;
-    s = displacement_->sample(r, ru, rv, u, v);
+  const float ua = differencePoint(u), va = differencePoint(v);
+  const SurfacePoint base[3] = {base_->evaluate(u, v), base_->evaluate(ua, v), base_->evaluate(u, va)};
+  if (reference_ == base_) return displaced(u, v, ua, va, base, nullptr);
+  const Vec3 ref[3] = {reference_->evaluate(u, v).p, reference_->evaluate(ua, v).p, reference_->evaluate(u, va).p};
+  return displaced(u, v, ua, va, base, ref);
+}
+
+// Three base (and reference) points per vertex, as evaluate() takes them, but a Bézier base's
+// rows at v and at v's difference point are computed once per grid row rather than once per
+// point: the same calls evaluate() makes (BezierPatch::evaluate is pointOnRow(rowAt(v), ...)),
+// so the grid is bit for bit the Patch default's.
+void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
+  const auto* bz = dynamic_cast<const BezierPatch*>(base_.get());
+  const auto* rz = reference_ == base_ ? nullptr : dynamic_cast<const BezierPatch*>(reference_.get());
+  if (!bz || (reference_ != base_ && !rz)) return Patch::dice(level, positions, normals);
+  const int n = 1 << level;
+  const float fn = float(n);
+  for (int j = 0; j <= n; ++j) {
+    const float v = float(j) / fn, va = differencePoint(v);
+    const BezierPatch::RowAtV row = bz->rowAt(v), rowA = bz->rowAt(va);
+    BezierPatch::RowAtV refRow, refRowA;
+    if (rz) { refRow = rz->rowAt(v); refRowA = rz->rowAt(va); }
+    for (int i = 0; i <= n; ++i) {
+      const float u = float(i) / fn, ua = differencePoint(u);
+      const SurfacePoint base[3] = {bz->pointOnRow(row, u, v), bz->pointOnRow(row, ua, v), bz->pointOnRow(rowA, u, va)};
+      SurfacePoint sp;
+      if (rz) {
+        const Vec3 ref[3] = {rz->pointOnRow(refRow, u, v).p, rz->pointOnRow(refRow, ua, v).p,
+                             rz->pointOnRow(refRowA, u, va).p};
+        sp = displaced(u, v, ua, va, base, ref);
+      } else {
+        sp = displaced(u, v, ua, va, base, nullptr);
+      }
+      positions[size_t(j) * (n + 1) + i] = sp.p;
+      normals[size_t(j) * (n + 1) + i] = sp.n;
+    }
   }
+}
+
+SurfacePoint DisplacedPatch::displaced(float u, float v, float ua, float va, const SurfacePoint base[3],
+                                       const Vec3* ref) const {
+  const SurfacePoint& c = base[0];
+  const Vec3 n = unitOrZero(c.n);
+  // One-sided differences of the base at a fixed step (two extra base evaluations per point;
+  // central differences took four, for no visible gain in a shading normal).
+  const float iu = 1.0f / (ua - u), iv = 1.0f / (va - v);
+  const Vec3 pu = (base[1].p - c.p) * iu, pv = (base[2].p - c.p) * iv;
+  const Vec3 nu = (unitOrZero(base[1].n) - n) * iu, nv = (unitOrZero(base[2].n) - n) * iv;
+  const HeightSample s = ref ? displacement_->sample(ref[0], (ref[1] - ref[0]) * iu, (ref[2] - ref[0]) * iv, u, v)
+                             : displacement_->sample(c.p, pu, pv, u, v);
   SurfacePoint out;
   out.p = c.p + n * s.h;
   const Vec3 du = pu + nu * s.h + n * s.hu, dv = pv + nv * s.h + n * s.hv;

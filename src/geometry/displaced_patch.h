@@ -17,7 +17,8 @@
 // dicing's grid spacing) keeps a vertex's normal independent of the dicing level, so dice()
 // equals evaluate() bit for bit and the level-k subgrid of a level-m dicing is a level-k
 // dicing, normals included (invariant 2). Where that cross product is not finite or vanishes,
-// the base normal is used. dice() is Patch's default (one evaluate() per vertex).
+// the base normal is used. dice() equals one evaluate() per vertex, bit for bit; over a Bézier
+// base (and reference) it computes each row of the base once per grid row instead of per point.
 //
 // Seams: h of a noise displacement is a function of the base POSITION, so it is bit-identical
 // on both sides of a shared border; the displaced border vertices are then bit-identical only
@@ -46,6 +47,7 @@ class DisplacedPatch final : public Patch {
   // as the Patch contract allows; not a bound.
   float sizeBound() const override { return sizeBound_; }
   SurfacePoint evaluate(float u, float v) const override;
+  void dice(int level, Vec3* positions, Vec3* normals) const override;
   // The conservative default: the longest side of bounds() (a bound of the distance between
   // the dicing and the surface at m = 0, divided by 4^m). A second-derivative bound would need
   // the base normal's derivatives, which the Patch interface does not give.
@@ -64,6 +66,9 @@ class DisplacedPatch final : public Patch {
 
  private:
   enum class BaseKind { Bezier, Bilinear, Other };
+  // The displaced point at (u, v) from the base at (u, v), (ua, v), (u, va) (ua, va: the
+  // difference points) and the reference's positions there (null: the base is the reference).
+  SurfacePoint displaced(float u, float v, float ua, float va, const SurfacePoint base[3], const Vec3* ref) const;
   PatchPtr base_;
   DisplacementPtr displacement_;
   PatchPtr reference_;       // never null (the base when none was given)

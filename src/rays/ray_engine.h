@@ -1,5 +1,8 @@
-// What the renderer needs from whatever finds the hits of a generation of rays. Two engines:
+// What the renderer needs from whatever finds the hits of a generation of rays. Three engines:
 //   Tracer        (rays/tracer.h)        Rayes: sorted by patch, diced on demand, per-ray LOD;
+//   CachingEngine (rays/caching_engine.h) the thesis's alternative to sorting: rays one at a
+//                                        time, diced grids kept in an LRU cache of K entries
+//                                        (the Tracer's hits; for counting dicings, Table 6.2);
 //   EmbreeEngine  (rays/embree_engine.h) the peer: every patch diced once up front into Embree
 //                                        grids, traced with Embree's stream API.
 //
@@ -9,7 +12,7 @@
 // patch's parameters, level the dicing level the hit was found at, ng the micro-triangle's unit
 // normal, ns the unit normal blended from the diced vertex normals. Shading reads nothing else,
 // so the same scene shades the same way whichever engine found the hits. Images are a pure
-// function of (scene, settings, seed) for both engines: neither depends on thread count or
+// function of (scene, settings, seed) for every engine: none depends on thread count or
 // batching.
 //
 // Memory (docs/design.md, invariant 3): bytesPerRay() is what the engine keeps per ray slot of the
@@ -38,6 +41,9 @@ struct EngineStats {
   size_t estimatedBytes = 0;   // the estimate checked against the memory limit before allocating
   double tessellateSeconds = 0, buildSeconds = 0;
   int minLevel = 0, maxLevel = 0;  // range of the per-patch levels
+  // The dice cache (CachingEngine; zero otherwise). Misses are dicings.
+  uint64_t cacheEntries = 0, cacheHits = 0, cacheMisses = 0;
+  size_t cachePeakBytes = 0;
 };
 
 class RayEngine {

@@ -18,6 +18,11 @@ enum class LodRule {
 struct TraceSettings {
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
+  // Added to every level the rule chooses, then clamped to [0, maxLod] (biasedLevel): negative
+  // is coarser and faster, positive finer. A secondary ray still sees the leaf it leaves at the
+  // level it hit it (that level already carries the bias).
+  int lodBias = 0;
+  static constexpr int kMaxLodBias = 12;  // |lodBias| beyond the finest level changes nothing
   int samplesPerPixel = 1;          // only for LodRule::Density
   size_t candidateCapacity = 1 << 20;
   int maxCandidatesPerRay = 100;    // Table 6.3 clips N at 100

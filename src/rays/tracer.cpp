@@ -149,12 +149,13 @@ DiceBuffer& Tracer::localDiceBuffer() {
 int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
   int level;
   if (settings_.lod == LodRule::Fixed) {
-    level = settings_.maxLod;
+    level = biasedLevel(settings_.maxLod, settings_.lodBias, settings_.maxLod);
   } else if (leaf == b.originLeaf[ray]) {
-    level = std::min<int>(b.originLevel[ray], settings_.maxLod);
+    level = std::min<int>(b.originLevel[ray], settings_.maxLod);  // carries the bias already
   } else {
     const float width = b.coneWidth[ray] + std::max(entry, 0.0f) * b.coneSpread[ray];
-    level = levelForFootprint(leafSize_[leaf], width, settings_.maxLod);
+    level = biasedLevel(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), settings_.lodBias,
+                        settings_.maxLod);
   }
   if (settings_.levelHook) level = std::clamp(settings_.levelHook(ray, leaf, level), 0, settings_.maxLod);
   return level;
@@ -166,14 +167,7 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   resumeLeaf_.assign(n, 0);
   nextEntry_.assign(n, kInf);
   count_.assign(n, 0);
-  active_.clear();
-  for (uint32_t i = 0; i < n; ++i) {
-    if (batch.kind[i] == RayKind::Inactive) continue;
-    batch.hit[i] = RayHit{};
-    active_.push_back(i);
-    ++stats.rays;
-    if (batch.kind[i] == RayKind::Shadow) ++stats.shadowRays;
-  }
+  activeRays(batch, stats, active_);
   if (settings_.sortByLeaf) traceSorted(batch, stats, times);
   else traceAlone(batch, stats, times);
 }
@@ -330,7 +324,8 @@ void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_
                               const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters) {
   int m = 0;
   if (settings_.lod == LodRule::Density) {
-    m = levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod);
+    m = biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
+                    settings_.maxLod);
   } else {
     for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, slotRay_[slots[k]], leaf));
   }
@@ -405,60 +400,73 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
     auto& scratch = scratch_.local();
     DiceBuffer& dice = localDiceBuffer();
-    Candidate local[16];
-    for (size_t a = r.begin(); a != r.end(); ++a) {
-      const uint32_t i = active_[a];
-      RayHit& best = b.hit[i];
-      float resumeEntry = -kInf;
-      uint32_t resumeLeaf = 0;
-      for (;;) {
-        float next = kInf;
-        const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i), resumeEntry,
-                                     resumeLeaf, local, 16, next, scratch);
-        for (int j = 0; j < got; ++j) {
-          const uint32_t leaf = local[j].leaf;
-          if (leaf == b.ignoreLeaf[i]) continue;
-          const int level = levelOn(b, i, leaf);
-          const PatchPtr made = leaves_.patch(leaf);
-          const Patch& patch = *made;
-          const TimeInterval when = timeInterval(patch, b.time[i]);
-          dice.diceInterval(patch, when.interval, level);
-          diced.fetch_add(1, std::memory_order_relaxed);
-          micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
-          if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);
-          const float limit = searchLimit(b, i);
-          BottomQuery query;
-          query.alpha = when.alpha;
-          query.closeBorders = closeBordersFor(b, i, leaf);
-          if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
-          if (b.kind[i] == RayKind::Shadow) {
-            if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
-              best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
-              break;
-            }
-            continue;
-          }
-          GridHit h;
-          if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) &&
-              nearerHit(h.t, leaf, h.quad, best)) {
-            best.t = h.t; best.u = h.u; best.v = h.v; best.leaf = leaf; best.quad = h.quad;
-            best.level = static_cast<uint8_t>(level);
-            // Same quantisation as the sorted path, so both modes give identical images.
-            best.ng = decodeOctahedral(encodeOctahedral(h.ng));
-            best.ns = decodeOctahedral(encodeOctahedral(h.ns));
-          }
-        }
-        if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
-        const bool exhausted = !(next < kInf);
-        if (b.kind[i] == RayKind::Shadow ? (best.valid() || exhausted) : (exhausted || best.t < next))
-          break;
-      }
-    }
+    const GridSource diceForThisRay = [&](uint32_t, const Patch& patch, int interval, int level) -> const DiceBuffer& {
+      dice.diceInterval(patch, interval, level);
+      diced.fetch_add(1, std::memory_order_relaxed);
+      micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
+      if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);
+      return dice;
+    };
+    for (size_t a = r.begin(); a != r.end(); ++a) traceRayAlone(b, active_[a], diceForThisRay, scratch);
   });
   stats.leavesDiced += diced.load();
   stats.micropolygonsCreated += micropolygons.load();
   stats.movingDicings += moving.load();
   stats.iterations.push_back({active_.size(), 16.0, 0});
+}
+
+void Tracer::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active) {
+  active.clear();
+  for (uint32_t i = 0; i < batch.size(); ++i) {
+    if (batch.kind[i] == RayKind::Inactive) continue;
+    batch.hit[i] = RayHit{};
+    active.push_back(i);
+    ++stats.rays;
+    if (batch.kind[i] == RayKind::Shadow) ++stats.shadowRays;
+  }
+}
+
+void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const {
+  RayHit& best = b.hit[i];
+  float resumeEntry = -kInf;
+  uint32_t resumeLeaf = 0;
+  Candidate local[16];
+  for (;;) {
+    float next = kInf;
+    const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i), resumeEntry, resumeLeaf, local, 16,
+                                 next, scratch);
+    for (int j = 0; j < got; ++j) {
+      const uint32_t leaf = local[j].leaf;
+      if (leaf == b.ignoreLeaf[i]) continue;
+      const int level = levelOn(b, i, leaf);
+      const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
+      const TimeInterval when = timeInterval(*made, b.time[i]);
+      const DiceBuffer& dice = gridFor(leaf, *made, when.interval, level);
+      const float limit = searchLimit(b, i);
+      BottomQuery query;
+      query.alpha = when.alpha;
+      query.closeBorders = closeBordersFor(b, i, leaf);
+      if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
+      if (b.kind[i] == RayKind::Shadow) {
+        if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
+          best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
+          break;
+        }
+        continue;
+      }
+      GridHit h;
+      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) && nearerHit(h.t, leaf, h.quad, best)) {
+        best.t = h.t; best.u = h.u; best.v = h.v; best.leaf = leaf; best.quad = h.quad;
+        best.level = static_cast<uint8_t>(level);
+        // Same quantisation as the sorted path, so both modes give identical images.
+        best.ng = decodeOctahedral(encodeOctahedral(h.ng));
+        best.ns = decodeOctahedral(encodeOctahedral(h.ns));
+      }
+    }
+    if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
+    const bool exhausted = !(next < kInf);
+    if (b.kind[i] == RayKind::Shadow ? (best.valid() || exhausted) : (exhausted || best.t < next)) break;
+  }
 }
 
 }  // namespace rayes

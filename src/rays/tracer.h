@@ -26,6 +26,7 @@
 // unchanged.
 #pragma once
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <array>
 #include <vector>
@@ -54,6 +55,16 @@ class Tracer : public RayEngine {
   EngineStats engineStats() const override;
 
   const TraceSettings& settings() const { return settings_; }
+  // The rays of `batch` to trace (kind not Inactive) into `active`, in batch order; their hits
+  // reset and counted into stats. The first step of every engine built on this Tracer.
+  static void activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active);
+  // Where traceRayAlone gets a leaf's grid: a DiceBuffer holding that leaf's time interval (0 for
+  // a static leaf) diced at `level` or finer (the coarser levels are exact subgrids).
+  using GridSource = std::function<const DiceBuffer&(uint32_t leaf, const Patch& patch, int interval, int level)>;
+  // Traces ray i of `b` alone and fills b.hit[i]: its candidates front to back, each leaf at the
+  // ray's own level, the same hit as the sorted pipeline (a pure function of ray, scene, maxLod).
+  // Used by the debug mode (--trace-mode alone) and the CachingEngine (rays/caching_engine.h).
+  void traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const;
   // Per leaf and border e (DiceBuffer's numbering: v = 0, u = 1, v = 1, u = 0), the static
   // Bézier leaf across it; kFreeBorder where no other leaf's box meets the border's box (an
   // outline: no neighbour can leave a crack there, so its regions would only widen the

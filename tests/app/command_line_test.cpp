@@ -125,6 +125,25 @@ TEST_F(CommandLine, ImpossibleArgumentsAreExit2) {
   }
 }
 
+// Issue 10, item 8: a cache of no entries, a count that is not a whole number, a bias beyond
+// the levels there are: one message naming the option, exit 2, nothing written.
+TEST_F(CommandLine, BadDiceCacheAndLodBiasAreOneMessageExit2AndNothingWritten) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"--dice-cache", "0"}, {"--dice-cache", "-5"}, {"--dice-cache", "ten"}, {"--dice-cache", "2.5"},
+           {"--dice-cache", "10", "--engine", "embree"}, {"--dice-cache", "10", "--trace-mode", "alone"},
+           {"--lod-bias", "13"}, {"--lod-bias", "-13"}, {"--lod-bias", "0.5"}, {"--lod-bias", "x"},
+           {"--lod-bias", "-1", "--engine", "embree"}}) {
+    std::vector<std::string> full = {"render", kScene, "-o", path("o.exr"), "--stats", path("s.json"), "-q"};
+    full.insert(full.end(), args.begin(), args.end());
+    const RunResult r = run(full);
+    EXPECT_EQ(r.code, 2) << args[0] << " " << args[1] << ": " << r.err;
+    // One message naming the option (a value that does not parse also gets the --help hint).
+    EXPECT_THAT(r.err.substr(0, r.err.find('\n')), HasSubstr(args[0])) << args[1];
+    EXPECT_LE(std::count(r.err.begin(), r.err.end(), '\n'), 2) << "one message: " << r.err;
+    EXPECT_TRUE(dirHasOnly({})) << args[0] << " " << args[1];
+  }
+}
+
 TEST_F(CommandLine, UnknownMethodIsOneMessageExit2AndNothingWritten) {
   const RunResult r = run({"render", kScene, "-o", path("o.exr"), "--stats", path("s.json"), "-q", "--method", "bdpt"});
   EXPECT_EQ(r.code, 2);

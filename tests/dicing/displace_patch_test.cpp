@@ -221,6 +221,17 @@ TEST(DisplacedPatch, ReferenceSurfaceFeedsTheNoise) {
       EXPECT_TRUE(b.bounds().contains(b.evaluate(u, v).p));
     }
   EXPECT_GT(differ, 0);
+  // dice() takes a Bézier base's and reference's rows once per grid row: still evaluate()'s
+  // grid, bit for bit, with a reference surface (a transformed shape).
+  const int m = 5, n = 1 << m;
+  std::vector<Vec3> p((n + 1) * (n + 1)), nn(p.size());
+  b.dice(m, p.data(), nn.data());
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const SurfacePoint sp = b.evaluate(float(i) / n, float(j) / n);
+      ASSERT_TRUE(sameBits(sp.p, p[size_t(j) * (n + 1) + i])) << i << " " << j;
+      ASSERT_TRUE(sameBits(sp.n, nn[size_t(j) * (n + 1) + i])) << i << " " << j;
+    }
 }
 
 // What displacement does at the teapot's seams: heights are a function of position, so they

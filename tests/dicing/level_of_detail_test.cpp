@@ -1,6 +1,7 @@
 // Specification of per-ray level of detail: a ray traced at level k on a finer dicing gets
 // exactly the hit of a level-k dicing (docs/design.md, invariant 2), and the level rules.
 #include <gtest/gtest.h>
+#include <cstdint>
 #include <limits>
 #include "geometry/bezier_patch.h"
 #include "dicing/dice_buffer.h"
@@ -105,6 +106,18 @@ TEST(LevelOfDetail, DensityRule) {
   EXPECT_EQ(levelForDensity(UINT64_MAX, 1, 40), 32);  // 4^32 > any uint64
   EXPECT_EQ(levelForDensity(1000, 1, 0), 0);
   EXPECT_EQ(levelForDensity(1000, 1, -1), 0);
+}
+
+TEST(LevelOfDetail, BiasShiftsAndClampsToTheLevelsThereAre) {
+  EXPECT_EQ(biasedLevel(5, 0, 10), 5);
+  EXPECT_EQ(biasedLevel(5, -2, 10), 3);
+  EXPECT_EQ(biasedLevel(5, 3, 10), 8);
+  EXPECT_EQ(biasedLevel(5, 6, 10), 10);   // never finer than the buffer holds
+  EXPECT_EQ(biasedLevel(1, -3, 10), 0);   // never below level 0
+  EXPECT_EQ(biasedLevel(0, 12, 0), 0);
+  EXPECT_EQ(biasedLevel(3, 2, -1), 0);    // maxLevel < 0 counts as 0
+  EXPECT_EQ(biasedLevel(INT32_MAX, INT32_MAX, 12), 12);  // no overflow
+  EXPECT_EQ(biasedLevel(INT32_MIN, INT32_MIN, 12), 0);
 }
 
 }  // namespace
