@@ -67,7 +67,7 @@ struct RenderArgs {
   std::optional<int> spp;
   std::optional<int64_t> seed;
   int threads = 0, maxLod = 10;
-  bool quiet = false;
+  bool quiet = false, progressive = false;
 };
 
 // Checks every option that does not need the scene, so that a bad option costs no loading.
@@ -82,6 +82,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.maxLod = a.maxLod;
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
+  options.progressive = a.progressive;
   options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
@@ -116,6 +117,7 @@ int render(const RenderArgs& a) {
   if (!a.reference.empty()) {
     int w = 0, h = 0;
     options.reference = readExrRgb(a.reference, w, h);
+    options.progressive = true;  // the error curve has one point per pass
     if (w != scene.width || h != scene.height)
       throw InputError(a.reference, "", "reference is " + std::to_string(w) + "x" + std::to_string(h) +
                                             ", the render " + std::to_string(scene.width) + "x" +
@@ -208,7 +210,10 @@ int runCommandLine(int argc, char** argv) {
   r->add_option("--memory-limit", a.memoryLimit, "with --engine embree: refuse, before allocating, a tessellation "
                                                  "estimated larger than this, e.g. 8G (default: 80% of physical memory)");
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
-                                            "RMSE after every pass against time (error_vs_time)");
+                                            "RMSE after every pass against time (error_vs_time); implies --progressive");
+  r->add_flag("--progressive", a.progressive, "render in passes of 1, 1, 2, 4, ... samples per pixel, a complete "
+                                             "image after each (more dicings; the same final image). Implied by "
+                                             "--reference");
   r->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
   r->add_flag("-q,--quiet", a.quiet, "no progress output");
 

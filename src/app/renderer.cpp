@@ -18,6 +18,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   // The memory budget: whole paths per batch, and the candidate buffer.
   const bool embree = options.engine == EngineKind::Embree;
   const uint64_t raysPerPath = integrator_->raysPerPath();
+  stats_.raysPerPath = raysPerPath;
   const size_t engineBytesPerRay = embree ? EmbreeEngine::bytesPerRaySlot() : Tracer::bytesPerRaySlot();
   stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay() + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
@@ -63,7 +64,9 @@ Film Renderer::render(const Progress& progress) {
   uint64_t done = 0;
   int s0 = 0, pass = 0;
   while (s0 < spp) {
-    const int s1 = std::min(spp, s0 + std::max(1, s0));  // 1, 1, 2, 4, ...
+    // One pass of every sample, or (progressive) 1, 1, 2, 4, ...: after each progressive pass the
+    // film is a complete image, at the cost of re-dicing every leaf once more per pass.
+    const int s1 = options_.progressive ? std::min(spp, s0 + std::max(1, s0)) : spp;
     const uint64_t end = uint64_t(s1) * pixels;
     int batch = 0;
     for (uint64_t first = uint64_t(s0) * pixels; first < end; first += stats_.pathsPerBatch, ++batch) {

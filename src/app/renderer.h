@@ -6,9 +6,12 @@
 //           memory budget divided by the bytes one path costs (the integrator's state, its ray
 //           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
 //           the candidate capacity.
-//   passes: samples are rendered in passes of 1, 1, 2, 4, ... samples per pixel (progress and
-//           the error-against-time curve are reported per pass); a pass is split into batches
-//           of whole paths that fit the budget.
+//   passes: one pass of all samples per pixel, split into batches of whole paths that fit the
+//           budget, so every leaf is diced as few times as the budget allows. Progressive
+//           (--progressive, or a --reference to measure against): passes of 1, 1, 2, 4, ...
+//           samples per pixel, a complete image after each (the error-against-time curve is
+//           recorded per pass), for about 1 + log2(spp) times the dicings. Both give the same
+//           bits: path ids are sample-major and the film adds a pixel's samples in order.
 //   batch:  Integrator::start -> repeat { RayEngine::trace (one generation) ->
 //           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
 //
@@ -39,8 +42,9 @@ struct RenderOptions {
   LodRule lod = LodRule::PerRay;
   size_t rayMemoryBytes = size_t(1) << 30;
   bool sortByLeaf = true;
+  bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   IntegratorMethod method = IntegratorMethod::PathTracing;
-  std::vector<float> reference;  // RGB per pixel; empty: no error curve
+  std::vector<float> reference;  // RGB per pixel; empty: no error curve; else one point per pass
 };
 
 struct GenerationRecord {
@@ -63,6 +67,7 @@ struct RenderStats {
   EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
+  size_t raysPerPath = 0;        // ray slots per path (bytes_per_ray = bytesPerPath / raysPerPath)
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
   std::vector<ErrorSample> errorCurve;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;

@@ -16,6 +16,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
+                   {"progressive", options.progressive},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
 
   json gens = json::array();
@@ -39,6 +40,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"rays", rays},
       {"shadow_rays", shadow},
       {"leaves_diced", diced},
+      {"rays_per_dicing", diced ? double(rays) / double(diced) : 0.0},
       {"micropolygons_created", created},
       {"micropolygons_potential", s.micropolygonsPotential},
       {"batches", s.batches},
@@ -61,6 +63,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   };
   j["memory"] = {{"ray_budget_bytes", options.rayMemoryBytes},
                  {"bytes_per_path", s.bytesPerPath},
+                 {"bytes_per_ray", s.raysPerPath ? s.bytesPerPath / s.raysPerPath : 0},
                  {"paths_per_batch", s.pathsPerBatch},
                  {"candidate_capacity", s.candidateCapacity},
                  {"toplevel_bytes", s.topLevelBytes},
