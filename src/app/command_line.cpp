@@ -61,7 +61,7 @@ void parseResolution(const std::string& text, int& width, int& height) {
 }
 
 struct RenderArgs {
-  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted",
+  std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
               method = "pt";
   std::string engine = "rayes", embreeLod, memoryLimit;
   std::optional<int> spp;
@@ -83,7 +83,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   options.progressive = a.progressive;
-  options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
     throw InputError("--embree-lod", "", "only applies to --engine embree");
@@ -188,8 +188,9 @@ int runCommandLine(int argc, char** argv) {
                                       "breakdown, dicing per generation, what was used and skipped");
   r->add_option("--max-lod", a.maxLod, "finest dicing level m: a patch has at most 4^m micropolygons (0..12, default 10)");
   r->add_option("--ray-memory", a.rayMemory,
-                "memory for ray, path and candidate buffers, e.g. 512M or 2G (default 1G); a smaller budget "
-                "means more batches and iterations, never a different image");
+                "memory for ray, path and candidate buffers, e.g. 512M or 2G (default: an eighth of physical "
+                "memory, within [256M, 2G]); a smaller budget means more batches, iterations and dicings, "
+                "never a different image");
   r->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
                                 "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
                                 "(every ray at --max-lod: one geometry for every ray, for references)")

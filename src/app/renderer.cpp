@@ -2,9 +2,21 @@
 #include <algorithm>
 #include <cmath>
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/timer.h"
 
 namespace rayes {
+
+size_t defaultRayMemoryBytes(uint64_t physicalBytes) {
+  constexpr uint64_t kMiB = uint64_t(1) << 20;
+  if (physicalBytes == 0) return size_t(1024 * kMiB);
+  return size_t(std::clamp<uint64_t>(physicalBytes / 8, 256 * kMiB, 2048 * kMiB));
+}
+
+size_t defaultRayMemoryBytes() {
+  static const size_t bytes = defaultRayMemoryBytes(physicalMemoryBytes());
+  return bytes;
+}
 
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     : scene_(scene), options_(options), data_(scene) {

@@ -34,13 +34,20 @@ namespace rayes {
 
 enum class EngineKind { Rayes, Embree };
 
+// The default ray memory budget on a machine of `physicalBytes`: an eighth of it, at least
+// 256 MiB and at most 2 GiB, so that a render's peak (the budget, one dice buffer per thread,
+// the film, the scene) stays under 4 GiB; 1 GiB where the machine's size is unknown (0).
+// A larger batch means fewer dicings per ray, never a different image.
+size_t defaultRayMemoryBytes(uint64_t physicalBytes);
+size_t defaultRayMemoryBytes();  // on this machine
+
 struct RenderOptions {
   EngineKind engine = EngineKind::Rayes;
   bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
   size_t memoryLimitBytes = 0;   // Embree engine: refuse a tessellation larger than this (0: none)
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
-  size_t rayMemoryBytes = size_t(1) << 30;
+  size_t rayMemoryBytes = defaultRayMemoryBytes();
   bool sortByLeaf = true;
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   IntegratorMethod method = IntegratorMethod::PathTracing;
