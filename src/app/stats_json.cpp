@@ -85,11 +85,13 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   }
   // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
-  uint64_t movingDicings = 0, borderHits = 0;
+  uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0;
   for (const auto& g : s.generations) {
     movingDicings += g.stats.movingDicings;
     borderHits += g.stats.borderHits;
+    originLeafDicings += g.stats.originLeafDicings;
   }
+  j["totals"]["origin_leaf_dicings"] = originLeafDicings;
   j["features"] = {
       {"motion_blur", f.movingLeaves > 0 && f.shutterOpen},
       {"moving_leaves", f.movingLeaves},

@@ -265,6 +265,7 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();
   stats.borderHits += counters.borderHits.load();
+  stats.originLeafDicings += counters.originLeafDicings.load();
 }
 
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
@@ -314,6 +315,8 @@ void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slo
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
   counters.dicings.fetch_add(1, std::memory_order_relaxed);
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
+  if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.originLeaf[rayOfSlot(s)] == leaf; }))
+    counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     uint64_t borders = 0;

@@ -103,7 +103,7 @@ class Tracer : public RayEngine {
   // The steps of one traceSorted iteration (the header comment's numbers) over the first nNow
   // active rays with N candidate slots each.
   struct DicingCounters {
-    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0};
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0}, originLeafDicings{0};
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
   size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
