@@ -1,10 +1,12 @@
 #include "app/command_line.h"
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 #include <CLI/CLI.hpp>
+#include "app/converge.h"
 #include "app/html_report.h"
 #include "app/image_io.h"
 #include "app/output_set.h"
@@ -62,12 +64,18 @@ void parseResolution(const std::string& text, int& width, int& height) {
 
 struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
-              method = "pt";
+              method = "pt", causticPaths = "all";
   std::string engine = "rayes", embreeLod, memoryLimit;
   std::optional<int> spp;
+  int64_t photons = 20000;
+  int photonK = 32;
+  float photonRadius = 0, photonAlpha = 2.0f / 3.0f;
   std::optional<int64_t> seed;
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
+  // converge
+  double budget = 0;
+  std::string region, mask, svg;
 };
 
 // Checks every option that does not need the scene, so that a bad option costs no loading.
@@ -78,12 +86,23 @@ RenderOptions checkedOptions(const RenderArgs& a) {
     throw InputError("--seed", "", "must be in [0, 2^62]");
   RenderOptions options;
   options.method = integratorMethodFromName(a.method, "--method");
+  options.integrator.causticPaths = causticPathsFromName(a.causticPaths, "--caustic-paths");
+  if (a.photons < 1 || a.photons > (int64_t(1) << 32)) throw InputError("--photons", "", "must be in [1, 2^32]");
+  if (a.photonK < 1 || a.photonK > 4096) throw InputError("--photon-k", "", "must be in [1, 4096]");
+  if (!(a.photonRadius >= 0) || !std::isfinite(a.photonRadius))
+    throw InputError("--photon-radius", "", "must be a finite radius >= 0 (0: chosen from the first photon map)");
+  if (!(a.photonAlpha > 0 && a.photonAlpha < 1))
+    throw InputError("--photon-alpha", "", "must lie in (0, 1): the radius shrinks as r² (i + alpha) / (i + 1)");
+  options.integrator.photonsPerSample = uint64_t(a.photons);
+  options.integrator.photonNeighbours = a.photonK;
+  options.integrator.photonRadius = a.photonRadius;
+  options.integrator.photonAlpha = a.photonAlpha;
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
-  options.progressive = a.progressive;
   if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  options.progressive = a.progressive;
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
     throw InputError("--embree-lod", "", "only applies to --engine embree");
@@ -100,28 +119,39 @@ bool endsWithPng(const std::string& path) {
   return ext == ".png";
 }
 
-int render(const RenderArgs& a) {
-  const auto wall0 = Clock::now();
-  RenderOptions options = checkedOptions(a);
+// The scene with the command line's resolution, samples and seed.
+Scene preparedScene(const RenderArgs& a) {
   int width = 0, height = 0;
   if (!a.res.empty()) parseResolution(a.res, width, height);
-  ThreadLimit limit(a.threads);
   Scene scene = loadScene(a.scene);
-  const double loadSeconds = secondsSince(wall0);
   if (a.spp) scene.samplesPerPixel = *a.spp;
   if (!a.res.empty()) {
     scene.width = width;
     scene.height = height;
   }
   if (a.seed) scene.integrator.seed = uint64_t(*a.seed);
+  return scene;
+}
+
+// An RGB image of the scene's size from `path`, for `what` (a reference, a mask).
+std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what) {
+  int w = 0, h = 0;
+  std::vector<float> rgb = readExrRgb(path, w, h);
+  if (w != scene.width || h != scene.height)
+    throw InputError(path, "", std::string(what) + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                                   ", the render " + std::to_string(scene.width) + "x" + std::to_string(scene.height));
+  return rgb;
+}
+
+int render(const RenderArgs& a) {
+  const auto wall0 = Clock::now();
+  RenderOptions options = checkedOptions(a);
+  ThreadLimit limit(a.threads);
+  Scene scene = preparedScene(a);
+  const double loadSeconds = secondsSince(wall0);
   if (!a.reference.empty()) {
-    int w = 0, h = 0;
-    options.reference = readExrRgb(a.reference, w, h);
+    options.reference = imageOfSceneSize(a.reference, scene, "reference");
     options.progressive = true;  // the error curve has one point per pass
-    if (w != scene.width || h != scene.height)
-      throw InputError(a.reference, "", "reference is " + std::to_string(w) + "x" + std::to_string(h) +
-                                            ", the render " + std::to_string(scene.width) + "x" +
-                                            std::to_string(scene.height));
   }
   // -o NAME.png asks for the preview alone; any other name gets the EXR and the preview beside it.
   const std::string out = a.out.empty() ? "out/" + std::filesystem::path(a.scene).stem().string() + ".exr" : a.out;
@@ -167,6 +197,103 @@ int render(const RenderArgs& a) {
   return 0;
 }
 
+// "x0,y0,x1,y1": a pixel box inside the image, x0 < x1, y0 < y1.
+ConvergeRegion parseRegion(const std::string& text, const Scene& scene) {
+  ConvergeRegion r;
+  int v[4];
+  size_t at = 0;
+  for (int k = 0; k < 4; ++k) {
+    const size_t comma = k < 3 ? text.find(',', at) : text.size();
+    const std::string part = comma == std::string::npos ? "" : text.substr(at, comma - at);
+    const auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
+    if (part.empty() || ec != std::errc() || p != part.data() + part.size())
+      throw InputError("--region", "", "expected x0,y0,x1,y1 in whole pixels, got '" + text + "'");
+    at = comma + 1;
+  }
+  r.x0 = v[0], r.y0 = v[1], r.x1 = v[2], r.y1 = v[3];
+  if (r.x0 < 0 || r.y0 < 0 || r.x1 > scene.width || r.y1 > scene.height || r.x0 >= r.x1 || r.y0 >= r.y1)
+    throw InputError("--region", "", "the box " + text + " is empty or leaves the " + std::to_string(scene.width) + "x" +
+                                         std::to_string(scene.height) + " image");
+  return r;
+}
+
+int runConverge(const RenderArgs& a) {
+  RenderOptions options = checkedOptions(a);
+  if (!(a.budget > 0) || !std::isfinite(a.budget)) throw InputError("--budget", "", "must be a positive number of seconds");
+  if (!a.region.empty() && !a.mask.empty()) throw InputError("--mask", "", "give --region or --mask, not both");
+  ThreadLimit limit(a.threads);
+  const Scene scene = preparedScene(a);
+  const std::vector<float> reference = imageOfSceneSize(a.reference, scene, "reference");
+  ConvergeRegion region;
+  if (!a.mask.empty()) region.mask = imageOfSceneSize(a.mask, scene, "mask");
+  else if (!a.region.empty()) region = parseRegion(a.region, scene);
+  else region = {0, 0, scene.width, scene.height, {}};
+  const std::string stem = std::filesystem::path(a.scene).stem().string() + "-" + a.method;
+  const std::string csv = a.out.empty() ? "out/" + stem + "-converge.csv" : a.out;
+  const std::string svg = a.svg.empty() ? std::filesystem::path(csv).replace_extension(".svg").string() : a.svg;
+  OutputSet outputs;
+  std::error_code ec;
+  for (const std::string& target : {csv, svg})
+    for (const std::string& input : {a.scene, a.reference, a.mask})
+      if (!input.empty() && std::filesystem::equivalent(target, input, ec))
+        throw InputError(target, "", "the output would overwrite an input of this run");
+  outputs.add(csv, "error curve");
+  outputs.add(svg, "chart");
+  const auto rows = converge(scene, options, reference, region, a.budget, [&](const ConvergeRow& r) {
+    if (!a.quiet)
+      std::fprintf(stderr, "rayes converge: %d spp, %.2fs, RMSE %.5g, relMSE %.5g, region bias %.5g\n", r.spp, r.seconds,
+                   r.rmse, r.relMse, r.regionBias);
+  });
+  outputs.writeText(csv, convergeCsv(rows));
+  outputs.writeText(svg, convergeSvg(rows, std::filesystem::path(a.scene).filename().string() + ", --method " + a.method));
+  outputs.commit();
+  if (!a.quiet) std::fprintf(stderr, "rayes: wrote %s and %s\n", csv.c_str(), svg.c_str());
+  return 0;
+}
+
+// The options `render` and `converge` share: how to render, not what to write.
+void addSharedOptions(CLI::App* c, RenderArgs& a) {
+  c->add_option("--res", a.res, "resolution WIDTHxHEIGHT, at most 2^28 pixels (default: the scene's)");
+  c->add_option("--threads", a.threads, "worker threads, 0..4096 (default 0: all cores)");
+  c->add_option("--max-lod", a.maxLod, "finest dicing level m: a patch has at most 4^m micropolygons (0..12, default 10)");
+  c->add_option("--ray-memory", a.rayMemory,
+                "memory for ray, path and candidate buffers, e.g. 512M or 2G (default: an eighth of physical "
+                "memory, within [256M, 2G]); a smaller budget means more batches, iterations and dicings, "
+                "never a different image");
+  c->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
+                                "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
+                                "(every ray at --max-lod: one geometry for every ray, for references)")
+      ->check(CLI::IsMember({"per-ray", "density", "fixed"}));
+  c->add_option("--trace-mode", a.traceMode, "sorted (default: the reorder pipeline) or alone (debug: every ray "
+                                             "traced by itself, each patch diced per ray; slow)")
+      ->check(CLI::IsMember({"sorted", "alone"}));
+  c->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS), "
+                                      "lt (light tracing: paths from the lights, every vertex connected to the "
+                                      "camera; the reference for caustics; lights at infinity seen directly are "
+                                      "missing), pm (photon mapping: pt without caustic paths plus a k-nearest "
+                                      "photon estimate of them) or ppm (progressive photon mapping: a photon map "
+                                      "per pass, radius shrinking per sample)");
+  c->add_option("--photons", a.photons, "pm, ppm: photons per sample per pixel of the render (default 20000): pm "
+                                        "traces photons x spp into one map, ppm photons x the pass's samples per pass");
+  c->add_option("--photon-k", a.photonK, "pm: neighbours of the k-nearest estimate, 1..4096 (default 32)");
+  c->add_option("--photon-radius", a.photonRadius, "ppm: first gather radius; pm: a quarter of the largest (default "
+                                                   "0: the median distance to the k-th neighbour in the first map)");
+  c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 2/3)");
+  c->add_option("--caustic-paths", a.causticPaths, "pt and lt: all (default), without (leave out light -> "
+                                                   "(mirror, glass or glossy)+ -> diffuse paths, which pm, ppm "
+                                                   "and lbt estimate) or only (those paths alone)");
+  c->add_option("--engine", a.engine, "ray engine: rayes (default; sorted rays, patches diced on demand) or embree "
+                                      "(the peer: every patch diced up front into Embree grids)")
+      ->check(CLI::IsMember({"rayes", "embree"}));
+  c->add_option("--embree-lod", a.embreeLod, "with --engine embree: fixed (default; every patch at --max-lod) or "
+                                             "auto (per patch, the finest level a camera ray's footprint needs)")
+      ->check(CLI::IsMember({"fixed", "auto"}));
+  c->add_option("--memory-limit", a.memoryLimit, "with --engine embree: refuse, before allocating, a tessellation "
+                                                 "estimated larger than this, e.g. 8G (default: 80% of physical memory)");
+  c->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
+  c->add_flag("-q,--quiet", a.quiet, "no progress output");
+}
+
 }  // namespace
 
 int runCommandLine(int argc, char** argv) {
@@ -181,42 +308,32 @@ int runCommandLine(int argc, char** argv) {
                                       "preview alone, no EXR. Outputs are all or nothing: on any failure none "
                                       "is left");
   r->add_option("--spp", a.spp, "samples per pixel, 1..2^20 (default: the scene's)");
-  r->add_option("--res", a.res, "resolution WIDTHxHEIGHT, at most 2^28 pixels (default: the scene's)");
-  r->add_option("--threads", a.threads, "worker threads, 0..4096 (default 0: all cores)");
   r->add_option("--stats", a.stats, "write render statistics as JSON to this file (docs/stats.md)");
   r->add_option("--report", a.report, "write a readable HTML report of the same statistics: time and memory "
                                       "breakdown, dicing per generation, what was used and skipped");
-  r->add_option("--max-lod", a.maxLod, "finest dicing level m: a patch has at most 4^m micropolygons (0..12, default 10)");
-  r->add_option("--ray-memory", a.rayMemory,
-                "memory for ray, path and candidate buffers, e.g. 512M or 2G (default: an eighth of physical "
-                "memory, within [256M, 2G]); a smaller budget means more batches, iterations and dicings, "
-                "never a different image");
-  r->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
-                                "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
-                                "(every ray at --max-lod: one geometry for every ray, for references)")
-      ->check(CLI::IsMember({"per-ray", "density", "fixed"}));
-  r->add_option("--trace-mode", a.traceMode, "sorted (default: the reorder pipeline) or alone (debug: every ray "
-                                             "traced by itself, each patch diced per ray; slow)")
-      ->check(CLI::IsMember({"sorted", "alone"}));
-  r->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS) or "
-                                      "lt (light tracing: paths from the lights, every vertex connected to the "
-                                      "camera; the reference for caustics; lights at infinity seen directly are "
-                                      "missing)");
-  r->add_option("--engine", a.engine, "ray engine: rayes (default; sorted rays, patches diced on demand) or embree "
-                                      "(the peer: every patch diced up front into Embree grids)")
-      ->check(CLI::IsMember({"rayes", "embree"}));
-  r->add_option("--embree-lod", a.embreeLod, "with --engine embree: fixed (default; every patch at --max-lod) or "
-                                             "auto (per patch, the finest level a camera ray's footprint needs)")
-      ->check(CLI::IsMember({"fixed", "auto"}));
-  r->add_option("--memory-limit", a.memoryLimit, "with --engine embree: refuse, before allocating, a tessellation "
-                                                 "estimated larger than this, e.g. 8G (default: 80% of physical memory)");
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
                                             "RMSE after every pass against time (error_vs_time); implies --progressive");
   r->add_flag("--progressive", a.progressive, "render in passes of 1, 1, 2, 4, ... samples per pixel, a complete "
                                              "image after each (more dicings; the same final image). Implied by "
                                              "--reference");
-  r->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
-  r->add_flag("-q,--quiet", a.quiet, "no progress output");
+  addSharedOptions(r, a);
+
+  RenderArgs ca;
+  CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
+                                               "pm and ppm double their photons with it) until the budget, compare "
+                                               "each render with a reference; writes a CSV and an SVG chart");
+  c->add_option("scene", ca.scene, "the scene file")->required();
+  c->add_option("--reference", ca.reference, "reference OpenEXR of the render's resolution")->required();
+  c->add_option("--budget", ca.budget, "seconds to spend in all (the next doubling is skipped when it would not fit)")
+      ->required();
+  c->add_option("--region", ca.region, "x0,y0,x1,y1: the pixel box (x1, y1 excluded) whose mean signed error is the "
+                                       "bias column (default: the whole image)");
+  c->add_option("--mask", ca.mask, "instead of --region: an OpenEXR of the render's size; pixels with non-zero red "
+                                   "are the region");
+  c->add_option("-o,--output", ca.out, "the CSV (default out/<scene>-<method>-converge.csv): seconds, spp, photons, "
+                                       "rmse, rel_mse, region_bias; the SVG chart goes beside it");
+  c->add_option("--svg", ca.svg, "the chart's file (default: the CSV's name with .svg)");
+  addSharedOptions(c, ca);
 
   try {
     app.parse(argc, argv);
@@ -230,6 +347,7 @@ int runCommandLine(int argc, char** argv) {
   }
   try {
     if (r->parsed()) return render(a);
+    if (c->parsed()) return runConverge(ca);
   } catch (const InputError& e) {
     std::cerr << "rayes: " << e.message() << "\n";
     return 2;

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/timer.h"
+#include "lbt/photon_mapper.h"
 
 namespace rayes {
 
@@ -21,11 +22,18 @@ size_t defaultRayMemoryBytes() {
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     : scene_(scene), options_(options), data_(scene) {
   const auto t0 = Clock::now();
+  // Progressive photon mapping is defined by its passes: one photon map and radius per pass.
+  if (options.method == IntegratorMethod::ProgressivePhotonMapping) options_.progressive = true;
+  stats_.progressive = options_.progressive;
   stats_.features = data_.features;
   stats_.leafKinds = data_.leafKinds;
   stats_.topLevelBytes = data_.top.bytes();
   stats_.micropolygonsPotential = uint64_t(scene.patches.size()) << (2 * options.maxLod);
-  integrator_ = makeIntegrator(options.method, data_.shading);
+  const bool photons = options.method == IntegratorMethod::PhotonMapping ||
+                       options.method == IntegratorMethod::ProgressivePhotonMapping;
+  integrator_ = photons ? makePhotonMapper(options.method == IntegratorMethod::ProgressivePhotonMapping, data_.shading,
+                                           options.integrator)
+                        : makeIntegrator(options.method, data_.shading, options.integrator);
 
   // The memory budget: whole paths per batch, and the candidate buffer.
   const bool embree = options.engine == EngineKind::Embree;
@@ -66,6 +74,26 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
 
 Renderer::~Renderer() = default;
 
+// The integrator's own paths before a pass's camera paths (photons), batched by the same budget.
+void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
+  const Integrator::IdRange ids = integrator_->lightPaths(s0, s1);
+  if (ids.first == ids.end) return;
+  RayBatch rays;
+  for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
+    const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
+    integrator_->startLight(first, count, rays);
+    for (int depth = 0;; ++depth) {
+      GenerationRecord rec{pass, batch, depth, {}};
+      engine_->trace(rays, rec.stats, stats_.trace);
+      stats_.generations.push_back(std::move(rec));
+      if (integrator_->shadeLight(uint32_t(depth), rays, stats_.shade) == 0) break;
+    }
+    integrator_->finishLightBatch(stats_.shade);
+    ++stats_.batches;
+  }
+  integrator_->lightPassDone(stats_.shade);
+}
+
 Film Renderer::render(const Progress& progress) {
   const auto t0 = Clock::now();
   Film film(scene_.width, scene_.height);
@@ -81,6 +109,7 @@ Film Renderer::render(const Progress& progress) {
     const int s1 = options_.progressive ? std::min(spp, s0 + std::max(1, s0)) : spp;
     const uint64_t end = uint64_t(s1) * pixels;
     int batch = 0;
+    traceLightPass(s0, s1, pass, batch);
     for (uint64_t first = uint64_t(s0) * pixels; first < end; first += stats_.pathsPerBatch, ++batch) {
       const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, end - first));
       integrator_->start(first, count, rays);

@@ -51,6 +51,7 @@ struct RenderOptions {
   bool sortByLeaf = true;
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   IntegratorMethod method = IntegratorMethod::PathTracing;
+  IntegratorOptions integrator;  // --caustic-paths, the photon options
   std::vector<float> reference;  // RGB per pixel; empty: no error curve; else one point per pass
 };
 
@@ -74,6 +75,7 @@ struct RenderStats {
   EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
+  bool progressive = false;      // rendered in passes (asked for, or ppm's own passes)
   size_t raysPerPath = 0;        // ray slots per path (bytes_per_ray = bytesPerPath / raysPerPath)
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
   std::vector<ErrorSample> errorCurve;
@@ -94,6 +96,8 @@ class Renderer {
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
 
  private:
+  void traceLightPass(int s0, int s1, int pass, int& batch);
+
   const Scene& scene_;
   RenderOptions options_;
   RenderData data_;

@@ -16,7 +16,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
-                   {"progressive", options.progressive},
+                   {"progressive", s.progressive},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
 
   json gens = json::array();
@@ -46,6 +46,9 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"batches", s.batches},
       {"nonfinite_samples_dropped", s.shade.nonFinite.load()},
       {"splats", s.shade.splats.load()},
+      {"photons_traced", s.shade.photonsTraced.load()},
+      {"photons_stored", s.shade.photonsStored.load()},
+      {"photon_map_bytes", s.shade.photonMapBytes.load()},
       {"peak_rss_bytes", peakRssBytes()},
       {"time_s",
        {{"load", run.loadSeconds},

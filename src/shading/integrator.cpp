@@ -6,23 +6,37 @@
 namespace rayes {
 
 const std::vector<std::string>& integratorMethodNames() {
-  static const std::vector<std::string> names{"pt", "lt"};
+  static const std::vector<std::string> names{"pt", "lt", "pm", "ppm"};
   return names;
 }
 
 IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where) {
-  if (name == "pt") return IntegratorMethod::PathTracing;
-  if (name == "lt") return IntegratorMethod::LightTracing;
-  throw InputError(where, "", "unknown method '" + name + "' (use pt: path tracing, or lt: light tracing)");
+  const auto& names = integratorMethodNames();
+  for (size_t i = 0; i < names.size(); ++i)
+    if (name == names[i]) return IntegratorMethod(i);
+  throw InputError(where, "", "unknown method '" + name + "' (use pt: path tracing, lt: light tracing, pm: photon "
+                              "mapping, ppm: progressive photon mapping)");
 }
 
 const char* integratorMethodName(IntegratorMethod method) {
-  return method == IntegratorMethod::LightTracing ? "lt" : "pt";
+  return integratorMethodNames()[size_t(method)].c_str();
 }
 
-std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene) {
-  if (method == IntegratorMethod::LightTracing) return std::make_unique<LightTracer>(scene);
-  return std::make_unique<PathTracer>(scene);
+CausticPaths causticPathsFromName(const std::string& name, const std::string& where) {
+  if (name == "all") return CausticPaths::All;
+  if (name == "without") return CausticPaths::Without;
+  if (name == "only") return CausticPaths::Only;
+  throw InputError(where, "", "unknown choice '" + name + "' (use all, without or only)");
+}
+
+const char* causticPathsName(CausticPaths which) {
+  return which == CausticPaths::Without ? "without" : which == CausticPaths::Only ? "only" : "all";
+}
+
+std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene,
+                                           const IntegratorOptions& options) {
+  if (method == IntegratorMethod::LightTracing) return std::make_unique<LightTracer>(scene, options.causticPaths);
+  return std::make_unique<PathTracer>(scene, PathTracer::Options{options.causticPaths, nullptr});
 }
 
 }  // namespace rayes

@@ -17,6 +17,11 @@
 // bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
 // memory budget can be divided into whole paths.
 //
+// Light passes (photon mapping): before the camera paths of the pass over samples [s0, s1),
+// the Renderer traces the integrator's own paths with ids lightPaths(s0, s1) = [first, end)
+// the same way, in batches: startLight / { trace, shadeLight } / finishLightBatch, then
+// lightPassDone once. The default is none.
+//
 // This header sees only core and shading: the rays side (src/rays) traces the RayBatch and
 // never sees an integrator; the app holds both.
 #pragma once
@@ -36,6 +41,7 @@ struct ShadeStats {
   std::atomic<uint64_t> shadedHits{0}, shadowRays{0}, continuationRays{0}, nonFinite{0},
       rouletteKills{0};
   std::atomic<uint64_t> splats{0};  // light tracing: connections to the camera that reached the film
+  std::atomic<uint64_t> photonsTraced{0}, photonsStored{0}, photonMapBytes{0};  // photon mapping (bytes: peak)
   TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
 };
 
@@ -47,15 +53,45 @@ class Integrator {
   virtual void start(uint64_t first, uint32_t count, RayBatch& rays) = 0;
   virtual size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) = 0;
   virtual void finish(Film& film, ShadeStats& stats) = 0;
+
+  struct IdRange { uint64_t first = 0, end = 0; };
+  virtual IdRange lightPaths(int /*s0*/, int /*s1*/) const { return {}; }
+  virtual void startLight(uint64_t /*first*/, uint32_t /*count*/, RayBatch& /*rays*/) {}
+  virtual size_t shadeLight(uint32_t /*bounce*/, RayBatch& /*rays*/, ShadeStats& /*stats*/) { return 0; }
+  virtual void finishLightBatch(ShadeStats& /*stats*/) {}
+  virtual void lightPassDone(ShadeStats& /*stats*/) {}
 };
 
-enum class IntegratorMethod { PathTracing, LightTracing };
+enum class IntegratorMethod { PathTracing, LightTracing, PhotonMapping, ProgressivePhotonMapping };
 
-// "pt" and "lt", the names of the command line and the stats.
+// Which paths an estimate counts, split at caustic paths (light -> (caustic scatterer)+ ->
+// diffuse vertex -> ..., isCausticScatterer in shading/material.h): all, all but those, or
+// those alone. `pt --caustic-paths without` plus a caustic method is the whole image.
+enum class CausticPaths : uint8_t { All, Without, Only };
+inline bool counts(CausticPaths which, bool causticPath) {
+  return which == CausticPaths::All || (which == CausticPaths::Only) == causticPath;
+}
+// "all", "without", "only"; throws InputError naming `where` for another name.
+CausticPaths causticPathsFromName(const std::string& name, const std::string& where);
+const char* causticPathsName(CausticPaths which);
+
+// What the methods take besides the scene. Photon counts are per sample per pixel of the
+// render, so doubling --spp doubles every method's effort (rayes converge relies on it).
+struct IntegratorOptions {
+  CausticPaths causticPaths = CausticPaths::All;  // pt and lt
+  uint64_t photonsPerSample = 20000;   // pm: one map of photonsPerSample * spp; ppm: per pass
+  int photonNeighbours = 32;           // pm: k of the k-nearest estimate
+  float photonRadius = 0;              // ppm: first radius; 0: from the first map's k-nearest
+  float photonAlpha = 2.0f / 3.0f;     // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
+};
+
+// "pt", "lt", "pm", "ppm": the names of the command line and the stats.
 const std::vector<std::string>& integratorMethodNames();
 // Throws InputError naming `where` for an unknown name.
 IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where);
 const char* integratorMethodName(IntegratorMethod method);
-std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene);
+// The path and light tracers (the photon mappers live in src/lbt: lbt/photon_mapper.h).
+std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene,
+                                           const IntegratorOptions& options = {});
 
 }  // namespace rayes

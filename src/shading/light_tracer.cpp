@@ -7,6 +7,7 @@
 #include <tbb/parallel_sort.h>
 #include "core/rng.h"
 #include "shading/bsdf.h"
+#include "shading/light_path.h"
 #include "shading/path_tracer.h"
 #include "shading/sampling.h"
 #include "shading/surface_hit.h"
@@ -17,8 +18,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Random-number dimensions of one light-path vertex (apart from the path tracer's): 2D ones
 // (kLightPoint, kLightDir, kLens, kBsdf) are scrambled Sobol pairs, the others 1D.
-enum Dim : uint32_t { kLightPick = 32, kLightPoint = 33, kLightDir = 35, kTime = 37, kLens = 38, kBsdf = 40,
-                      kBsdfLobe = 42, kRoulette = 43 };
+// The lens point of a connection (2D); the path's other dimensions are light_path.cpp's.
+constexpr uint32_t kLens = 38;
 
 RngKey keyOf(uint64_t id, uint32_t pixels, uint32_t vertex, uint64_t seed) {
   return {static_cast<uint32_t>(id % pixels), static_cast<uint32_t>(id / pixels), vertex, seed};
@@ -29,11 +30,11 @@ uint32_t pixelOf(const CameraConnection& c, int width) {
 }
 }  // namespace
 
-LightTracer::LightTracer(const ShadingScene& scene)
-    : scene_(scene), splatsPerPath_(uint32_t(std::max(0, scene.integrator.maxDepth)) + 1) {}
+LightTracer::LightTracer(const ShadingScene& scene, CausticPaths causticPaths)
+    : scene_(scene), causticPaths_(causticPaths), splatsPerPath_(uint32_t(std::max(0, scene.integrator.maxDepth)) + 1) {}
 
 size_t LightTracer::bytesPerPath() const {
-  return sizeof(Rgb) + sizeof(Splat) + 1 + splatsPerPath_ * (sizeof(Splat) + sizeof(SortItem));
+  return sizeof(Rgb) + sizeof(Splat) + 2 + splatsPerPath_ * (sizeof(Splat) + sizeof(SortItem));
 }
 
 bool LightTracer::writeConnection(uint32_t k, uint32_t vertex, const CameraConnection& c, Rgb value, Vec3 origin,
@@ -56,41 +57,30 @@ void LightTracer::start(uint64_t first, uint32_t count, RayBatch& rays) {
   throughput_.resize(count);
   pending_.assign(count, Splat{});
   pendingVertex_.assign(count, 0);
+  run_.assign(count, LightRun::AtLight);
   splats_.assign(size_t(count) * splatsPerPath_, Splat{});
   rays.resize(kRaysPerPath * size_t(count));
-  const LightSampler& lights = scene_.lights;
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
       rays.kind[cs] = rays.kind[ss] = RayKind::Inactive;
       const RngKey key = keyOf(first + k, pixels, 0, scene_.integrator.seed);
-      EmissionSample e;
-      const Sample2D point = sample2D(key, kLightPoint), direction = sample2D(key, kLightDir);
-      if (!lights.sampleEmission(sample1D(key, kLightPick), point.u, point.v, direction.u, direction.v, e) ||
-          isBlack(e.weight))
-        continue;
-      const float time = scene_.camera.timeAt(sample1D(key, kTime));
+      LightPathStart start;
+      if (!sampleLightPathStart(scene_, key, start)) continue;
+      const EmissionSample& e = start.e;
       throughput_[k] = e.weight;
       // The light's own point seen by the camera: Le |cos| W / (pick x area density).
       CameraConnection c;
-      // An emissive patch's rays leave from its point moved off the surface, to the side they
-      // go, by the patch's offset at level 0 (as the path tracer's shadow rays end there), so
-      // geometry flush with the emitter does not stop them.
-      const float back = e.onSurface ? PathTracer::originOffset(scene_.leafSide[e.leaf], scene_.leafDicingError[e.leaf],
-                                                                0, e.org, e.org)
-                                     : 0.0f;
-      auto leaving = [&](Vec3 w) { return e.org + e.normal * (dot(e.normal, w) >= 0 ? back : -back); };
       const Sample2D lens = sample2D(key, kLens);
-      if (e.onSurface && scene_.camera.connect(e.org, lens.u, lens.v, c)) {
+      if (e.onSurface && counts(causticPaths_, false) && scene_.camera.connect(e.org, lens.u, lens.v, c)) {
         const Vec3 toLens = normalize(c.lens - e.org);
         const float cosL = dot(e.normal, toLens);
         if (cosL > 0 || e.twoSided)
-          writeConnection(k, 0, c, e.radiance * (std::fabs(cosL) * c.importance / e.pdfArea), leaving(toLens), e.leaf,
-                          kNoLeaf, 0, time, rays);
+          writeConnection(k, 0, c, e.radiance * (std::fabs(cosL) * c.importance / e.pdfArea), start.leaving(toLens),
+                          e.leaf, kNoLeaf, 0, start.time, rays);
       }
       if (scene_.integrator.maxDepth < 1) continue;
-      rays.set(cs, RayKind::Closest, leaving(e.dir), e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread, k, e.leaf,
-               kNoLeaf, 0, time);
+      writeLightPathStart(start, k, cs, rays);
     }
   });
 }
@@ -100,7 +90,6 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
   const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
   const uint32_t n = uint32_t(throughput_.size());
   const uint32_t vertex = bounce + 1;  // the scattering vertex this generation's hits are
-  const int maxDepth = scene_.integrator.maxDepth;
   std::atomic<size_t> emitted{0};
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 256), [&](const auto& r) {
     size_t localEmitted = 0;
@@ -113,39 +102,33 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
       rays.kind[ss] = RayKind::Inactive;
       if (rays.kind[cs] != RayKind::Closest) continue;
       rays.kind[cs] = RayKind::Inactive;
-      const RayHit h = rays.hit[cs];
-      if (!h.valid()) continue;  // left the scene
-      const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
-      const Vec3 wi = -normalize(rays.dir[cs]);  // toward the light
-      if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wi)) {
-        stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-        continue;
-      }
-      stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
-      const Material& mat = scene_.materials[scene_.leafMaterial[h.leaf]];
+      LightPathHit hit;
+      if (!lightPathHit(scene_, rays, cs, stats, hit)) continue;
+      const Material& mat = *hit.mat;
       if (mat.reflectsNothing()) continue;
-      const Bsdf bsdf = mat.bsdfAt(h.u, h.v);
-      const float wiNg = dot(h.ng, wi);
-      if (wiNg == 0) continue;
-      // Veach's correction for shading normals, on the side the light arrives from.
-      const float arrival = std::fabs(dot(h.ns, wi)) / std::fabs(wiNg);
+      const Bsdf bsdf = mat.bsdfAt(hit.h.u, hit.h.v);
+      const RayHit& h = hit.h;
+      const Vec3 p = hit.at.p, wi = hit.wi;
+      const SurfaceHit& at = hit.at;
+      auto frameFacing = [&](Vec3 w) { return ShadingFrame(bsdf.transmits() || dot(h.ns, w) > 0 ? h.ns : -h.ns); };
       Rgb& T = throughput_[k];
       const RngKey key = keyOf(first_ + k, pixels, vertex, scene_.integrator.seed);
-      const SurfaceHit at{p, h.ng,
-                          PathTracer::originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p,
-                                                   rays.org[cs])};
-      auto frameFacing = [&](Vec3 w) { return ShadingFrame(bsdf.transmits() || dot(h.ns, w) > 0 ? h.ns : -h.ns); };
+      const LightRun run = run_[k] = nextRun(run_[k], isCausticScatterer(mat));
+      const bool counted = counts(causticPaths_, run == LightRun::CausticPath);
+      // Nothing this path could still reach would be counted.
+      if (causticPaths_ == CausticPaths::Only && run == LightRun::NotCaustic) continue;
+      if (causticPaths_ == CausticPaths::Without && run == LightRun::CausticPath) continue;
 
       // Connection to the camera: the path tracer's BSDF evaluation with the camera as viewer.
       CameraConnection c;
       const Sample2D lens = sample2D(key, kLens);
-      if (!bsdf.isDelta() && scene_.camera.connect(p, lens.u, lens.v, c)) {
+      if (counted && !bsdf.isDelta() && scene_.camera.connect(p, lens.u, lens.v, c)) {
         const Vec3 wc = normalize(c.lens - p);
         const ShadingFrame frame = frameFacing(wc);
         const Vec3 wcL = frame.toLocal(wc), wiL = frame.toLocal(wi);
         const Rgb f = bsdf.eval(wcL, wiL);
         if (!isBlack(f) && at.consistent(wi, wiL, wc, wcL)) {
-          const Rgb value = T * f * (arrival * std::fabs(dot(h.ng, wc)) * c.importance);
+          const Rgb value = T * f * (hit.arrival * std::fabs(dot(h.ng, wc)) * c.importance);
           if (!isFinite(value)) {
             stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
           } else if (writeConnection(k, vertex, c, value, at.originToward(wc), kNoLeaf, h.leaf, h.level, rays.time[cs],
@@ -156,34 +139,8 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
         }
       }
 
-      // The next segment: the BSDF sampled from the light's side, weighted by the adjoint.
-      if (int(vertex) >= maxDepth) continue;
-      const ShadingFrame frame = frameFacing(wi);
-      const Vec3 wiL = frame.toLocal(wi);
-      BsdfSample bs;
-      const Sample2D bu = sample2D(key, kBsdf);
-      if (!bsdf.sample(wiL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs))
-        continue;
-      const Vec3 wo = normalize(frame.toWorld(bs.wi));
-      const float woNs = std::fabs(bs.wi.z);
-      if (!at.consistent(wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) continue;
-      T *= bs.weight * (bs.etaRel * bs.etaRel * arrival * std::fabs(dot(h.ng, wo)) / woNs);
-      if (int(vertex) >= scene_.integrator.rouletteDepth) {
-        const float q = std::min(1.0f, maxComponent(T));
-        if (!(sample1D(key, kRoulette) < q)) {
-          stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
-          continue;
-        }
-        T = T * (1.0f / q);
-      }
-      if (!isFinite(T)) { stats.nonFinite.fetch_add(1, std::memory_order_relaxed); continue; }
-      if (isBlack(T)) continue;
-      const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
-      rays.set(cs, RayKind::Closest, at.originToward(wo), wo, 0.0f, kInf, width,
-               PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), k, kNoLeaf, h.leaf, h.level,
-               rays.time[cs]);
-      ++localEmitted;
-      stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
+      // The next segment.
+      if (continueLightPath(scene_, hit, bsdf, vertex, key, k, cs, T, rays, stats)) ++localEmitted;
     }
     emitted.fetch_add(localEmitted, std::memory_order_relaxed);
   });

@@ -23,16 +23,20 @@
 // A path has at most max_depth scattering vertices, like the path tracer's paths. Random
 // numbers are keyed like the path tracer's ((pixel, sample) of the path id, vertex, seed) with
 // their own dimensions. The AOVs stay empty: nothing is seen from the camera.
+// With CausticPaths Only (Without), a vertex is connected only if (unless) the light path so
+// far is light -> (caustic scatterer)+ -> diffuse -> ... (integrator.h); a path that can no
+// longer change what it counts is ended.
 #pragma once
 #include <cstdint>
 #include <vector>
 #include "shading/integrator.h"
+#include "shading/light_path.h"
 
 namespace rayes {
 
 class LightTracer final : public Integrator {
  public:
-  explicit LightTracer(const ShadingScene& scene);
+  explicit LightTracer(const ShadingScene& scene, CausticPaths causticPaths = CausticPaths::All);
 
   static constexpr uint32_t kRaysPerPath = 2;
   uint32_t raysPerPath() const override { return kRaysPerPath; }
@@ -58,6 +62,8 @@ class LightTracer final : public Integrator {
                        uint32_t ignoreLeaf, uint32_t fromLeaf, uint8_t fromLevel, float time, RayBatch& rays);
 
   const ShadingScene& scene_;
+  CausticPaths causticPaths_;
+  std::vector<LightRun> run_;
   uint32_t splatsPerPath_;  // one per vertex: the light's and max_depth scattering vertices
   uint64_t first_ = 0;
   std::vector<Rgb> throughput_;

@@ -54,4 +54,15 @@ struct Material {
   }
 };
 
+// The surfaces that carry caustics (docs/design.md, "Caustic paths"): smooth mirrors and glass
+// (delta lobes) and the glossy Gaussian lobe, whose narrow lobes path tracing from the camera
+// cannot aim at a small light. Beams and photons travel light -> (caustic scatterer)+ -> the
+// first other surface; `--method lbt|pm|ppm` estimate exactly those paths and the path tracer
+// excludes them (PathTracer::Options::excludeCausticPaths). Every other reflecting material
+// (diffuse, plastic, Phong, rough GGX) is a "diffuse" vertex: where caustics are gathered.
+// Delta-ness is the BSDF's own test (smooth GGX widths, index-matched glass), so the two never disagree.
+inline bool isCausticScatterer(const Material& m) {
+  return m.type == MaterialType::Glossy || (!m.reflectsNothing() && m.bsdfAt(0, 0).isDelta());
+}
+
 }  // namespace rayes

@@ -73,6 +73,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.bsdfPdf[k] = 0;
       paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
+      paths.causticRun[k] = kNoDiffuseYet;
       rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, k, kNoLeaf,
                kNoLeaf, 0, cr.time);
       rays.kind[kRaysPerPath * size_t(k) + 1] = RayKind::Inactive;
@@ -235,8 +236,10 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   // 2. What the ray found: the lights at infinity, or a surface and its emission.
   const RayHit h = rays.hit[cs];
   const Vec3 wo = -normalize(rays.dir[cs]);
+  // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
+  const bool causticLight = !counts(options_.causticPaths, paths.causticRun[k] == kInCausticChain);
   if (!h.valid()) {
-    gatherEscaped(scene_.lights, k, wo, paths, stats);
+    if (!causticLight) gatherEscaped(scene_.lights, k, wo, paths, stats);
     paths.alive[k] = 0;
     return 0;
   }
@@ -252,7 +255,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   Vertex v{k, cs, ss, h, wo, dot(h.ns, wo) > 0, {p, h.ng, 0.0f}, 0.0f, nullptr, 0, false, Bsdf{}};
   v.matId = scene_.leafMaterial[h.leaf];
   v.mat = &scene_.materials[v.matId];
-  gatherEmission(scene_.lights, v, rays, paths, stats);
+  if (!causticLight) gatherEmission(scene_.lights, v, rays, paths, stats);
 
   // 3. The material at the hit becomes one BSDF.
   v.reflects = !v.mat->reflectsNothing();
@@ -272,8 +275,21 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const ShadingFrame frame(v.bsdf.transmits() ? h.ns : (v.front ? h.ns : -h.ns));
   const Vec3 woL = frame.toLocal(wo);
 
-  // 4. Next-event estimation; 5. the continuation.
-  const size_t shadow = writeShadowRay(scene_, v, frame, woL, key, paths, rays, stats) ? 1 : 0;
+  // 4. Caustic paths: where this vertex puts the path, and the caustic estimate at a diffuse one.
+  uint8_t& run = paths.causticRun[k];
+  if (!isCausticScatterer(*v.mat)) {
+    run = kAfterDiffuse;
+    if (options_.causticRadiance) {
+      const DiffuseVertex dv{p, h.ng, wo, woL, &frame, &v.bsdf, ids.sample};
+      addFinite(paths.radiance[k], paths.throughput[k] * options_.causticRadiance->radiance(dv), stats);
+    }
+  } else if (run != kNoDiffuseYet) {
+    run = kInCausticChain;
+  }
+  const bool causticNext = !counts(options_.causticPaths, run == kInCausticChain);
+
+  // 5. Next-event estimation (not where the light would arrive along a caustic path); 6. the continuation.
+  const size_t shadow = !causticNext && writeShadowRay(scene_, v, frame, woL, key, paths, rays, stats) ? 1 : 0;
   if (writeContinuation(scene_, bounce, v, frame, woL, key, paths, rays, stats)) return shadow + 1;
   paths.alive[k] = 0;
   return shadow;

@@ -20,6 +20,13 @@
 // nothing a ray could find) or by Russian roulette on throughput x eta². Random numbers are
 // keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
 // Non-finite contributions are dropped and counted (docs/design.md, invariant 5).
+//
+// Caustic paths (docs/design.md, "Caustic paths"): with Options::causticPaths = Without the
+// estimate leaves out every path light -> (caustic scatterer)+ -> diffuse vertex, read from the
+// light (isCausticScatterer, shading/material.h): emission found by a BSDF-sampled ray, and
+// next-event estimation at a glossy vertex, after a diffuse vertex and only caustic scatterers
+// since (Only keeps exactly those). A caustic method (photons, beams) estimates them instead,
+// through Options::causticRadiance at every diffuse vertex, so nothing is counted twice.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -36,18 +43,44 @@ struct PathBatch {
   std::vector<float> etaScale;    // product of etaRel² over refractions (for roulette)
   std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
   std::vector<uint8_t> alive;
+  std::vector<uint8_t> causticRun;  // CausticRun: where the path stands in a diffuse -> caustic chain
   std::vector<PixelSample> aov;
   size_t size() const { return alive.size(); }
   void resize(size_t n) {
     throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
-    bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n);
+    bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n); causticRun.resize(n);
   }
-  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 2 + sizeof(PixelSample); }
+  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(PixelSample); }
+};
+
+// Read from the camera: no diffuse vertex yet; the last vertex was diffuse; a diffuse vertex
+// followed by one or more caustic scatterers (light reaching the path now is a caustic path).
+enum CausticRun : uint8_t { kNoDiffuseYet = 0, kAfterDiffuse = 1, kInCausticChain = 2 };
+
+// A diffuse vertex of a camera path as a caustic estimator sees it.
+struct DiffuseVertex {
+  Vec3 p, ng;         // the hit and its unit geometric normal
+  Vec3 wo, woL;       // toward the viewer: world, and in `frame`
+  const ShadingFrame* frame;
+  const Bsdf* bsdf;
+  uint32_t sample;    // the path's sample number (progressive methods shrink with it)
+};
+
+// Reflected radiance along wo carried by caustic paths (light -> caustic scatterers -> here).
+class CausticRadiance {
+ public:
+  virtual ~CausticRadiance() = default;
+  virtual Rgb radiance(const DiffuseVertex& v) const = 0;
 };
 
 class PathTracer final : public Integrator {
  public:
+  struct Options {
+    CausticPaths causticPaths = CausticPaths::All;
+    const CausticRadiance* causticRadiance = nullptr;  // added at every diffuse vertex (not owned)
+  };
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
+  PathTracer(const ShadingScene& scene, Options options) : scene_(scene), options_(options) {}
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
   static constexpr uint32_t kRaysPerPath = 2;  // slot 2k: closest hit, 2k+1: shadow ray
@@ -93,6 +126,7 @@ class PathTracer final : public Integrator {
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
 
   const ShadingScene& scene_;
+  Options options_;
   struct SortItem { uint64_t key; uint32_t path; };
   std::vector<SortItem> order_;
   PathBatch paths_;

@@ -1,0 +1,87 @@
+#include "shading/light_path.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include "shading/path_tracer.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+// 2D ones (kLightPoint, kLightDir, kBsdf) are scrambled Sobol pairs, the others 1D; 38-39 are
+// the light tracer's lens (light_tracer.cpp).
+enum Dim : uint32_t { kLightPick = 32, kLightPoint = 33, kLightDir = 35, kTime = 37, kBsdf = 40, kBsdfLobe = 42,
+                      kRoulette = 43 };
+}  // namespace
+
+bool sampleLightPathStart(const ShadingScene& scene, const RngKey& key, LightPathStart& out) {
+  const Sample2D point = sample2D(key, kLightPoint), direction = sample2D(key, kLightDir);
+  EmissionSample& e = out.e;
+  if (!scene.lights.sampleEmission(sample1D(key, kLightPick), point.u, point.v, direction.u, direction.v, e) ||
+      isBlack(e.weight))
+    return false;
+  out.time = scene.camera.timeAt(sample1D(key, kTime));
+  out.back = e.onSurface ? PathTracer::originOffset(scene.leafSide[e.leaf], scene.leafDicingError[e.leaf], 0, e.org, e.org)
+                         : 0.0f;
+  return true;
+}
+
+void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayBatch& rays) {
+  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread, path,
+           s.e.leaf, kNoLeaf, 0, s.time);
+}
+
+bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, ShadeStats& stats, LightPathHit& out) {
+  const RayHit h = rays.hit[cs];
+  if (!h.valid()) return false;  // left the scene
+  const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
+  const Vec3 wi = -normalize(rays.dir[cs]);
+  if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wi)) {
+    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
+  const float wiNg = dot(h.ng, wi);
+  if (wiNg == 0) return false;
+  out.h = h;
+  out.wi = wi;
+  out.at = {p, h.ng, PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.org[cs])};
+  out.arrival = std::fabs(dot(h.ns, wi)) / std::fabs(wiNg);
+  out.mat = &scene.materials[scene.leafMaterial[h.leaf]];
+  return true;
+}
+
+bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const Bsdf& bsdf, uint32_t vertex,
+                       const RngKey& key, uint32_t path, size_t cs, Rgb& T, RayBatch& rays, ShadeStats& stats) {
+  if (int(vertex) >= scene.integrator.maxDepth) return false;
+  const RayHit& h = hit.h;
+  const ShadingFrame frame(bsdf.transmits() || dot(h.ns, hit.wi) > 0 ? h.ns : -h.ns);
+  const Vec3 wiL = frame.toLocal(hit.wi);
+  BsdfSample bs;
+  const Sample2D bu = sample2D(key, kBsdf);
+  if (!bsdf.sample(wiL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) return false;
+  const Vec3 wo = normalize(frame.toWorld(bs.wi));
+  const float woNs = std::fabs(bs.wi.z);
+  if (!hit.at.consistent(hit.wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) return false;
+  T *= bs.weight * (bs.etaRel * bs.etaRel * hit.arrival * std::fabs(dot(h.ng, wo)) / woNs);
+  if (int(vertex) >= scene.integrator.rouletteDepth) {
+    const float q = std::min(1.0f, maxComponent(T));
+    if (!(sample1D(key, kRoulette) < q)) {
+      stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
+      return false;
+    }
+    T = T * (1.0f / q);
+  }
+  if (!isFinite(T)) {
+    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  if (isBlack(T)) return false;
+  const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
+  rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, 0.0f, kInf, width,
+           PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), path, kNoLeaf, h.leaf, h.level,
+           rays.time[cs]);
+  stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+}  // namespace rayes
