@@ -172,6 +172,14 @@ int render(const RenderArgs& a) {
   if (!a.report.empty()) claim(a.report, "report");
 
   Renderer renderer(scene, options);
+  // Not silenced by --quiet: a scene far from the origin for its size is the one case where
+  // the image can differ from the same scene near the origin with no other sign.
+  if (const SceneFeatures& f = renderer.stats().features; f.lowPrecisionLeaves > 0)
+    std::fprintf(stderr,
+                 "rayes: warning: %s: %llu of %zu leaves lie far from the origin for their size (float spacing up to "
+                 "%.3g of a leaf, above 2^-16): the image may differ from the same scene near the origin by more "
+                 "than rounding (docs/design.md, \"Precision\"); move the scene nearer the origin\n",
+                 a.scene.c_str(), (unsigned long long)f.lowPrecisionLeaves, scene.patches.size(), f.coarsestRelativeSpacing);
   ProgressReporter progress(!a.quiet, scene.samplesPerPixel);
   const Film film = renderer.render([&](uint64_t d, uint64_t t, int s) { progress.update(d, t, s); });
   progress.finish();

@@ -44,14 +44,15 @@ Tracer::Tracer(const TopLevelBvh& top, const std::vector<PatchPtr>& leaves, cons
     leafSize_[i] = leaves[i]->sizeBound();
     leafBox_[i] = leaves[i]->bounds();
   }
-  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves);
+  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top);
 }
 
 // Two static Bézier leaves share border e and e' when the border curves have the same end
 // points (in either order) and the same midpoint: canonical border evaluation makes these
 // bits equal exactly when the border control rows are the same. A border with no partner or
-// more than one keeps its regions.
-std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const std::vector<PatchPtr>& leaves) {
+// more than one keeps its regions, unless it is free (no other leaf's box meets its box).
+std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const std::vector<PatchPtr>& leaves,
+                                                              const TopLevelBvh& top) {
   using Key = std::array<float, 9>;
   std::map<Key, std::vector<std::pair<uint32_t, int>>> borders;
   const float corner[4][4] = {{0, 0, 1, 0}, {1, 0, 1, 1}, {0, 1, 1, 1}, {0, 0, 0, 1}};  // (u0, v0, u1, v1)
@@ -73,6 +74,20 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const std::vector<
     out[sides[0].first][sides[0].second] = sides[1].first;
     out[sides[1].first][sides[1].second] = sides[0].first;
   }
+  for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf) {
+    const Patch& p = *leaves[leaf];
+    if (!p.needsBorderClosure()) continue;
+    for (int e = 0; e < 4; ++e) {
+      if (!out.empty() && out[leaf][e] != kNoLeaf) continue;
+      const float* c = corner[e];
+      Box3 border;
+      for (int sample = 0; sample < p.timeSamples(); ++sample)
+        border.extend(p.boundsOverAt(sample, c[0], c[2], c[1], c[3]));
+      if (top.anyOtherLeafMeets(border, leaf)) continue;
+      if (out.empty()) out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
+      out[leaf][e] = kFreeBorder;
+    }
+  }
   return out;
 }
 
@@ -90,6 +105,10 @@ uint8_t Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_
   const RayBoxQuery q(b.org[i], b.dir[i]);
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = borderNeighbour_[leaf][e];
+    if (nb == kFreeBorder) {
+      skip |= uint8_t(1u << e);
+      continue;
+    }
     if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
     float t0, t1;
     if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, b.tmin[i], kInf, t0, t1)) continue;

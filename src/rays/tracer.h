@@ -71,9 +71,13 @@ class Tracer : public RayEngine {
 
   const TraceSettings& settings() const { return settings_; }
   // Per leaf and border e (DiceBuffer's numbering: v = 0, u = 1, v = 1, u = 0), the static
-  // Bézier leaf across it, or kNoLeaf (other kinds, moving leaves, unshared borders). Empty
-  // when no leaf has a neighbour.
-  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const std::vector<PatchPtr>& leaves);
+  // Bézier leaf across it; kFreeBorder where no other leaf's box meets the border's box (an
+  // outline: no neighbour can leave a crack there, so its regions would only widen the
+  // silhouette); else kNoLeaf (other kinds, moving leaves, borders shared in other ways).
+  // Empty when no leaf has a neighbour or a free border. `top` is built over the leaves' boxes.
+  static constexpr uint32_t kFreeBorder = 0xfffffffeu;  // leaf ids stay below 2^31
+  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const std::vector<PatchPtr>& leaves,
+                                                               const TopLevelBvh& top);
   // Per ray: resume entry and leaf, next entry, best t of the previous iterations, candidate
   // count, hit lock.
   static constexpr size_t bytesPerRayState() {
@@ -123,7 +127,7 @@ class Tracer : public RayEngine {
   // agree on each other's level (see bordersClosedByNeighbours).
   int levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
   // Borders of `leaf` whose regions ray i need not test at `level` (BottomQuery::skipBorders):
-  // only the coarser side of a seam needs them (its regions hold the finer side's chord), and
+  // free borders need none; of a seam only the coarser side does (its regions hold the finer side's chord), and
   // Bézier neighbours at equal levels share their border vertices bit for bit. A border is
   // skipped only when its neighbour is known (borderNeighbour_), reachable by the ray, tests its
   // own regions (not the ray's origin or ignored leaf) and is seen at a level no finer.

@@ -268,6 +268,33 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
   return best.returned();
 }
 
+bool TopLevelBvh::anyOtherLeafMeets(const Box3& box, uint32_t except) const {
+  using toplevel::isLeafRef;
+  using toplevel::refLeafId;
+  const Impl& m = *impl_;
+  if (m.root == toplevel::kNoRoot || box.empty()) return false;
+  const auto meets = [&](const Vec3& lo, const Vec3& hi) {
+    return lo.x <= box.hi.x && lo.y <= box.hi.y && lo.z <= box.hi.z && hi.x >= box.lo.x && hi.y >= box.lo.y &&
+           hi.z >= box.lo.z;
+  };
+  if (!meets(m.bounds.lo, m.bounds.hi)) return false;
+  if (isLeafRef(m.root)) return refLeafId(m.root) != except;
+  std::vector<uint32_t> stack{m.root};
+  while (!stack.empty()) {
+    const Node4& node = m.nodes[stack.back()];
+    stack.pop_back();
+    for (int i = 0; i < 4; ++i) {
+      const uint32_t ref = node.child[i];
+      // Unused slots hold inverted boxes, which meet nothing.
+      if (!meets({node.lo[0][i], node.lo[1][i], node.lo[2][i]}, {node.hi[0][i], node.hi[1][i], node.hi[2][i]}))
+        continue;
+      if (!isLeafRef(ref)) stack.push_back(ref);
+      else if (refLeafId(ref) != except) return true;
+    }
+  }
+  return false;
+}
+
 size_t TopLevelBvh::nodeCount() const { return impl_->nodes.size(); }
 size_t TopLevelBvh::bytes() const { return impl_->nodes.capacity() * sizeof(Node4); }
 Box3 TopLevelBvh::bounds() const { return impl_->bounds; }

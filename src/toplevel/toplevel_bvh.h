@@ -57,6 +57,10 @@ class TopLevelBvh {
   int collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resumeEntry, uint32_t resumeLeaf,
               Candidate* out, int maxCount, float& nextEntry, TraversalScratch& scratch) const;
 
+  // Whether a leaf other than `except` has a box that meets `box` (closed boxes: touching
+  // counts). For set-up questions such as "can anything lie across this border", not per ray.
+  bool anyOtherLeafMeets(const Box3& box, uint32_t except) const;
+
   size_t leafCount() const { return leafCount_; }  // leaf ids, empty boxes included
   size_t nodeCount() const;
   size_t bytes() const;     // memory held by the nodes

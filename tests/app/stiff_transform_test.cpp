@@ -1,11 +1,13 @@
 // Precision relative to the geometry (docs/design.md, "Precision"): every shipped scene,
 // camera and lights included, translated far from the origin or scaled to extreme sizes,
 // renders the image of the unmoved scene -- mean and per-block radiance within 4 standard
-// errors, the same number of dicings within 5 % -- or is refused by the loader with a
-// message, where float cannot represent it. Standard errors come from two seeds of the
-// unmoved scene (per pixel, pooled over the block). The loader's limits (docs/design.md,
-// "Precision") refuse a leaf whose float spacing exceeds 2^-8 of its extent: the table below
-// is which translations that refuses, from the smallest leaf of each scene.
+// errors, the camera rays' dicings within 5 % and the later generations' within 4 standard
+// errors -- or is refused by the loader with a message, where float cannot represent it.
+// Standard errors come from two seeds of the unmoved scene (per pixel, pooled over the
+// block). The loader's limits (docs/design.md, "Precision") refuse a leaf whose float spacing
+// exceeds 2^-8 of its extent: the table below is which translations that refuses, from the
+// smallest leaf of each scene. (Rendered past that limit, one decade further, displaced-teapot
+// at 1e5 already misses its mean: docs/design.md.)
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -24,6 +26,7 @@ constexpr int kWidth = 24, kHeight = 18, kSpp = 2, kBlock = 6;
 struct Render {
   std::vector<float> rgba;
   uint64_t dicings = 0, micropolygons = 0;
+  uint64_t cameraDicings = 0;  // of the camera rays' generations (depth 0)
 };
 
 Render render(Scene scene, uint64_t seed, int width = kWidth, int height = kHeight, int spp = kSpp) {
@@ -37,6 +40,7 @@ Render render(Scene scene, uint64_t seed, int width = kWidth, int height = kHeig
   out.rgba = r.render().beautyRgba();
   for (const auto& g : r.stats().generations) {
     out.dicings += g.stats.leavesDiced;
+    if (g.depth == 0) out.cameraDicings += g.stats.leavesDiced;
     out.micropolygons += g.stats.micropolygonsCreated;
   }
   return out;
@@ -92,18 +96,6 @@ const std::map<std::string, std::set<std::string>> kRefused = {
     {"teapot.json", {"translate 1e5", "translate 1e6"}},
 };
 
-// Open: accepted combinations whose image still differs, reported rather than asserted.
-// glass-caustic at 1e4: its mean is 0.599 against 0.172 unmoved, the value the unmoved scene
-// had before the secondary-ray offsets became bounds (branch nee): the offsets' rounding term
-// grows with |p| and decides the glass paths' fate here, not any box of this change.
-const std::set<std::pair<std::string, std::string>> kOpen = {{"glass-caustic.json", "translate 1e4"}};
-// Open: the image agrees but the dicing count moved by more than 5 % once per-ray levels came
-// from each leaf's own box entry and border regions went to the coarser side (the merge of the
-// two changes): one-patch at 1e4 (5 dicings against 6, one dicing), subdiv-creature at 1e3
-// (942 against 1007). Not yet explained; printed, not asserted.
-const std::set<std::pair<std::string, std::string>> kDicingsOpen = {{"one-patch.json", "translate 1e4"},
-                                                                    {"subdiv-creature.json", "translate 1e3"}};
-
 bool refused(const std::string& scene, const char* transform) {
   const auto it = kRefused.find(scene);
   return it != kRefused.end() && it->second.count(transform) > 0;
@@ -126,11 +118,6 @@ void expectSameImage(const std::string& scenePath) {
     }
     const Scene moved = testing::loadTransformedScene(scenePath, c.t);
     const Render m = render(moved, 0);
-    if (kOpen.count({name, c.name})) {
-      std::printf("%-24s %-14s OPEN: mean %.5f / %.5f\n", name.c_str(), c.name, blockMean(m.rgba, 0, kWidth, 0, kHeight),
-                  blockMean(a.rgba, 0, kWidth, 0, kHeight));
-      continue;
-    }
     // Two standard errors of the difference of two renders: sqrt(2) x one render's.
     const auto tolerance = [&](int x0, int x1, int y0, int y1) {
       return 4.0 * std::sqrt(2.0 * blockVariance(a, b, x0, x1, y0, y1));
@@ -142,8 +129,14 @@ void expectSameImage(const std::string& scenePath) {
         EXPECT_NEAR(blockMean(m.rgba, x, x + kBlock, y, y + kBlock), blockMean(a.rgba, x, x + kBlock, y, y + kBlock),
                     tolerance(x, x + kBlock, y, y + kBlock))
             << "block at " << x << "," << y;
-    if (!kDicingsOpen.count({name, c.name}))
-      EXPECT_NEAR(double(m.dicings), double(a.dicings), 0.05 * double(a.dicings)) << "dicings";
+    // Dicings: the camera rays' leaves are fixed by the geometry (within 5 %, the odd leaf
+    // whose box a few rays graze); later generations follow random paths, which rounding sends
+    // elsewhere after a bounce or two, so their count is a random count of (iteration, leaf)
+    // visits: four standard errors of the difference, its variance estimated Poisson-like
+    // by the count itself, from both seeds of the unmoved scene.
+    EXPECT_NEAR(double(m.cameraDicings), double(a.cameraDicings), 0.05 * double(a.cameraDicings)) << "camera dicings";
+    const double laterA = double(a.dicings - a.cameraDicings), laterB = double(b.dicings - b.cameraDicings);
+    EXPECT_NEAR(double(m.dicings - m.cameraDicings), laterA, 4.0 * std::sqrt(laterA + laterB)) << "later dicings";
     std::printf("%-24s %-14s mean %.5f / %.5f (4 se %.5f), dicings %llu / %llu, micropolygons %llu / %llu\n",
                 name.c_str(), c.name, meanM, meanA, tolerance(0, kWidth, 0, kHeight), (unsigned long long)m.dicings,
                 (unsigned long long)a.dicings, (unsigned long long)m.micropolygons, (unsigned long long)a.micropolygons);
@@ -171,6 +164,9 @@ INSTANTIATE_TEST_SUITE_P(Scenes, StiffTransform, ::testing::ValuesIn(shippedScen
                          });
 
 // Silhouette coverage of the one-patch scene (the sum of alpha: its camera rays that hit).
+// Its outline is its four borders, which no other leaf meets: they get no crack-closing
+// regions (Tracer::kFreeBorder), whose radius, about 5 ulps of the coordinates at 1e4 (the
+// boxes of the curve's pieces grown by their rounding), made the silhouette 2.3 % larger there.
 TEST(StiffTransformCoverage, OnePatchSilhouette) {
   const std::string path = testing::sourcePath("scenes/one-patch.json");
   const auto coverage = [](const Render& r) {
@@ -185,16 +181,6 @@ TEST(StiffTransformCoverage, OnePatchSilhouette) {
     const Scene moved = testing::loadTransformedScene(path, c.t);
     const double cov = coverage(render(moved, 0, 64, 48, 4));
     std::printf("coverage %-14s %.2f / %.2f\n", c.name, cov, base);
-    // Open at 1e4 (+2.4 %): the patch's own borders are its silhouette, and their border
-    // regions must hold the neighbours' vertices, which are rounded to half an ulp of 1e4
-    // (5e-4, 1 % of a pixel here); with the regions' radius bound that widens the outline by
-    // a few ulps. Bounded instead: the outline (4 patch sides, about 90 pixels of this image
-    // at 0.047 units a pixel) widened by at most 8 ulps of the coordinates.
-    if (c.t.offset == 1e4) {
-      const double ulp = std::ldexp(1.0, std::ilogb(1e4) - 23), pixel = 0.047, outlinePixels = 90;
-      EXPECT_NEAR(cov, base, outlinePixels * 8 * ulp / pixel);
-      continue;
-    }
     EXPECT_NEAR(cov, base, 0.01 * base);
   }
 }
@@ -236,6 +222,25 @@ TEST(StiffTransform, TooFarFromTheOriginExitsWithCode2) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("cannot be represented"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}
+
+// A scene accepted but far from the origin for its size says so on stderr, even with
+// --quiet; the same scene at the origin prints no warning. (one-patch.json's two leaves: the
+// patch and its rectangular light.)
+TEST(StiffTransform, LowPrecisionLeavesAreWarnedOnStderr) {
+  const auto dir = std::filesystem::temp_directory_path() / "rayes_stiff_warning_test";
+  std::filesystem::create_directories(dir);
+  const auto doc = nlohmann::json::parse(readTextFile(testing::sourcePath("scenes/one-patch.json"), "scene file"));
+  for (const double offset : {0.0, 1e4}) {
+    SCOPED_TRACE(offset);
+    const std::string scene = (dir / "scene.json").string(), out = (dir / "out.png").string();
+    std::ofstream(scene) << testing::transformedScene(doc, {1, offset}).dump();
+    const auto r = testing::runRayes({"render", scene, "-o", out, "--res", "8x6", "--spp", "1", "-q"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    const bool warned = r.err.find("warning: " + scene + ": 2 of 2 leaves lie far from the origin") != std::string::npos;
+    EXPECT_EQ(warned, offset > 0) << r.err;
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -268,9 +268,30 @@ struct SeamSetup {
   size_t maxBorders = SIZE_MAX;  // the first shared borders only (fine levels dice a million vertices)
 };
 
-// Seams between teapot patches that share a border, each patch in its own DiceBuffer.
-void seams(const SeamSetup& setup, long rays, uint64_t seed) {
-  const auto teapot = test::loadTeapot();
+// A 2x2 quilt of Bézier patches over one 7x7 control grid (neighbours share their border
+// rows exactly): a height field z(x, y) with random control heights, curved in both
+// directions, but a graph over the xy-plane at every level, so its dicings never fold and
+// every aim has a transversal direction (the vertical one at least).
+std::vector<test::ControlPoints> heightFieldQuilt(uint64_t seed) {
+  test::Random rng(seed);
+  Vec3 grid[7][7];
+  for (int j = 0; j < 7; ++j)
+    for (int i = 0; i < 7; ++i) grid[j][i] = {float(i), float(j), rng.uniform(-1.0f, 1.0f)};
+  std::vector<test::ControlPoints> patches;
+  for (int pj = 0; pj < 2; ++pj)
+    for (int pi = 0; pi < 2; ++pi) {
+      test::ControlPoints cp;
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) cp[j * 4 + i] = grid[3 * pj + j][3 * pi + i];
+      patches.push_back(cp);
+    }
+  return patches;
+}
+
+// Seams between patches that share a border (the teapot's unless given), each patch in its
+// own DiceBuffer.
+void seams(const SeamSetup& setup, long rays, uint64_t seed, std::vector<test::ControlPoints> patches = {}) {
+  const auto teapot = patches.empty() ? test::loadTeapot() : std::move(patches);
   const auto shared = test::findSharedBorders(teapot);
   ASSERT_FALSE(shared.empty());
   const int m = setup.level, n = 1 << m;
@@ -326,6 +347,7 @@ TEST(Watertight, TeapotSeamsScaledTo1em3) { seams({1e-3f, {0, 0, 0}, 5, "teapot 
 // no aim may be skipped. Below, some are, at any position: the coarse dicing itself folds
 // (lid rim, knob, spout tip: the triangles around P face opposite ways, so no direction is
 // transversal to all of them), as at the origin (unit scale, level 5: 0.2 % of the aims).
+// The height-field quilt below covers those levels with no aim skipped.
 // (A unit-size teapot at 1e6 is quantized into folds at every level: no
 // dicing can render it, so it is not a watertightness question.)
 TEST(Watertight, TeapotSeamsTranslated1e6AtEveryLevel) {
@@ -334,6 +356,20 @@ TEST(Watertight, TeapotSeamsTranslated1e6AtEveryLevel) {
     const size_t borders = level >= 8 ? 1 : level >= 6 ? 4 : SIZE_MAX;
     const double maxSkipped = level >= 6 ? 0.0 : 0.03;
     seams({1e4f, {1e6f, 1e6f, 1e6f}, level, what.c_str(), maxSkipped, borders}, 3000, 54 + level);
+  }
+}
+
+// The same at every level on a surface whose dicings cannot fold (heightFieldQuilt): every
+// aim is shot, none skipped, so the coarse levels are covered as fully as the fine ones. The
+// quilt is 6e3 units across, so at 1e6 (ulp 1/16) its level-10 micro-quads are still about 45
+// ulps wide.
+TEST(Watertight, HeightFieldSeamsTranslated1e6AtEveryLevelSkipNoAim) {
+  const auto quilt = heightFieldQuilt(70);
+  ASSERT_EQ(test::findSharedBorders(quilt).size(), 4u);
+  for (int level = 1; level <= 10; ++level) {
+    const std::string what = "height-field seams, scale 1e3 at 1e6, m=" + std::to_string(level);
+    const size_t borders = level >= 8 ? 1 : 4;
+    seams({1e3f, {1e6f, 1e6f, 1e6f}, level, what.c_str(), 0.0, borders}, 1500, 80 + level, quilt);
   }
 }
 

@@ -25,7 +25,7 @@ struct World {
     leaves.push_back(std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 6}, Vec3{5, 5, 6}));
     for (const auto& l : leaves) boxes.push_back(l->bounds());
     top.build(boxes);
-    neighbours = Tracer::borderNeighbours(leaves);
+    neighbours = Tracer::borderNeighbours(leaves, top);
   }
 };
 
@@ -54,7 +54,8 @@ uint8_t skippedBorders(const World& w, const RayBatch& b, int i, uint32_t leaf) 
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = neighbours[leaf][e];
     float t0, t1;
-    if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.org[i], b.dir[i]), w.boxes[nb].lo, w.boxes[nb].hi, b.tmin[i],
+    if (nb == Tracer::kFreeBorder) skip |= uint8_t(1u << e);
+    else if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.org[i], b.dir[i]), w.boxes[nb].lo, w.boxes[nb].hi, b.tmin[i],
                                       std::numeric_limits<float>::infinity(), t0, t1))
       skip |= uint8_t(1u << e);
   }
@@ -117,6 +118,32 @@ TEST(Tracer, SortedPipelineEqualsBruteForce) { expectMatchesBruteForce(1 << 16, 
 TEST(Tracer, OneCandidateSlotPerRayStillEqualsBruteForce) { expectMatchesBruteForce(3000, true); }
 TEST(Tracer, FewerSlotsThanRaysStillEqualsBruteForce) { expectMatchesBruteForce(700, true); }
 TEST(Tracer, RaysTracedAloneEqualBruteForce) { expectMatchesBruteForce(1, false); }
+
+// A border is free (Tracer::kFreeBorder: no regions, since no neighbour can leave a crack
+// there) exactly when no other leaf's box meets it: a lone curved patch has four; a quad laid
+// against the middle of its v = 0 border takes that one away and leaves the other three,
+// whose boxes it does not reach.
+TEST(Tracer, BordersNoOtherLeafMeetsAreFree) {
+  std::array<Vec3, 16> cp;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) cp[j * 4 + i] = {i / 3.0f, j / 3.0f, (i % 3 != 0 && j % 3 != 0) ? 0.5f : 0.0f};
+  std::vector<PatchPtr> leaves{std::make_shared<BezierPatch>(cp)};
+  const auto neighbours = [&] {
+    std::vector<Box3> boxes;
+    for (const auto& l : leaves) boxes.push_back(l->bounds());
+    TopLevelBvh top;
+    top.build(boxes);
+    return Tracer::borderNeighbours(leaves, top);
+  };
+  const uint32_t F = Tracer::kFreeBorder;
+  ASSERT_EQ(neighbours().size(), 1u);
+  EXPECT_EQ(neighbours()[0], (std::array<uint32_t, 4>{F, F, F, F}));
+  leaves.push_back(
+      std::make_shared<BilinearPatch>(Vec3{0.3f, -1, 0}, Vec3{0.7f, -1, 0}, Vec3{0.3f, 0, 0}, Vec3{0.7f, 0, 0}));
+  ASSERT_EQ(neighbours().size(), 2u);
+  EXPECT_EQ(neighbours()[0], (std::array<uint32_t, 4>{kNoLeaf, F, F, F}));
+  EXPECT_EQ(neighbours()[1], (std::array<uint32_t, 4>{kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf}));  // flat: no regions
+}
 
 TEST(Tracer, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
   World w;
