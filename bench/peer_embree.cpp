@@ -19,9 +19,8 @@
 //           patch diced at m up front into one Embree grid per patch (rows mirrored so both
 //           engines intersect the same triangles), traced with rtcIntersect1M in parallel chunks;
 //           its tessellation and rtcCommitScene are timed separately; best of --repeat.
-// Memory: Rayes = top-level nodes + dice buffers (all threads) + candidate buffer + per-ray
-// state + the sort's scratch (not counted by the Tracer; estimated from its vectors, see
-// sortScratchBytes). Embree = the engine's vertices (positions and normals: what a renderer
+// Memory: Rayes = top-level nodes + dice buffers (all threads) + candidate buffer with the
+// sort's scratch (Tracer::candidateBufferBytes) + per-ray state. Embree = the engine's vertices (positions and normals: what a renderer
 // needs to shade) + every byte Embree allocates, from its memory monitor (peak during the build
 // and held after it).
 // Agreement: per ray, hit/miss differs; for rays both hit, |t_rayes - t_embree| (median, p99)
@@ -236,18 +235,9 @@ struct RayesRun {
   double seconds = 0;  // best trace wall time
   struct { double toplevel = 0, sort = 0, dice = 0, bottom = 0; } times;  // of the best run (s)
   GenerationStats stats;
-  size_t diceBytes = 0, candBytes = 0, rayStateBytes = 0, sortScratchBytes = 0;
+  size_t diceBytes = 0, candBytes = 0, rayStateBytes = 0;
   size_t iterations = 0;
 };
-
-// Bytes of the Tracer's own sort-side vectors, which candidateBufferBytes() leaves out:
-// slotRay_ (4 B per slot of capacity), filled_ (4 B per candidate) and CandidateSort's pairs,
-// scratch (8 B each) and order (4 B) per candidate of the largest iteration.
-size_t sortScratchBytes(size_t capacity, const GenerationStats& st) {
-  uint64_t maxCand = 0;
-  for (const IterationStats& it : st.iterations) maxCand = std::max(maxCand, it.candidates);
-  return capacity * 4 + size_t(maxCand) * (4 + 8 + 8 + 4);
-}
 
 RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, const TraceSettings& ts,
                   const RaySet& rs, bool forced, int repeat, RayBatch& batch) {
@@ -277,7 +267,6 @@ RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, 
   run.diceBytes = tracer.diceBufferBytes();
   run.candBytes = tracer.candidateBufferBytes();
   run.rayStateBytes = Tracer::bytesPerRayState() * rs.org.size();
-  run.sortScratchBytes = sortScratchBytes(ts.candidateCapacity, run.stats);
   run.iterations = run.stats.iterations.size();
   return run;
 }
@@ -452,7 +441,7 @@ int main(int argc, char** argv) {
 
   std::printf("## Where Rayes's time goes (all threads; toplevel and sort wall clock, dice and bottom summed over threads)\n\n");
   std::printf("| rays | LOD | m | trace ms | toplevel ms | sort ms | dice ms | bottom ms | iterations | candidates/ray | leaves diced | micropolygons Rayes | micropolygons Embree | t1 trace ms | t1 toplevel | t1 sort | t1 dice | t1 bottom |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     const RayesRun& a = r.rayesAll;
     uint64_t candidates = 0;
@@ -472,16 +461,16 @@ int main(int argc, char** argv) {
   }
 
   std::printf("\n## Memory (MiB; Rayes all threads = %d dice buffers)\n\n", threads);
-  std::printf("| rays | LOD | m | Rayes top | dice bufs | cand buf | ray state | sort scratch | Rayes total | Rayes total excl. ray-sized | Embree vertices | Embree held | Embree peak | Embree total (vert+peak) | Rayes/Embree | excl. ray-sized |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| rays | LOD | m | Rayes top | dice bufs | cand buf + sort | ray state | Rayes total | Rayes total excl. ray-sized | Embree vertices | Embree held | Embree peak | Embree total (vert+peak) | Rayes/Embree | excl. ray-sized |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     const RayesRun& a = r.rayesAll;
-    const double rayes = double(top.bytes() + a.diceBytes + a.candBytes + a.rayStateBytes + a.sortScratchBytes);
+    const double rayes = double(top.bytes() + a.diceBytes + a.candBytes + a.rayStateBytes);
     const double fixed = double(top.bytes() + a.diceBytes);
     const double embree = double(r.embreeVertexBytes) + double(r.embreePeak);
-    std::printf("| %s | %s | %d | %.3f | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.1f | %.1f | %.1f | %.1f | %.3f | %.3f |\n",
+    std::printf("| %s | %s | %d | %.3f | %.2f | %.1f | %.1f | %.1f | %.2f | %.1f | %.1f | %.1f | %.1f | %.3f | %.3f |\n",
                 r.rays.c_str(), r.lod.c_str(), r.m, mb(double(top.bytes())), mb(double(a.diceBytes)),
-                mb(double(a.candBytes)), mb(double(a.rayStateBytes)), mb(double(a.sortScratchBytes)), mb(rayes),
+                mb(double(a.candBytes)), mb(double(a.rayStateBytes)), mb(rayes),
                 mb(fixed), mb(double(r.embreeVertexBytes)), mb(double(r.embreeHeld)), mb(double(r.embreePeak)),
                 mb(embree), rayes / embree, fixed / embree);
   }

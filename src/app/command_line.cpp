@@ -63,7 +63,7 @@ void parseResolution(const std::string& text, int& width, int& height) {
 }
 
 struct RenderArgs {
-  std::string scene, out, stats, report, reference, res, rayMemory = "1G", lod = "per-ray", traceMode = "sorted",
+  std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
               method = "pt", causticPaths = "all";
   std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G";
   int beamResolution = 128, beamDepth = 4;
@@ -74,7 +74,7 @@ struct RenderArgs {
   std::optional<int64_t> seed, diceCache;
   int lodBias = 0;
   int threads = 0, maxLod = 10;
-  bool quiet = false;
+  bool quiet = false, progressive = false;
   // converge
   double budget = 0;
   std::string region, mask, svg;
@@ -108,7 +108,8 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.beams.memoryBytes = parseBytes(a.beamMemory, "--beam-memory");
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
-  options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  options.progressive = a.progressive;
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
     throw InputError("--embree-lod", "", "only applies to --engine embree");
@@ -168,7 +169,10 @@ int render(const RenderArgs& a) {
   ThreadLimit limit(a.threads);
   Scene scene = preparedScene(a);
   const double loadSeconds = secondsSince(wall0);
-  if (!a.reference.empty()) options.reference = imageOfSceneSize(a.reference, scene, "reference");
+  if (!a.reference.empty()) {
+    options.reference = imageOfSceneSize(a.reference, scene, "reference");
+    options.progressive = true;  // the error curve has one point per pass
+  }
   // -o NAME.png asks for the preview alone; any other name gets the EXR and the preview beside it.
   const std::string out = a.out.empty() ? "out/" + std::filesystem::path(a.scene).stem().string() + ".exr" : a.out;
   const bool pngOnly = endsWithPng(out);
@@ -281,8 +285,9 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--threads", a.threads, "worker threads, 0..4096 (default 0: all cores)");
   c->add_option("--max-lod", a.maxLod, "finest dicing level m: a patch has at most 4^m micropolygons (0..12, default 10)");
   c->add_option("--ray-memory", a.rayMemory,
-                "memory for ray, path and candidate buffers, e.g. 512M or 2G (default 1G); a smaller budget "
-                "means more batches and iterations, never a different image");
+                "memory for ray, path and candidate buffers, e.g. 512M or 2G (default: an eighth of physical "
+                "memory, within [256M, 2G]); a smaller budget means more batches, iterations and dicings, "
+                "never a different image");
   c->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
                                 "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
                                 "(every ray at --max-lod: one geometry for every ray, for references)")
@@ -348,7 +353,10 @@ int runCommandLine(int argc, char** argv) {
   r->add_option("--report", a.report, "write a readable HTML report of the same statistics: time and memory "
                                       "breakdown, dicing per generation, what was used and skipped");
   r->add_option("--reference", a.reference, "reference OpenEXR of the same resolution: the stats then hold the "
-                                            "RMSE after every pass against time (error_vs_time)");
+                                            "RMSE after every pass against time (error_vs_time); implies --progressive");
+  r->add_flag("--progressive", a.progressive, "render in passes of 1, 1, 2, 4, ... samples per pixel, a complete "
+                                             "image after each (more dicings; the same final image). Implied by "
+                                             "--reference");
   addSharedOptions(r, a);
 
   RenderArgs ca;

@@ -2,15 +2,30 @@
 #include <algorithm>
 #include <cmath>
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/timer.h"
 #include "lbt/photon_mapper.h"
 #include "shading/path_tracer.h"
 
 namespace rayes {
 
+size_t defaultRayMemoryBytes(uint64_t physicalBytes) {
+  constexpr uint64_t kMiB = uint64_t(1) << 20;
+  if (physicalBytes == 0) return size_t(1024 * kMiB);
+  return size_t(std::clamp<uint64_t>(physicalBytes / 8, 256 * kMiB, 2048 * kMiB));
+}
+
+size_t defaultRayMemoryBytes() {
+  static const size_t bytes = defaultRayMemoryBytes(physicalMemoryBytes());
+  return bytes;
+}
+
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     : scene_(scene), options_(options), data_(scene) {
   const auto t0 = Clock::now();
+  // Progressive photon mapping is defined by its passes: one photon map and radius per pass.
+  if (options.method == IntegratorMethod::ProgressivePhotonMapping) options_.progressive = true;
+  stats_.progressive = options_.progressive;
   stats_.features = data_.features;
   stats_.leafKinds = data_.leafKinds;
   stats_.topLevelBytes = data_.top.bytes();
@@ -24,6 +39,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   // The memory budget: whole paths per batch, and the candidate buffer.
   const bool embree = options.engine == EngineKind::Embree;
   const uint64_t raysPerPath = integrator_->raysPerPath();
+  stats_.raysPerPath = raysPerPath;
   const bool caching = !embree && options.diceCacheEntries > 0;
   const size_t engineBytesPerRay = embree    ? EmbreeEngine::bytesPerRaySlot()
                                    : caching ? CachingEngine::bytesPerRaySlot()
@@ -152,7 +168,9 @@ Film Renderer::render(const Progress& progress) {
   uint64_t done = 0;
   int s0 = 0, pass = 0;
   while (s0 < spp) {
-    const int s1 = std::min(spp, s0 + std::max(1, s0));  // 1, 1, 2, 4, ...
+    // One pass of every sample, or (progressive) 1, 1, 2, 4, ...: after each progressive pass the
+    // film is a complete image, at the cost of re-dicing every leaf once more per pass.
+    const int s1 = options_.progressive ? std::min(spp, s0 + std::max(1, s0)) : spp;
     const uint64_t end = uint64_t(s1) * pixels;
     int batch = 0;
     traceLightPass(s0, s1, pass, batch);

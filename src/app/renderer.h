@@ -6,9 +6,12 @@
 //           memory budget divided by the bytes one path costs (the integrator's state, its ray
 //           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
 //           the candidate capacity.
-//   passes: samples are rendered in passes of 1, 1, 2, 4, ... samples per pixel (progress and
-//           the error-against-time curve are reported per pass); a pass is split into batches
-//           of whole paths that fit the budget.
+//   passes: one pass of all samples per pixel, split into batches of whole paths that fit the
+//           budget, so every leaf is diced as few times as the budget allows. Progressive
+//           (--progressive, or a --reference to measure against): passes of 1, 1, 2, 4, ...
+//           samples per pixel, a complete image after each (the error-against-time curve is
+//           recorded per pass), for about 1 + log2(spp) times the dicings. Both give the same
+//           bits: path ids are sample-major and the film adds a pixel's samples in order.
 //   batch:  Integrator::start -> repeat { RayEngine::trace (one generation) ->
 //           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
 //
@@ -51,6 +54,13 @@ struct BeamRenderStats {
   double seconds = 0;
 };
 
+// The default ray memory budget on a machine of `physicalBytes`: an eighth of it, at least
+// 256 MiB and at most 2 GiB, so that a render's peak (the budget, one dice buffer per thread,
+// the film, the scene) stays under 4 GiB; 1 GiB where the machine's size is unknown (0).
+// A larger batch means fewer dicings per ray, never a different image.
+size_t defaultRayMemoryBytes(uint64_t physicalBytes);
+size_t defaultRayMemoryBytes();  // on this machine
+
 struct RenderOptions {
   EngineKind engine = EngineKind::Rayes;
   bool embreeAutoLod = false;    // Embree engine: per-patch level from the camera (else maxLod)
@@ -59,12 +69,13 @@ struct RenderOptions {
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
   int lodBias = 0;               // TraceSettings::lodBias (--lod-bias)
-  size_t rayMemoryBytes = size_t(1) << 30;
+  size_t rayMemoryBytes = defaultRayMemoryBytes();
   bool sortByLeaf = true;
+  bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   IntegratorMethod method = IntegratorMethod::PathTracing;
   BeamOptions beams;
   IntegratorOptions integrator;  // --caustic-paths, the photon options
-  std::vector<float> reference;  // RGB per pixel; empty: no error curve
+  std::vector<float> reference;  // RGB per pixel; empty: no error curve; else one point per pass
 };
 
 struct GenerationRecord {
@@ -101,6 +112,8 @@ struct RenderStats {
   EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
+  bool progressive = false;      // rendered in passes (asked for, or ppm's own passes)
+  size_t raysPerPath = 0;        // ray slots per path (bytes_per_ray = bytesPerPath / raysPerPath)
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
   MemoryByOwner memory;
   std::vector<ErrorSample> errorCurve;

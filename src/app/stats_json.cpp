@@ -18,6 +18,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"lod_bias", options.lodBias},
                    {"dice_cache_entries", options.diceCacheEntries},
+                   {"progressive", s.progressive},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
 
   json gens = json::array();
@@ -41,6 +42,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"rays", rays},
       {"shadow_rays", shadow},
       {"leaves_diced", diced},
+      {"rays_per_dicing", diced ? double(rays) / double(diced) : 0.0},
       {"micropolygons_created", created},
       {"micropolygons_potential", s.micropolygonsPotential},
       {"batches", s.batches},
@@ -66,6 +68,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   };
   j["memory"] = {{"ray_budget_bytes", options.rayMemoryBytes},
                  {"bytes_per_path", s.bytesPerPath},
+                 {"bytes_per_ray", s.raysPerPath ? s.bytesPerPath / s.raysPerPath : 0},
                  {"paths_per_batch", s.pathsPerBatch},
                  {"candidate_capacity", s.candidateCapacity},
                  {"toplevel_bytes", s.topLevelBytes},
@@ -105,11 +108,13 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   }
   // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
-  uint64_t movingDicings = 0, borderHits = 0;
+  uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0;
   for (const auto& g : s.generations) {
     movingDicings += g.stats.movingDicings;
     borderHits += g.stats.borderHits;
+    originLeafDicings += g.stats.originLeafDicings;
   }
+  j["totals"]["origin_leaf_dicings"] = originLeafDicings;
   j["features"] = {
       {"motion_blur", f.movingLeaves > 0 && f.shutterOpen},
       {"moving_leaves", f.movingLeaves},

@@ -1,32 +1,21 @@
-// The (ray, leaf) candidate buffer of one iteration (thesis Fig. 6.5), structure of arrays.
-// Active ray a owns slots [a*N, a*N + count[a]); each slot is written by exactly one task
-// (the task of its leaf), so the bottom level needs no locks, and the per-ray reduction reads
-// a ray's own slots in slot order, so the result does not depend on processing order.
-// Capacity is fixed at construction (the candidate part of --ray-memory): 32 bytes per slot.
+// The (ray, leaf) candidate buffer of one iteration (thesis Fig. 6.5): the leaf id per slot.
+// Active ray a owns slots [a*N, a*N + count[a]), filled by the top-level traversal in
+// (entry distance, leaf) order. Hits are not stored per slot: the bottom level offers each one
+// straight to its ray (Tracer::offerHit), so a slot costs 4 bytes. Capacity is fixed at
+// construction (the candidate part of --ray-memory).
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace rayes {
 
 struct CandidateBuffer {
-  // Written by the top-level traversal.
-  std::vector<uint32_t> leaf;
-  std::vector<float> entry;
-  // Written by the leaf's bottom-level task.
-  std::vector<float> t, u, v;        // t = +inf: no hit on this leaf
-  std::vector<uint32_t> quadLevel;   // quad | level << 24
-  std::vector<uint32_t> ng, ns;      // octahedral unit normals
+  std::vector<uint32_t> leaf;  // kNoLeaf: the ray's ignored leaf, not intersected
 
-  explicit CandidateBuffer(size_t capacity) { resize(capacity); }
+  explicit CandidateBuffer(size_t capacity) : leaf(capacity) {}
   size_t capacity() const { return leaf.size(); }
-  static constexpr size_t bytesPerSlot() { return 8 * sizeof(uint32_t); }
-
- private:
-  void resize(size_t n) {
-    leaf.resize(n); entry.resize(n); t.resize(n); u.resize(n); v.resize(n); quadLevel.resize(n);
-    ng.resize(n); ns.resize(n);
-  }
+  static constexpr size_t bytesPerSlot() { return sizeof(uint32_t); }
 };
 
 }  // namespace rayes

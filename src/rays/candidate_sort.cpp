@@ -8,15 +8,12 @@ namespace {
 constexpr int kMaxDigitBits = 11;  // 2048 counters per block stay in L1
 }
 
-void CandidateSort::sort(const std::vector<uint32_t>& slots, const std::vector<uint32_t>& leafOf) {
-  const size_t n = slots.size();
-  pairs.resize(n);
+void CandidateSort::sort(std::vector<uint32_t>& slots, const std::vector<uint32_t>& leafOf) {
+  order.swap(slots);
+  const size_t n = order.size();
   scratch.resize(n);
   uint32_t maxLeaf = 0;
-  for (size_t i = 0; i < n; ++i) {
-    pairs[i] = {leafOf[slots[i]], slots[i]};
-    maxLeaf = std::max(maxLeaf, pairs[i].leaf);
-  }
+  for (size_t i = 0; i < n; ++i) maxLeaf = std::max(maxLeaf, leafOf[order[i]]);
   const int bits = std::max(1, 32 - std::countl_zero(maxLeaf));
   const int passes = (bits + kMaxDigitBits - 1) / kMaxDigitBits;
   const int digitBits = (bits + passes - 1) / passes;
@@ -31,7 +28,7 @@ void CandidateSort::sort(const std::vector<uint32_t>& slots, const std::vector<u
       uint32_t* count = &offsets[b * radix];
       std::fill(count, count + radix, 0u);
       const auto [lo, hi] = blockRange(b);
-      for (size_t i = lo; i < hi; ++i) ++count[(pairs[i].leaf >> shift) & mask];
+      for (size_t i = lo; i < hi; ++i) ++count[(leafOf[order[i]] >> shift) & mask];
     });
     uint32_t sum = 0;  // digit-major exclusive scan: block b's digit d follows blocks < b (stable)
     for (size_t d = 0; d < radix; ++d)
@@ -43,16 +40,13 @@ void CandidateSort::sort(const std::vector<uint32_t>& slots, const std::vector<u
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       uint32_t* next = &offsets[b * radix];
       const auto [lo, hi] = blockRange(b);
-      for (size_t i = lo; i < hi; ++i) scratch[next[(pairs[i].leaf >> shift) & mask]++] = pairs[i];
+      for (size_t i = lo; i < hi; ++i) scratch[next[(leafOf[order[i]] >> shift) & mask]++] = order[i];
     });
-    pairs.swap(scratch);
+    order.swap(scratch);
   }
-  order.resize(n);
   runs.clear();
-  for (size_t i = 0; i < n; ++i) {
-    order[i] = pairs[i].slot;
-    if (i == 0 || pairs[i].leaf != pairs[i - 1].leaf) runs.push_back(static_cast<uint32_t>(i));
-  }
+  for (size_t i = 0; i < n; ++i)
+    if (i == 0 || leafOf[order[i]] != leafOf[order[i - 1]]) runs.push_back(static_cast<uint32_t>(i));
   runs.push_back(static_cast<uint32_t>(n));
 }
 

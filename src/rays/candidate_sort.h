@@ -1,7 +1,9 @@
 // Groups the candidate slots of one iteration by leaf, so that every leaf is diced once and
 // all its rays are intersected while it is in one thread's dice buffer.
 // Output: `order` holds the filled slot indices sorted by (leaf, slot); `runs` holds the start
-// of each leaf's run in `order` plus a final end sentinel. The order is fully determined by
+// of each leaf's run in `order` plus a final end sentinel. The slots are sorted as they are,
+// reading each one's leaf where it lies: 4 bytes of scratch per slot besides `order`, which
+// takes over the caller's slot list (no (leaf, slot) pairs). The order is fully determined by
 // the input (the sort is stable and the slots come in increasing order), whatever the thread
 // count.
 //
@@ -11,20 +13,23 @@
 // bench/rays_candidate_sort.cpp).
 // Complexity O(n * ceil(bits / 11)); scratch is kept across iterations.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 namespace rayes {
 
 struct CandidateSort {
-  struct Pair { uint32_t leaf, slot; };
-  std::vector<Pair> pairs, scratch;
+  std::vector<uint32_t> scratch;
   std::vector<uint32_t> offsets;
   std::vector<uint32_t> order;
   std::vector<uint32_t> runs;
+  // Bytes per sorted slot: `order` and `scratch`.
+  static constexpr size_t bytesPerSlot() { return 2 * sizeof(uint32_t); }
 
-  // slots: the filled slot indices in increasing order; leafOf: leaf id per slot.
-  void sort(const std::vector<uint32_t>& slots, const std::vector<uint32_t>& leafOf);
+  // slots: the filled slot indices in increasing order, swapped into `order` (slots gets the
+  // previous order's storage back, to reuse); leafOf: leaf id per slot.
+  void sort(std::vector<uint32_t>& slots, const std::vector<uint32_t>& leafOf);
 };
 
 }  // namespace rayes

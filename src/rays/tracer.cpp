@@ -16,13 +16,23 @@ namespace rayes {
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// The farthest t a closest-hit ray still has to look at: its best hit so far, inclusive, so
-// that a leaf with an equal-distance hit and a smaller id is still found in a later iteration
-// (the tie order must not depend on which iteration a leaf came in).
-float searchLimit(const RayBatch& b, uint32_t i) {
+// The farthest t a closest-hit ray still has to look at: its best hit `best` so far,
+// inclusive, so that a leaf with an equal-distance hit and a smaller id is still found in a
+// later iteration (the tie order must not depend on which iteration a leaf came in).
+float searchLimit(const RayBatch& b, uint32_t i, float best) {
   if (b.kind[i] == RayKind::Shadow) return b.tmax[i];
-  const float best = b.hit[i].t;
   return std::min(b.tmax[i], std::nextafter(best, kInf));
+}
+
+// A hit as the RayHit keeps it: normals through the octahedral encoding (the quantisation
+// every mode and both engines' callers see, so the sorted and alone modes agree bit for bit).
+RayHit hitRecord(const GridHit& h, uint32_t leaf, int level) {
+  RayHit r;
+  r.t = h.t; r.u = h.u; r.v = h.v; r.leaf = leaf; r.quad = h.quad;
+  r.level = static_cast<uint8_t>(level);
+  r.ng = decodeOctahedral(encodeOctahedral(h.ng));
+  r.ns = decodeOctahedral(encodeOctahedral(h.ns));
+  return r;
 }
 }  // namespace
 
@@ -166,40 +176,50 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   resumeEntry_.assign(n, -kInf);
   resumeLeaf_.assign(n, 0);
   nextEntry_.assign(n, kInf);
+  bestT_.assign(n, kInf);
   count_.assign(n, 0);
+  if (hitLock_.size() < n) hitLock_ = std::vector<std::atomic_flag>(n);  // all clear
   activeRays(batch, stats, active_);
   if (settings_.sortByLeaf) traceSorted(batch, stats, times);
   else traceAlone(batch, stats, times);
 }
 
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
-// its time, on a moving leaf), the result into the slot (its only writer). True when the
-// nearest hit was a border box.
-bool Tracer::intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
+// its time, on a moving leaf), a hit offered to the ray. True when the nearest hit was a
+// border box.
+bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
                            int m) {
-  const uint32_t i = slotRay_[s];
+  const uint32_t i = rayOfSlot(s);
   const int level = settings_.lod == LodRule::Density ? m : levelOn(b, i, leaf);
-  const float limit = searchLimit(b, i);
+  const float limit = searchLimit(b, i, bestT_[i]);
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.time[i]).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
   if (b.kind[i] == RayKind::Shadow) {
     if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
-      cand_.t[s] = 0;
-      cand_.quadLevel[s] = uint32_t(level) << 24;
+      RayHit occluder;
+      occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
+      offerHit(b, i, occluder);
     }
     return false;
   }
   GridHit h;
   if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
-    cand_.t[s] = h.t; cand_.u[s] = h.u; cand_.v[s] = h.v;
-    cand_.quadLevel[s] = h.quad | (uint32_t(level) << 24);
-    cand_.ng[s] = encodeOctahedral(h.ng);
-    cand_.ns[s] = encodeOctahedral(h.ns);
+    offerHit(b, i, hitRecord(h, leaf, level));
     return h.border;
   }
   return false;
+}
+
+// 4, reduction: the ray keeps the nearest hit under the total order, whichever leaf's task
+// offers first. The lock is per ray and held for a compare and a copy.
+void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
+  std::atomic_flag& lock = hitLock_[i];
+  while (lock.test_and_set(std::memory_order_acquire)) lock.wait(true, std::memory_order_relaxed);
+  if (nearerHit(h.t, h.leaf, h.quad, b.hit[i])) b.hit[i] = h;
+  lock.clear(std::memory_order_release);
+  lock.notify_one();
 }
 
 // One iteration of the sorted pipeline per loop, in the five steps of the header comment.
@@ -217,7 +237,6 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     collectCandidates(b, nNow, N, times);
     it.candidates = sortCandidates(nNow, N, times);
     diceAndIntersectRuns(b, stats, times);
-    reduceHits(b, nNow, N);
     keepUnfinishedRays(b, nActive, nNow);
     stats.iterations.push_back(it);
   }
@@ -232,14 +251,10 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
     for (size_t a = r.begin(); a != r.end(); ++a) {
       const uint32_t i = active_[a];
       float next = kInf;
-      const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i),
+      const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i, bestT_[i]),
                                    resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
       const size_t base = a * size_t(N);
-      for (int j = 0; j < got; ++j) {
-        cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
-        cand_.entry[base + j] = local[j].entry;
-        cand_.t[base + j] = kInf;
-      }
+      for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
       if (got > 0) {
         resumeEntry_[i] = local[got - 1].entry;
         resumeLeaf_[i] = local[got - 1].leaf;
@@ -254,22 +269,19 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
 size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.sort);
   filled_.clear();
-  slotRay_.resize(nNow * size_t(N));
+  slotsPerRay_ = uint32_t(N);
   for (size_t a = 0; a < nNow; ++a) {
-    const uint32_t i = active_[a];
     const size_t base = a * size_t(N);
-    for (uint32_t j = 0; j < count_[i]; ++j) {
-      slotRay_[base + j] = i;
+    for (uint32_t j = 0; j < count_[active_[a]]; ++j)
       if (cand_.leaf[base + j] != kNoLeaf) filled_.push_back(static_cast<uint32_t>(base + j));
-    }
   }
   sort_.sort(filled_, cand_.leaf);
-  return filled_.size();
+  return sort_.order.size();
 }
 
 // 3+4. One task per leaf: dice once, intersect all of its rays; a moving leaf once per time
 // interval its rays fall in.
-void Tracer::diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
   DicingCounters counters;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
@@ -288,11 +300,12 @@ void Tracer::diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, Tra
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();
   stats.borderHits += counters.borderHits.load();
+  stats.originLeafDicings += counters.originLeafDicings.load();
 }
 
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
 // changes) and dices each interval present once.
-void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
                                     uint32_t leaf, const Patch& patch, TraceTimes& times,
                                     DicingCounters& counters) {
   IntervalScratch& sc = intervals_.local();
@@ -300,7 +313,7 @@ void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const u
   sc.interval.resize(count);
   sc.start.assign(size_t(intervals) + 1, 0);
   for (size_t k = 0; k < count; ++k) {
-    sc.interval[k] = uint32_t(timeInterval(patch, b.time[slotRay_[slots[k]]]).interval);
+    sc.interval[k] = uint32_t(timeInterval(patch, b.time[rayOfSlot(slots[k])]).interval);
     ++sc.start[sc.interval[k] + 1];
   }
   for (int iv = 0; iv < intervals; ++iv) sc.start[size_t(iv) + 1] += sc.start[size_t(iv)];
@@ -320,14 +333,14 @@ void Tracer::diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const u
 // serialise the iteration on one thread, so its rays are split into chunks that other threads
 // intersect against the same, now read-only, buffer; the chunk loop is isolated so this thread
 // cannot pick up another leaf's task (which would re-dice its buffer) while it waits.
-void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                               const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters) {
   int m = 0;
   if (settings_.lod == LodRule::Density) {
     m = biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
                     settings_.maxLod);
   } else {
-    for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, slotRay_[slots[k]], leaf));
+    for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, rayOfSlot(slots[k]), leaf));
   }
   {
     ScopedTimer timer(times.dice);
@@ -338,6 +351,8 @@ void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
   counters.dicings.fetch_add(1, std::memory_order_relaxed);
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
+  if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.originLeaf[rayOfSlot(s)] == leaf; }))
+    counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     uint64_t borders = 0;
@@ -355,30 +370,9 @@ void Tracer::diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_
   }
 }
 
-// 5. Reduce each ray's own slots in slot order.
-void Tracer::reduceHits(RayBatch& b, size_t nNow, int N) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 1024), [&](const auto& r) {
-    for (size_t a = r.begin(); a != r.end(); ++a) {
-      const uint32_t i = active_[a];
-      RayHit& best = b.hit[i];
-      const size_t base = a * size_t(N);
-      for (uint32_t j = 0; j < count_[i]; ++j) {
-        const size_t s = base + j;
-        if (cand_.leaf[s] == kNoLeaf || !(cand_.t[s] < kInf)) continue;
-        const uint32_t quad = cand_.quadLevel[s] & 0xffffffu;
-        if (!nearerHit(cand_.t[s], cand_.leaf[s], quad, best)) continue;
-        best.t = cand_.t[s]; best.u = cand_.u[s]; best.v = cand_.v[s];
-        best.leaf = cand_.leaf[s]; best.quad = quad;
-        best.level = static_cast<uint8_t>(cand_.quadLevel[s] >> 24);
-        best.ng = decodeOctahedral(cand_.ng[s]);
-        best.ns = decodeOctahedral(cand_.ns[s]);
-      }
-    }
-  });
-}
-
-// 5, termination: a ray stays active while a leaf it has not seen could still hold a nearer
-// hit (a shadow ray: until its first occluder); rays that got no turn stay too.
+// 5. A ray stays active while a leaf it has not seen could still hold a nearer hit (a shadow
+// ray: until its first occluder); rays that got no turn stay too. The survivors' hit distance
+// becomes their search limit for the next iteration.
 void Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
   nextActive_.clear();
   for (size_t a = 0; a < nActive; ++a) {
@@ -387,7 +381,9 @@ void Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) 
     const bool exhausted = !(nextEntry_[i] < kInf);
     const bool done = b.kind[i] == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
                                                    : (exhausted || b.hit[i].t < nextEntry_[i]);
-    if (!done) nextActive_.push_back(i);
+    if (done) continue;
+    bestT_[i] = b.hit[i].t;
+    nextActive_.push_back(i);
   }
   active_.swap(nextActive_);
 }
@@ -433,7 +429,7 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
   Candidate local[16];
   for (;;) {
     float next = kInf;
-    const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i), resumeEntry, resumeLeaf, local, 16,
+    const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
                                  next, scratch);
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
@@ -442,7 +438,7 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
       const TimeInterval when = timeInterval(*made, b.time[i]);
       const DiceBuffer& dice = gridFor(leaf, *made, when.interval, level);
-      const float limit = searchLimit(b, i);
+      const float limit = searchLimit(b, i, best.t);
       BottomQuery query;
       query.alpha = when.alpha;
       query.closeBorders = closeBordersFor(b, i, leaf);
@@ -455,13 +451,8 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) && nearerHit(h.t, leaf, h.quad, best)) {
-        best.t = h.t; best.u = h.u; best.v = h.v; best.leaf = leaf; best.quad = h.quad;
-        best.level = static_cast<uint8_t>(level);
-        // Same quantisation as the sorted path, so both modes give identical images.
-        best.ng = decodeOctahedral(encodeOctahedral(h.ng));
-        best.ns = decodeOctahedral(encodeOctahedral(h.ns));
-      }
+      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) && nearerHit(h.t, leaf, h.quad, best))
+        best = hitRecord(h, leaf, level);
     }
     if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
     const bool exhausted = !(next < kInf);

@@ -3,14 +3,32 @@
 //
 //   1. toplevel   every active ray collects up to N candidate leaves, front to back, resuming
 //                 after the last leaf it got in the previous iteration; N = capacity / active.
+//                 A candidate slot is the leaf id alone (4 bytes).
 //   2. sort       the candidate slots are grouped by leaf (CandidateSort).
 //   3. dice       one oneTBB task per leaf dices the patch at the finest level its rays need
 //                 into this thread's DiceBuffer and
-//   4. bottom     intersects every ray at its own level, writing only its own slots.
-//   5. reduce     each ray takes the nearest of its slots (ties by leaf, then micro-quad) and
-//                 is finished once that hit is nearer than its next candidate's entry
+//   4. bottom     intersects every ray at its own level, searching up to the ray's best hit of
+//                 the previous iterations, and offers each hit to the ray's RayHit: kept when
+//                 nearer under nearerHit's total order (t, leaf, micro-quad), under a per-ray
+//                 lock because two leaves of a ray may finish at once on two threads.
+//   5. finish     a ray is finished once its hit is nearer than its next candidate's entry
 //                 distance; the others stay active with more candidates each.
 //
+// The Rayes implementation of RayEngine (rays/ray_engine.h).
+//
+// Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
+// default per-ray LOD: independent of thread count, sort order, N and batch size (the hit kept
+// is the minimum of a total order, whatever order the offers come in). Shadow rays stop at
+// their first occluder. Memory: the candidate buffer with its sort (bytesPerCandidate() per
+// slot of fixed capacity), per-ray state (bytesPerRayState() per ray of the largest batch) and
+// one DiceBuffer per thread, allocated on first use and kept. Not thread-safe: one trace() at
+// a time; trace() itself is parallel.
+//
+// Motion blur (thesis §6.3): a leaf whose patch has K > 1 time samples has its rays regrouped,
+// within the leaf's run, by the time interval [t_i, t_i+1] their time falls in (a stable
+// counting sort); each interval present is diced once, both samples (DiceBuffer::diceInterval),
+// and its rays are intersected at their own time weight. A static leaf takes the static path
+// unchanged.
 // The Rayes implementation of RayEngine (rays/ray_engine.h).
 //
 // Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
@@ -73,11 +91,15 @@ class Tracer : public RayEngine {
   static constexpr uint32_t kFreeBorder = 0xfffffffeu;  // leaf ids stay below 2^31
   static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves,
                                                                const TopLevelBvh& top);
-  static constexpr size_t bytesPerRayState() { return 4 * sizeof(float) + 2 * sizeof(uint32_t); }
-  // Everything one candidate slot costs: the slot itself, its ray index, and the sort's
-  // working storage (filled list, pairs and scratch, order) when the slot is filled.
+  // Per ray: resume entry and leaf, next entry, best t of the previous iterations, candidate
+  // count, hit lock.
+  static constexpr size_t bytesPerRayState() {
+    return 3 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(std::atomic_flag);
+  }
+  // Everything one candidate slot costs: the slot itself and, when it is filled, its place in
+  // the filled list and the sort's working storage.
   static constexpr size_t bytesPerCandidate() {
-    return CandidateBuffer::bytesPerSlot() + 3 * sizeof(uint32_t) + 2 * sizeof(CandidateSort::Pair);
+    return CandidateBuffer::bytesPerSlot() + sizeof(uint32_t) + CandidateSort::bytesPerSlot();
   }
   // The candidate buffer should hold this many slots per ray slot of a full batch: the first
   // iteration of the camera generation then gets N = 8 candidates per ray (2 ray slots per
@@ -98,17 +120,19 @@ class Tracer : public RayEngine {
   // The steps of one traceSorted iteration (the header comment's numbers) over the first nNow
   // active rays with N candidate slots each.
   struct DicingCounters {
-    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0};
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0}, originLeafDicings{0};
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
   size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
-  void diceAndIntersectRuns(const RayBatch& b, GenerationStats& stats, TraceTimes& times);  // 3, 4
-  void diceAndIntersectMoving(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+  void diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times);     // 3, 4
+  void diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
                               uint32_t leaf, const Patch& patch, TraceTimes& times, DicingCounters& counters);
-  void diceAndIntersect(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+  void diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                         const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters);
-  void reduceHits(RayBatch& b, size_t nNow, int N);                 // 5
-  void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);
+  void offerHit(RayBatch& b, uint32_t ray, const RayHit& h);                             // 4
+  void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);               // 5
+  // The ray a candidate slot of this iteration belongs to (slots are N per active ray).
+  uint32_t rayOfSlot(uint32_t slot) const { return active_[slot / slotsPerRay_]; }
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
   // The ray's level on `leaf`: levelFor at the ray's entry into the leaf's own box (tmin when
@@ -126,7 +150,7 @@ class Tracer : public RayEngine {
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
     return settings_.closeBorders && leaf != b.originLeaf[i];
   }
-  bool intersectSlot(const RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m);
+  bool intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m);
   DiceBuffer& localDiceBuffer();
 
   const TopLevelBvh& top_;
@@ -139,9 +163,12 @@ class Tracer : public RayEngine {
 
   CandidateBuffer cand_;
   CandidateSort sort_;
-  std::vector<uint32_t> active_, nextActive_, filled_, slotRay_;
+  std::vector<uint32_t> active_, nextActive_, filled_;
+  uint32_t slotsPerRay_ = 1;  // N of the current iteration
   std::vector<float> resumeEntry_, nextEntry_;
+  std::vector<float> bestT_;  // a ray's hit distance after the previous iteration: its search limit
   std::vector<uint32_t> resumeLeaf_, count_;
+  std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
   tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_;
   tbb::enumerable_thread_specific<TraversalScratch> scratch_;
   // Per thread: a moving leaf's slots regrouped by time interval (stable), and the counts.

@@ -54,7 +54,7 @@ TEST(Beams, RingCausticCuspLiesAtHalfTheRadius) {
     if (m.type == MaterialType::Glossy) m.sigma = 0.01f;  // a finite peak to locate
   Renderer r(scene, lbtOptions(128));
   ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
-  const uint32_t floorLeaf = uint32_t(scene.patches.size() - 1);
+  const uint32_t floorLeaf = uint32_t(scene.leaves.size() - 1);
   double best = -1, bestX = 0;
   for (int i = 0; i <= 120; ++i) {
     const float x = 0.2f + 0.6f * float(i) / 120;

@@ -172,7 +172,7 @@ TEST_F(CommandLine, HelpDocumentsEveryOption) {
   for (char* a : argv) free(a);
   EXPECT_EQ(code, 0);
   for (const char* opt : {"--output", "--spp", "--res", "--threads", "--stats", "--max-lod", "--ray-memory",
-                          "--lod", "--trace-mode", "--reference", "--engine", "--embree-lod", "--memory-limit",
+                          "--lod", "--trace-mode", "--reference", "--progressive", "--engine", "--embree-lod", "--memory-limit",
                           "--method"})
     EXPECT_THAT(out, HasSubstr(opt));
 }

@@ -66,7 +66,7 @@ TEST_F(DiceCache, MissesAreDicingsAndFallAsTheCacheGrows) {
   EXPECT_LT(some.dicings, one.dicings);
   // The teapot has 32 patches: with room for all of them, a leaf is diced again only when a ray
   // needs it finer than it is held, at most once per level above its first.
-  EXPECT_LE(all.dicings, uint64_t(scene_->patches.size()) * (RenderOptions{}.maxLod + 1));
+  EXPECT_LE(all.dicings, uint64_t(scene_->leaves.size()) * (RenderOptions{}.maxLod + 1));
   EXPECT_GT(all.engine.cachePeakBytes, 0u);
 }
 

@@ -1,7 +1,8 @@
 // docs/design.md, invariant 2: the image is a pure function of (scene, settings, seed). With the
 // default per-ray level of detail it must be bit-identical for any thread count, with the
 // debug mode that traces every ray alone (no sorting, each patch diced per ray), and for ray
-// memory budgets that force different batch sizes and numbers of iterations.
+// memory budgets that force different batch sizes and numbers of iterations, and in progressive
+// passes.
 #include <gtest/gtest.h>
 #include "render_fixtures.h"
 
@@ -54,6 +55,16 @@ TEST_F(OrderIndependence, SmallRayMemoryForcesMoreBatchesAndIterationsButSameIma
   for (const auto& g : small.generations) maxIterSmall = std::max(maxIterSmall, g.stats.iterations.size());
   for (const auto& g : referenceStats_.generations) maxIterRef = std::max(maxIterRef, g.stats.iterations.size());
   EXPECT_GT(maxIterSmall + small.batches, maxIterRef + referenceStats_.batches);
+}
+
+TEST_F(OrderIndependence, ProgressivePassesGiveTheSameImageAsOnePass) {
+  RenderOptions o;
+  o.progressive = true;
+  RenderStats progressive;
+  EXPECT_EQ(renderBeauty(*scene_, o, 2, &progressive), *reference_);
+  // 2 spp: passes of 1 and 1 sample, against one pass of both.
+  EXPECT_EQ(progressive.generations.back().pass, 1);
+  EXPECT_EQ(referenceStats_.generations.back().pass, 0);
 }
 
 TEST_F(OrderIndependence, TinyCandidateBufferOneCandidatePerIteration) {

@@ -41,10 +41,12 @@ TEST(CandidateSort, EqualsStdSortOfLeafSlotPairs) {
 
 TEST(CandidateSort, EmptyAndSingle) {
   CandidateSort sort;
-  sort.sort({}, {});
+  std::vector<uint32_t> slots;
+  sort.sort(slots, {});
   EXPECT_TRUE(sort.order.empty());
   ASSERT_EQ(sort.runs.size(), 1u);
-  sort.sort({0}, {5});
+  slots = {0};
+  sort.sort(slots, {5});
   ASSERT_EQ(sort.order.size(), 1u);
   EXPECT_EQ(sort.runs.size(), 2u);
 }
