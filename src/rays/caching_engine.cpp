@@ -20,7 +20,7 @@ CachingEngine::CachingEngine(const TopLevelBvh& top, const LeafSource& leaves,
 
 void CachingEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   Tracer::activeRays(batch, stats, active_);
-  const Tracer::GridSource source = [&](uint32_t leaf, const Patch& patch, int interval, int level) -> const DiceBuffer& {
+  const Tracer::GridSource source = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
     return gridFor(leaf, patch, interval, level, stats, times);
   };
   // times.bottom includes the dicing; times.dice holds the dicing alone.
@@ -29,7 +29,7 @@ void CachingEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& t
   stats.iterations.push_back({active_.size(), 0.0, 0});
 }
 
-const DiceBuffer& CachingEngine::gridFor(uint32_t leaf, const Patch& patch, int interval, int level, GenerationStats& stats,
+const DiceBuffer& CachingEngine::gridFor(uint32_t leaf, const PatchPtr& patch, int interval, int level, GenerationStats& stats,
                                          TraceTimes& times) {
   const uint64_t key = uint64_t(leaf) << 32 | uint32_t(interval);
   if (auto found = index_.find(key); found != index_.end()) {
@@ -43,7 +43,7 @@ const DiceBuffer& CachingEngine::gridFor(uint32_t leaf, const Patch& patch, int 
     return *e.grid;
   }
   if (lru_.size() < capacity_) {
-    lru_.push_front(Entry{key, nullptr});
+    lru_.push_front(Entry{key, nullptr, nullptr});
   } else {
     index_.erase(lru_.back().key);
     lru_.splice(lru_.begin(), lru_, std::prev(lru_.end()));
@@ -56,7 +56,7 @@ const DiceBuffer& CachingEngine::gridFor(uint32_t leaf, const Patch& patch, int 
 
 // A buffer is reused only at its own level: a finer one would hold an evicted fine grid's memory
 // for every later coarse one, and K such entries add up.
-void CachingEngine::diceInto(Entry& e, const Patch& patch, int interval, int level, GenerationStats& stats,
+void CachingEngine::diceInto(Entry& e, const PatchPtr& patch, int interval, int level, GenerationStats& stats,
                                          TraceTimes& times) {
   ++misses_;
   if (!e.grid || e.grid->maxLevel() != level) {
@@ -67,7 +67,8 @@ void CachingEngine::diceInto(Entry& e, const Patch& patch, int interval, int lev
   const size_t before = e.grid->bytesAllocated();
   {
     ScopedTimer timer(times.dice);
-    e.grid->diceInterval(patch, interval, level);
+    e.grid->diceInterval(*patch, interval, level);
+    e.patch = patch;
   }
   bytes_ += e.grid->bytesAllocated() - before;  // a moving patch's second sample, allocated on first use
   peakBytes_ = std::max(peakBytes_, bytes_);

@@ -41,11 +41,13 @@ class CachingEngine : public RayEngine {
   struct Entry {
     uint64_t key;  // leaf << 32 | time interval
     std::unique_ptr<DiceBuffer> grid;
+    PatchPtr patch;  // the patch the grid was diced from: its queries read it (border radii), and
+                     // a generated leaf's patch would die with the ray that made it
   };
   // The grid of (leaf, interval) at `level` or finer: from the cache (moved to the front), or
   // diced into the entry it had, the least recently used one, or a new one.
-  const DiceBuffer& gridFor(uint32_t leaf, const Patch& patch, int interval, int level, GenerationStats& stats, TraceTimes& times);
-  void diceInto(Entry& e, const Patch& patch, int interval, int level, GenerationStats& stats, TraceTimes& times);
+  const DiceBuffer& gridFor(uint32_t leaf, const PatchPtr& patch, int interval, int level, GenerationStats& stats, TraceTimes& times);
+  void diceInto(Entry& e, const PatchPtr& patch, int interval, int level, GenerationStats& stats, TraceTimes& times);
 
   Tracer tracer_;  // its per-ray walk (levels, border regions); its candidate buffer holds one slot
   size_t capacity_;

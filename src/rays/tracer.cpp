@@ -396,8 +396,8 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
     auto& scratch = scratch_.local();
     DiceBuffer& dice = localDiceBuffer();
-    const GridSource diceForThisRay = [&](uint32_t, const Patch& patch, int interval, int level) -> const DiceBuffer& {
-      dice.diceInterval(patch, interval, level);
+    const GridSource diceForThisRay = [&](uint32_t, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
+      dice.diceInterval(*patch, interval, level);
       diced.fetch_add(1, std::memory_order_relaxed);
       micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
       if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);
@@ -437,7 +437,7 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
       const int level = levelOn(b, i, leaf);
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
       const TimeInterval when = timeInterval(*made, b.time[i]);
-      const DiceBuffer& dice = gridFor(leaf, *made, when.interval, level);
+      const DiceBuffer& dice = gridFor(leaf, made, when.interval, level);
       const float limit = searchLimit(b, i, best.t);
       BottomQuery query;
       query.alpha = when.alpha;

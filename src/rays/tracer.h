@@ -77,8 +77,9 @@ class Tracer : public RayEngine {
   // reset and counted into stats. The first step of every engine built on this Tracer.
   static void activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active);
   // Where traceRayAlone gets a leaf's grid: a DiceBuffer holding that leaf's time interval (0 for
-  // a static leaf) diced at `level` or finer (the coarser levels are exact subgrids).
-  using GridSource = std::function<const DiceBuffer&(uint32_t leaf, const Patch& patch, int interval, int level)>;
+  // a static leaf) diced at `level` or finer (the coarser levels are exact subgrids). `patch` is the
+  // leaf's patch as the source made it: a source that holds the grid past this call holds it too.
+  using GridSource = std::function<const DiceBuffer&(uint32_t leaf, const PatchPtr& patch, int interval, int level)>;
   // Traces ray i of `b` alone and fills b.hit[i]: its candidates front to back, each leaf at the
   // ray's own level, the same hit as the sorted pipeline (a pure function of ray, scene, maxLod).
   // Used by the debug mode (--trace-mode alone) and the CachingEngine (rays/caching_engine.h).
