@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include "shading/path_tracer.h"
+#include "shading/roulette.h"
 
 namespace rayes {
 namespace {
@@ -63,19 +64,8 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
   const float woNs = std::fabs(bs.wi.z);
   if (!hit.at.consistent(hit.wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) return false;
   T *= bs.weight * (bs.etaRel * bs.etaRel * hit.arrival * std::fabs(dot(h.ng, wo)) / woNs);
-  if (int(vertex) >= scene.integrator.rouletteDepth) {
-    const float q = std::min(1.0f, maxComponent(T));
-    if (!(sample1D(key, kRoulette) < q)) {
-      stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
-      return false;
-    }
-    T = T * (1.0f / q);
-  }
-  if (!isFinite(T)) {
-    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+  if (!throughputSurvives(T, int(vertex) >= scene.integrator.rouletteDepth, 1.0f, key, kRoulette, stats))
     return false;
-  }
-  if (isBlack(T)) return false;
   const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
   rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, 0.0f, kInf, width,
            PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), path, kNoLeaf, h.leaf, h.level,

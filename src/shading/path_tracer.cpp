@@ -1,4 +1,5 @@
 #include "shading/path_tracer.h"
+#include "shading/roulette.h"
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -200,21 +201,11 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
   paths.bsdfPdf[k] = bs.pdf;
   paths.bsdfDelta[k] = bs.delta ? 1 : 0;
   paths.etaScale[k] *= bs.etaRel * bs.etaRel;
-  if (int(bounce) + 1 >= scene.integrator.rouletteDepth) {
-    // Survival by throughput with the radiance scaling of refraction undone, so a path
-    // inside glass is not killed for the factor it will regain on the way out.
-    const float q = std::min(1.0f, maxComponent(T) * paths.etaScale[k]);
-    if (!(sample1D(key, kRoulette) < q)) {
-      stats.rouletteKills.fetch_add(1, std::memory_order_relaxed);
-      return false;
-    }
-    T = T * (1.0f / q);
-  }
-  if (!isFinite(T)) {
-    stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+  // Survival by throughput with the radiance scaling of refraction undone, so a path inside
+  // glass is not killed for the factor it will regain on the way out.
+  if (!throughputSurvives(T, int(bounce) + 1 >= scene.integrator.rouletteDepth, paths.etaScale[k], key, kRoulette,
+                          stats))
     return false;
-  }
-  if (isBlack(T)) return false;
   rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, 0.0f, kInf, v.width,
            PathTracer::spreadAfterBounce(rays.coneSpread[v.cs], bs.pdf, bs.delta), k, kNoLeaf, v.h.leaf, v.h.level,
            rays.time[v.cs]);
