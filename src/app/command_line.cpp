@@ -66,7 +66,7 @@ struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
               method = "pt", causticPaths = "all";
   std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G";
-  int beamResolution = 128, beamDepth = 4;
+  int beamResolution = 128, beamDepth = 4, beamSplitDepth = 4, beamAreaSamples = 2;
   std::optional<int> spp;
   int64_t photons = 20000;
   int photonK = 32;
@@ -105,6 +105,10 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   if (a.beamDepth < 1 || a.beamDepth > 64) throw InputError("--beam-depth", "", "must be in [1, 64]");
   options.beams.resolution = a.beamResolution;
   options.beams.maxDepth = a.beamDepth;
+  if (a.beamSplitDepth < 0 || a.beamSplitDepth > 12) throw InputError("--beam-split-depth", "", "must be in [0, 12]");
+  options.beams.splitDepth = a.beamSplitDepth;
+  if (a.beamAreaSamples < 0 || a.beamAreaSamples > 64) throw InputError("--beam-area-samples", "", "must be in [0, 64]");
+  options.beams.areaSamples = a.beamAreaSamples;
   options.beams.memoryBytes = parseBytes(a.beamMemory, "--beam-memory");
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
@@ -301,14 +305,23 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                                       "missing), pm (photon mapping: pt without caustic paths plus a k-nearest "
                                       "photon estimate of them), ppm (progressive photon mapping: a photon map "
                                       "per pass, radius shrinking per sample) or lbt (light beams: pt without "
-                                      "caustic paths plus beams from point, spot and distant lights through "
+                                      "caustic paths plus beams from point, spot, distant and area lights through "
                                       "mirrors, glass and glossy surfaces, gathered at diffuse surfaces)");
   c->add_option("--beam-resolution", a.beamResolution, "lbt: cells per side of each light's grid of beams "
                                                        "(cube-map face for point and spot lights), 1..4096 "
                                                        "(default 128)");
   c->add_option("--beam-depth", a.beamDepth, "lbt: most specular/glossy bounces a beam follows, 1..64 (default 4)");
+  c->add_option("--beam-split-depth", a.beamSplitDepth, "lbt: times a beam whose corner rays part (another "
+                                                        "material, a silhouette, total internal reflection, no "
+                                                        "longer coaxial) is split in four before it is dropped, "
+                                                        "0..12 (default 4)");
+  c->add_option("--beam-area-samples", a.beamAreaSamples, "lbt: an area light sends beams from k x k points on "
+                                                          "it, each a point light with a cosine lobe and its share "
+                                                          "of the power, 0..64 (default 2; 0: none)");
   c->add_option("--beam-memory", a.beamMemory, "lbt: budget for the beam segments and their bins, e.g. 256M "
-                                               "(default 1G); a render whose beams do not fit is refused");
+                                               "(default 1G); beams that do not fit are processed in batches "
+                                               "(the camera paths traced once per batch); a budget too small "
+                                               "for one beam is refused");
   c->add_option("--photons", a.photons, "pm, ppm: photons per sample per pixel of the render (default 20000): pm "
                                         "traces photons x spp into one map, ppm photons x the pass's samples per pass");
   c->add_option("--photon-k", a.photonK, "pm: neighbours of the k-nearest estimate, 1..4096 (default 32)");

@@ -25,7 +25,8 @@ SceneFeatures featuresOf(const Scene& scene, const std::vector<Box3>& leafBoxes,
   return f;
 }
 
-// Every emissive patch is an area light; shading sees it only through its surface function.
+}  // namespace
+
 std::vector<PatchLight> patchLightsOf(const Scene& scene) {
   std::vector<PatchLight> lights;
   for (size_t i = 0; i < scene.leaves.size(); ++i) {
@@ -41,7 +42,6 @@ std::vector<PatchLight> patchLightsOf(const Scene& scene) {
   return lights;
 }
 
-}  // namespace
 
 RenderData::RenderData(const Scene& scene) {
   const size_t n = scene.leaves.size();

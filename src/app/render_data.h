@@ -48,4 +48,7 @@ struct RenderData {
   size_t leafTableBytes() const;
 };
 
+// Every emissive patch is an area light; shading sees it only through its surface function.
+std::vector<PatchLight> patchLightsOf(const Scene& scene);
+
 }  // namespace rayes

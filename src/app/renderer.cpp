@@ -93,6 +93,26 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   return m;
 }
 
+std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, BeamTraceStats& stats) {
+  const ShadingScene& shading = data_.shading;
+  const Box3 bounds = data_.top.bounds();
+  BeamTraceOptions to;
+  to.maxDepth = options_.beams.maxDepth;
+  to.splitDepth = options_.beams.splitDepth;
+  to.far = 4 * (length(bounds.extent()) + bounds.magnitude()) + 1;
+  to.raysPerTrace = std::max<size_t>(1, stats_.pathsPerBatch * integrator_->raysPerPath());
+  auto trace = [&](RayBatch& rays) {
+    GenerationStats gs;
+    engine_->trace(rays, gs, stats_.trace);
+  };
+  std::vector<BeamSegment> segments = traceBeams(shading, beamSeeds_.range(first, last), to, trace, stats);
+  std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
+  for (size_t l = 0; l < leafReceives.size(); ++l)
+    leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
+  return std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
+                                     leafReceives);
+}
+
 void Renderer::buildBeams() {
   const auto t0 = Clock::now();
   const ShadingScene& shading = data_.shading;
@@ -100,40 +120,71 @@ void Renderer::buildBeams() {
   for (size_t l = 0; l < data_.leafBoxes.size(); ++l)
     if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty())
       scatterers.push_back(data_.leafBoxes[l]);
-  const BeamLights lights{scene_.pointLights, scene_.moreLights.spots, scene_.moreLights.distants};
+  const BeamLights lights{scene_.pointLights, scene_.moreLights.spots, scene_.moreLights.distants,
+                          options_.beams.areaSamples > 0 ? patchLightsOf(scene_) : std::vector<PatchLight>{},
+                          options_.beams.areaSamples};
   BeamRenderStats& bs = stats_.beams;
   if (scatterers.empty() || lights.empty()) {
     bs.skipped = scatterers.empty() ? "no specular or glossy surface: no beams traced, lbt is the path tracer"
-                                    : "no point, spot or distant light: no beams traced, lbt is the path tracer";
+                                    : "no point, spot, distant or area light (--beam-area-samples 0 leaves area lights out): no beams "
+                                      "traced, lbt is the path tracer";
     return;
   }
-  const Box3 bounds = data_.top.bounds();
-  const BeamSeeds seeds = seedBeams(lights, scatterers, bounds, options_.beams.resolution);
-  const size_t raysPerTrace = std::max<size_t>(1, stats_.pathsPerBatch * integrator_->raysPerPath());
-  const float far = 4 * (length(bounds.extent()) + bounds.magnitude()) + 1;
-  auto trace = [&](RayBatch& rays) {
-    GenerationStats gs;
-    engine_->trace(rays, gs, stats_.trace);
-  };
-  std::vector<BeamSegment> segments =
-      traceBeams(shading, seeds, options_.beams.maxDepth, far, raysPerTrace, trace, bs.trace);
-  if (segments.empty()) {
+  beamSeeds_ = seedBeams(lights, scatterers, data_.top.bounds(), options_.beams.resolution);
+  // The ranges of seed triangles whose beams fit the budget: all of them if they do, else
+  // halves, quarters, ... (a tried range's segments are held once before they are binned).
+  const size_t roots = beamSeeds_.triangles.size();
+  size_t count = roots, segments = 0;
+  for (size_t first = 0; first < roots; first += count) {
+    count = std::min(count, roots - first);
+    for (;;) {
+      BeamTraceStats trial;
+      std::unique_ptr<BeamStore> store = traceBeamRange(first, first + count, trial);
+      if (store->fits()) {
+        bs.trace.cornerRays += trial.cornerRays;
+        bs.trace.generatorTriangles += trial.generatorTriangles;
+        bs.trace.segments += trial.segments;
+        bs.trace.generations = std::max(bs.trace.generations, trial.generations);
+        bs.trace.stoppedMixed += trial.stoppedMixed;
+        bs.trace.stoppedSilhouette += trial.stoppedSilhouette;
+        bs.trace.stoppedTir += trial.stoppedTir;
+        bs.trace.stoppedDivergent += trial.stoppedDivergent;
+        bs.trace.splits += trial.splits;
+        bs.trace.reflectedBranches += trial.reflectedBranches;
+        bs.trace.droppedFlux += trial.droppedFlux;
+        bs.binEntries += store->binEntries();
+        bs.bytes = std::max(bs.bytes, store->bytes());
+        segments += store->segmentCount();
+        beamRanges_.push_back({first, first + count});
+        beams_ = std::move(store);
+        break;
+      }
+      if (count == 1)
+        throw InputError("--beam-memory", "", "a budget of " + std::to_string(options_.beams.memoryBytes) +
+                         " bytes cannot hold one beam (seed triangle " + std::to_string(first) + " needs " +
+                         std::to_string(store->neededBytes()) + " bytes for its segments and bins)");
+      count = (count + 1) / 2;
+    }
+  }
+  bs.batches = beamRanges_.size();
+  bs.seconds = secondsSince(t0);
+  if (segments == 0) {
     bs.skipped = "no beam reached past a specular or glossy surface: lbt is the path tracer";
-    bs.seconds = secondsSince(t0);
+    beams_.reset();
+    beamRanges_.clear();
     return;
   }
-  std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
-  for (size_t l = 0; l < leafReceives.size(); ++l)
-    leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
-  beams_ = std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
-                                       leafReceives);
   // The path tracer leaves caustic paths to the beams (same bytes per path as the one the
   // budget was computed with).
-  integrator_ = std::make_unique<PathTracer>(data_.shading, PathTracer::Options{CausticPaths::Without, beams_.get()});
+  const CausticRadiance* caustics = beams_.get();
+  if (beamRanges_.size() > 1) {
+    beams_.reset();
+    beamBatches_ = std::make_unique<BeamBatches>(stats_.pathsPerBatch, scene_.integrator.maxDepth);
+    caustics = beamBatches_.get();
+    bs.bytes += beamBatches_->bytes();
+  }
+  integrator_ = std::make_unique<PathTracer>(data_.shading, PathTracer::Options{CausticPaths::Without, caustics});
   bs.built = true;
-  bs.binEntries = beams_->binEntries();
-  bs.bytes = beams_->bytes();
-  bs.seconds = secondsSince(t0);
 }
 
 Renderer::~Renderer() = default;
@@ -158,6 +209,16 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
   integrator_->lightPassDone(stats_.shade);
 }
 
+void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays) {
+  integrator_->start(first, count, rays);
+  for (int depth = 0;; ++depth) {
+    GenerationRecord rec{pass, batch, depth, {}};
+    engine_->trace(rays, rec.stats, stats_.trace);
+    stats_.generations.push_back(std::move(rec));
+    if (integrator_->shade(uint32_t(depth), rays, stats_.shade) == 0) break;
+  }
+}
+
 Film Renderer::render(const Progress& progress) {
   const auto t0 = Clock::now();
   Film film(scene_.width, scene_.height);
@@ -176,12 +237,20 @@ Film Renderer::render(const Progress& progress) {
     traceLightPass(s0, s1, pass, batch);
     for (uint64_t first = uint64_t(s0) * pixels; first < end; first += stats_.pathsPerBatch, ++batch) {
       const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, end - first));
-      integrator_->start(first, count, rays);
-      for (int depth = 0;; ++depth) {
-        GenerationRecord rec{pass, batch, depth, {}};
-        engine_->trace(rays, rec.stats, stats_.trace);
-        stats_.generations.push_back(std::move(rec));
-        if (integrator_->shade(uint32_t(depth), rays, stats_.shade) == 0) break;
+      if (beamBatches_) {
+        // Beams in batches: the camera paths once per range of beams, the film from the last.
+        beamBatches_->startPaths();
+        for (const auto& [r0, r1] : beamRanges_) {
+          beams_.reset();
+          BeamTraceStats again;
+          beams_ = traceBeamRange(r0, r1, again);
+          beamBatches_->use(beams_.get());
+          runCameraBatch(first, count, pass, batch, rays);
+        }
+        beamBatches_->use(nullptr);
+        beams_.reset();
+      } else {
+        runCameraBatch(first, count, pass, batch, rays);
       }
       {
         const auto tf = Clock::now();

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 #include "app/render_data.h"
+#include "lbt/beam_batches.h"
 #include "lbt/beam_store.h"
 #include "lbt/beam_tracer.h"
 #include "rays/caching_engine.h"
@@ -40,6 +41,8 @@ enum class EngineKind { Rayes, Embree };
 struct BeamOptions {
   int resolution = 128;           // cells per side of a light's grid
   int maxDepth = 4;               // specular/glossy bounces
+  int splitDepth = 4;             // times an incoherent beam is split before it is dropped
+  int areaSamples = 2;            // k: an area light is k×k point sources (0: no beams from area lights)
   size_t memoryBytes = size_t(1) << 30;
 };
 
@@ -50,7 +53,8 @@ struct BeamRenderStats {
   std::string skipped;            // the reason, when not built
   BeamTraceStats trace;
   uint64_t binEntries = 0;
-  size_t bytes = 0;
+  size_t bytes = 0;               // the largest batch's segments and bins
+  size_t batches = 0;             // ranges of seed triangles processed one after another
   double seconds = 0;
 };
 
@@ -145,10 +149,16 @@ class Renderer {
   RenderData data_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<RayEngine> engine_;
-  std::unique_ptr<BeamStore> beams_;
+  std::unique_ptr<BeamStore> beams_;   // the only batch, or the one in use
   RenderStats stats_;
-  // `--method lbt`: the light phase, run once at setup through the engine.
+  // `--method lbt`: the light phase, run at setup through the engine; when the beams do not fit
+  // --beam-memory, the ranges of seed triangles that do, each traced again per camera batch.
   void buildBeams();
+  std::unique_ptr<BeamStore> traceBeamRange(size_t first, size_t last, BeamTraceStats& stats);
+  BeamSeeds beamSeeds_;
+  std::vector<std::pair<size_t, size_t>> beamRanges_;
+  std::unique_ptr<BeamBatches> beamBatches_;
+  void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays);
 };
 
 // Root-mean-square difference of the film's mean RGB against a reference (RGB per pixel).

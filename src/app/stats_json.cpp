@@ -140,7 +140,9 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                   {"generations", b.trace.generations}, {"segments", b.trace.segments},
                   {"bin_entries", b.binEntries}, {"bytes", b.bytes}, {"seconds", b.seconds},
                   {"resolution", options.beams.resolution}, {"max_depth", options.beams.maxDepth},
-                  {"memory_budget_bytes", options.beams.memoryBytes},
+                  {"memory_budget_bytes", options.beams.memoryBytes}, {"batches", b.batches},
+                  {"split_depth", options.beams.splitDepth}, {"splits", b.trace.splits},
+                  {"reflected_branches", b.trace.reflectedBranches}, {"dropped_flux_watts", b.trace.droppedFlux},
                   {"stopped", {{"mixed", b.trace.stoppedMixed}, {"silhouette", b.trace.stoppedSilhouette},
                                {"tir_straddle", b.trace.stoppedTir}, {"divergent", b.trace.stoppedDivergent}}}};
   } else {

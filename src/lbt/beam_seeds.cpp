@@ -86,9 +86,10 @@ Rect projectOntoFace(const Box3& b, Vec3 c, Vec3 w, Vec3 u, Vec3 v) {
   return {std::max(r.u0, -1.0), std::min(r.u1, 1.0), std::max(r.v0, -1.0), std::min(r.v1, 1.0)};
 }
 
-// Point and spot lights: a cube map about the light.
-void seedFromPoint(Vec3 c, Rgb intensity, const SpotLight* spot, std::span<const Box3> boxes, int n,
-                   BeamSeeds& seeds) {
+// Point and spot lights, and the sample points of area lights: a cube map about the point;
+// intensity(unit direction) in W/sr.
+template <class Intensity>
+void seedFromPoint(Vec3 c, Intensity intensity, std::span<const Box3> boxes, int n, BeamSeeds& seeds) {
   const double cell = 2.0 / n;
   for (int face = 0; face < 6; ++face) {
     const int axis = face / 2;
@@ -111,9 +112,7 @@ void seedFromPoint(Vec3 c, Rgb intensity, const SpotLight* spot, std::span<const
     };
     auto flux = [&](uint32_t a, uint32_t b, uint32_t t) {
       const double omega = sphericalTriangleArea(seeds.dir[a], seeds.dir[b], seeds.dir[t]);
-      Rgb i = intensity;
-      if (spot) i = i * spot->falloff(dot(normalize(seeds.dir[a] + seeds.dir[b] + seeds.dir[t]), spot->direction));
-      return i * float(omega);
+      return intensity(normalize(seeds.dir[a] + seeds.dir[b] + seeds.dir[t])) * float(omega);
     };
     addGrid(n, used, 0.0f, float(cell), corner, flux, seeds);
   }
@@ -155,6 +154,27 @@ void seedFromDistant(const DistantLight& light, std::span<const Box3> boxes, con
 
 }  // namespace
 
+std::vector<AreaLightPoint> areaLightPoints(std::span<const PatchLight> patches, int k, const Box3& sceneBounds) {
+  std::vector<AreaLightPoint> points;
+  if (k < 1) return points;
+  // Off the surface by a hair, so the corner rays do not find the light's own patch.
+  const float lift = 1e-5f * (length(sceneBounds.extent()) + sceneBounds.magnitude());
+  for (const PatchLight& light : patches)
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) {
+        Vec3 p, n;
+        light.evaluate((i + 0.5f) / float(k), (j + 0.5f) / float(k), p, n);
+        const float area = length(n) / float(k * k);  // |dP/du × dP/dv| over the stratum
+        if (!(area > 0) || !isFinite(p)) continue;
+        n = normalize(n);
+        for (float side : {1.0f, -1.0f}) {
+          if (side < 0 && !light.twoSided) break;
+          points.push_back({p + n * (side * lift), n * side, light.radiance * area});
+        }
+      }
+  return points;
+}
+
 double sphericalTriangleArea(Vec3 a, Vec3 b, Vec3 c) {
   const double triple = std::fabs(double(dot(a, cross(b, c))));
   const double denom = 1.0 + double(dot(a, b)) + double(dot(b, c)) + double(dot(c, a));
@@ -162,11 +182,38 @@ double sphericalTriangleArea(Vec3 a, Vec3 b, Vec3 c) {
   return std::isfinite(omega) && omega > 0 ? omega : 0.0;
 }
 
+BeamSeeds BeamSeeds::range(size_t first, size_t last) const {
+  BeamSeeds out;
+  last = std::min(last, triangles.size());
+  std::vector<uint32_t> id(org.size(), 0xffffffffu);
+  for (size_t t = first; t < last; ++t)
+    for (uint32_t v : triangles[t]) id[v] = 0;
+  for (size_t v = 0; v < org.size(); ++v) {
+    if (id[v]) continue;
+    id[v] = uint32_t(out.org.size());
+    out.org.push_back(org[v]);
+    out.dir.push_back(dir[v]);
+    out.coneWidth.push_back(coneWidth[v]);
+    out.coneSpread.push_back(coneSpread[v]);
+  }
+  for (size_t t = first; t < last; ++t) {
+    out.triangles.push_back({id[triangles[t][0]], id[triangles[t][1]], id[triangles[t][2]]});
+    out.flux.push_back(flux[t]);
+  }
+  return out;
+}
+
 BeamSeeds seedBeams(const BeamLights& lights, std::span<const Box3> boxes, const Box3& sceneBounds, int resolution) {
   BeamSeeds seeds;
   if (boxes.empty() || resolution < 1) return seeds;
-  for (const PointLight& p : lights.points) seedFromPoint(p.position, p.intensity, nullptr, boxes, resolution, seeds);
-  for (const SpotLight& s : lights.spots) seedFromPoint(s.position, s.intensity, &s, boxes, resolution, seeds);
+  for (const PointLight& p : lights.points)
+    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, boxes, resolution, seeds);
+  for (const SpotLight& s : lights.spots)
+    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, boxes, resolution,
+                  seeds);
+  for (const AreaLightPoint& a : areaLightPoints(lights.patches, lights.areaSamples, sceneBounds))
+    seedFromPoint(a.position, [&](Vec3 d) { return a.intensity * std::max(0.0f, dot(d, a.normal)); }, boxes,
+                  resolution, seeds);
   for (const DistantLight& d : lights.distants) seedFromDistant(d, boxes, sceneBounds, resolution, seeds);
   return seeds;
 }

@@ -11,7 +11,11 @@
 //     central direction.
 // The level of detail the surfaces are diced at follows from the corner rays' cones (one
 // cell's width), so the tracer dices scatterers at the light's resolution.
-// Area and environment lights get no beams (their caustics stay with the path tracer).
+//   Area lights (emissive patches): k×k points at the centres of a grid over the patch's (u, v)
+//     square, each a point light with a cosine lobe, I(ω) = L·A_i·max(0, cos(n, ω)) with A_i its
+//     stratum's area (exact for parallelograms, the midpoint rule otherwise), so Σ power = π·L·A.
+//     A soft caustic becomes k² sharp ones: a bias that falls as k grows (docs/design.md).
+// Environment lights get no beams (their caustics stay with the path tracer).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -26,8 +30,18 @@ struct BeamLights {
   std::vector<PointLight> points;
   std::vector<SpotLight> spots;
   std::vector<DistantLight> distants;
-  bool empty() const { return points.empty() && spots.empty() && distants.empty(); }
+  std::vector<PatchLight> patches;
+  int areaSamples = 2;  // k: points per side of an area light's grid
+  bool empty() const { return points.empty() && spots.empty() && distants.empty() && (patches.empty() || areaSamples < 1); }
 };
+
+// An area light's sample point: a point source of intensity `intensity`·max(0, cos(normal, ω)).
+struct AreaLightPoint {
+  Vec3 position, normal;
+  Rgb intensity;  // L·A_i, W/sr along the normal
+};
+// The k×k points of each patch light (two-sided: one per side), lifted off the surface.
+std::vector<AreaLightPoint> areaLightPoints(std::span<const PatchLight> patches, int k, const Box3& sceneBounds);
 
 struct BeamSeeds {
   // Corner rays: unit directions; the cone of a cell.
@@ -36,6 +50,10 @@ struct BeamSeeds {
   // Generator triangles (indices into the corner rays) and their flux.
   std::vector<std::array<uint32_t, 3>> triangles;
   std::vector<Rgb> flux;
+
+  // The generator triangles [first, last) with the corner rays they use (in their order here),
+  // so a batch of beams can be traced alone: each corner ray's path depends on itself only.
+  BeamSeeds range(size_t first, size_t last) const;
 };
 
 // resolution N ≥ 1 (cells per face side, or per side of a distant light's grid);

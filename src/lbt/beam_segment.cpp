@@ -6,10 +6,6 @@
 
 namespace rayes {
 namespace {
-// A gather point may lie this far (relative to the segment's length) beyond the plane of the
-// corner rays' ends: the ends lie on the receiver, and so does x, but a curved receiver bulges
-// out of that plane.
-constexpr double kCapSlack = 0.02;
 // Below this flux-triangle area (relative to r²) the segment is at a focus.
 constexpr double kFocusArea = 1e-12;
 // Below this angular area (relative to σ²) P is the lobe's density times the area (the exact

@@ -29,6 +29,11 @@ struct BeamSegment {
 // a segment whose corners diverge more is not a beam (the tracer does not emit it).
 inline constexpr float kCoaxialCos = 0.5f;
 
+// A gather point may lie this far (relative to the segment's length) beyond the plane of the
+// corner rays' ends: the ends lie on the receiver, and so does x, but a curved receiver bulges
+// out of that plane.
+inline constexpr float kCapSlack = 0.02f;
+
 // The box a segment's gathers can lie in: its corner rays up to t_i, grown by its lobe
 // (5σ of angle at the far end: the lobe's mass beyond is below 4e-6).
 Box3 beamBounds(const BeamSegment& s);

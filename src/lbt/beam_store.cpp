@@ -33,8 +33,6 @@ int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
 }
 int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
 
-constexpr int kPieces = 8;
-
 // The box of the part of a segment between fractions u0 < u1 of its corner rays' lengths: the
 // cross-sections are linear in u, so the six corner points bound it; glossy: grown by 5σ of
 // angle at the far end (as beamBounds).
@@ -53,15 +51,25 @@ Box3 pieceBounds(const BeamSegment& s, float u0, float u1) {
   }
   return box;
 }
+// Piece k of kPieces; the last reaches past the ends by the gather's cap slack.
+Box3 piece(const BeamSegment& s, int k) {
+  return pieceBounds(s, float(k) / BeamStore::kPieces, k + 1 == BeamStore::kPieces ? 1 + kCapSlack : float(k + 1) / BeamStore::kPieces);
+}
 }  // namespace
+
+bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
+  for (int k = 0; k < kPieces; ++k)
+    if (piece(s, k).contains(x)) return true;
+  return false;
+}
 
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
                      size_t budget, std::span<const uint8_t> receives)
     : segments_(std::move(segments)) {
   const size_t leaves = top.leafCount();
-  if (!segments_.empty() && bytesFor(1, 1, leaves + 1) > budget)
+  if (!segments_.empty() && minimumBytes(leaves) > budget)
     throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
-                     std::to_string(bytesFor(1, 1, leaves + 1)) + " bytes with the per-leaf grids)");
+                     std::to_string(minimumBytes(leaves)) + " bytes with the per-leaf grids)");
   // Each segment's box and leaves.
   std::vector<Box3> boxes(segments_.size());
   std::vector<std::vector<uint32_t>> hits(segments_.size());
@@ -102,12 +110,12 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
         const LeafGrid& g = grids_[l];
         if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
         for (int k = 0; k < kPieces; ++k) {
-          Box3 piece = pieceBounds(seg, float(k) / kPieces, float(k + 1) / kPieces);
-          piece.lo = vmax(piece.lo, g.box.lo);
-          piece.hi = vmin(piece.hi, g.box.hi);
-          if (piece.empty()) continue;
+          Box3 part = piece(seg, k);
+          part.lo = vmax(part.lo, g.box.lo);
+          part.hi = vmin(part.hi, g.box.hi);
+          if (part.empty()) continue;
           int lo[3], hi[3];
-          for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, piece.lo[a]), hi[a] = safeCell(g, a, piece.hi[a]);
+          for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, part.lo[a]), hi[a] = safeCell(g, a, part.hi[a]);
           for (int z = lo[2]; z <= hi[2]; ++z)
             for (int y = lo[1]; y <= hi[1]; ++y)
               for (int x = lo[0]; x <= hi[0]; ++x) out.push_back(g.first + (uint64_t(z) * g.n[1] + y) * g.n[0] + x);
@@ -123,12 +131,14 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { ++offsets_[c + 1]; });
   for (uint64_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
   const size_t total = offsets_[cells];
-  if (bytesFor(segments_.size(), total, offsets_.size()) > budget)
-    throw InputError("--beam-memory", "", "the beams need " +
-                     std::to_string(bytesFor(segments_.size(), total, offsets_.size())) + " bytes (" +
-                     std::to_string(segments_.size()) + " segments in " + std::to_string(total) +
-                     " bin entries), more than the budget of " + std::to_string(budget) +
-                     " bytes; raise it or lower --beam-resolution");
+  needed_ = bytesFor(segments_.size(), total, offsets_.size()) + grids_.size() * sizeof(LeafGrid);
+  if (needed_ > budget) {
+    // Does not fit: nothing is kept (the caller splits the batch).
+    segments_ = {};
+    grids_ = {};
+    offsets_ = {};
+    return;
+  }
   entries_.resize(total);
   std::vector<uint64_t> fill(offsets_.begin(), offsets_.end() - 1);
   for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });
@@ -144,8 +154,7 @@ std::pair<uint64_t, uint64_t> BeamStore::cellRange(uint32_t leaf, Vec3 x) const 
   return {offsets_[c], offsets_[c + 1]};
 }
 
-Rgb BeamStore::radiance(const DiffuseVertex& v) const {
-  Rgb sum;
+Rgb BeamStore::radiance(const DiffuseVertex& v, Rgb sum) const {
   gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance) {
     const Vec3 wi = -psi;
     const Vec3 wiL = v.frame->toLocal(wi);

@@ -14,9 +14,14 @@
 // run in the path tracer's shading step, whose paths are sorted by (material, leaf), so a
 // leaf's gathers run together -- but not inside the Tracer's per-leaf stage.
 //
-// Memory: bytes() = segments + bin entries + cell offsets; the constructor refuses (InputError
-// naming --beam-memory) when that exceeds the budget. Immutable and thread-safe after
+// Memory: bytes() = segments + bin entries + cell offsets + leaf grids. The constructor refuses
+// (InputError naming --beam-memory) a budget below minimumBytes (one beam); a store that needs
+// more than its budget keeps nothing and says so (fits() false, neededBytes()): the caller
+// processes its beams in batches (lbt/beam_batches.h). Immutable and thread-safe after
 // construction; gathers visit a leaf's segments in segment order (deterministic).
+// A gather counts a segment only where x, clamped into the leaf's box, lies in the segment's
+// reach (the boxes of its pieces, `reaches`), which its bins always cover: so what a gather
+// sums does not depend on how the grid was shaped, nor on which other segments share the store.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -38,14 +43,29 @@ class BeamStore final : public CausticRadiance {
   template <class Add>
   void gather(uint32_t leaf, Vec3 x, Vec3 normal, Add&& add) const {
     const auto [first, last] = cellRange(leaf, x);
+    if (first == last) return;
+    const Box3& box = grids_[leaf].box;
+    const Vec3 inside = vmin(vmax(x, box.lo), box.hi);
     for (uint64_t e = first; e != last; ++e) {
       Vec3 psi;
-      const Rgb irradiance = beamIrradiance(segments_[entries_[e]], x, normal, psi);
-      if (maxComponent(irradiance) > 0) add(psi, irradiance);
+      const BeamSegment& s = segments_[entries_[e]];
+      const Rgb irradiance = beamIrradiance(s, x, normal, psi);
+      if (maxComponent(irradiance) > 0 && reaches(s, inside)) add(psi, irradiance);
     }
   }
-  // The caustic radiance at a diffuse vertex: Σ f(wo, -psi)·E over the gathered segments.
-  Rgb radiance(const DiffuseVertex& v) const override;
+  // The caustic radiance at a diffuse vertex: sum + f(wo, -psi)·E over the gathered segments,
+  // added one by one in segment order (a batch continues the previous batch's sum).
+  Rgb radiance(const DiffuseVertex& v, Rgb sum) const;
+  Rgb radiance(const DiffuseVertex& v) const override { return radiance(v, Rgb{}); }
+
+  // Whether the segments and their bins fit the budget (else the store holds nothing).
+  bool fits() const { return needed_ == bytes(); }
+  size_t neededBytes() const { return needed_; }
+  // The smallest budget that holds one segment in one cell with `leaves` leaf grids.
+  static size_t minimumBytes(size_t leaves) { return bytesFor(1, 1, leaves + 1) + leaves * sizeof(LeafGrid); }
+  // x lies in one of the boxes a segment is binned by (its kPieces lengthwise pieces).
+  static bool reaches(const BeamSegment& s, Vec3 x);
+  static constexpr int kPieces = 8;
 
   size_t segmentCount() const { return segments_.size(); }
   size_t binEntries() const { return entries_.size(); }
@@ -70,6 +90,8 @@ class BeamStore final : public CausticRadiance {
   std::vector<LeafGrid> grids_;
   std::vector<uint64_t> offsets_;   // cell c's segments: entries_[offsets_[c], offsets_[c + 1])
   std::vector<uint32_t> entries_;
+  size_t needed_ = 0;
 };
+
 
 }  // namespace rayes

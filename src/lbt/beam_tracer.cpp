@@ -1,6 +1,7 @@
 #include "lbt/beam_tracer.h"
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include "shading/fresnel.h"
@@ -14,12 +15,14 @@ enum class Event : uint8_t { Stop, Reflect, Refract };
 constexpr uint32_t kNone = 0xffffffffu;  // no material: the corner ray left the scene
 enum class Outcome : uint8_t { Continue, End, Mixed, Silhouette, Tir, Divergent };
 
-// A corner ray's state between generations.
+// A corner ray's state between generations. reflectAt: bit g set makes the corner reflect at a
+// dielectric in generation g (the Fresnel-reflected branch of a beam) instead of refracting.
 struct Corner {
   Vec3 org, dir;
   float width = 0, spread = 0;
   uint32_t fromLeaf = kNoLeaf;
   uint8_t fromLevel = 0;
+  uint32_t reflectAt = 0;
 };
 
 // What a corner ray found and what it becomes.
@@ -28,12 +31,13 @@ struct Scatter {
   Event event = Event::Stop;
   uint32_t material = kNone;
   bool front = false;   // arrived on the geometric normal's side
+  bool dielectric = false;
   Corner next;
   Rgb rho;
   float sigma = 0;
 };
 
-Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, float far) {
+Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, float far, int generation) {
   Scatter s;
   s.t = h.valid() ? h.t : far;
   if (!h.valid()) return s;
@@ -45,16 +49,19 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   const Vec3 w = -c.dir;  // toward where the light came from
   Vec3 next;
   if (m.type == MaterialType::Dielectric) {
+    s.dielectric = true;
     float etaRel;
     const float cosI = dot(w, h.ns);
     const float f = fresnelDielectric(cosI, m.eta.x);
-    if (refract(w, h.ns, m.eta.x, next, etaRel)) {
+    const bool reflectBranch = generation < 32 && ((c.reflectAt >> generation) & 1u);
+    if (!reflectBranch && refract(w, h.ns, m.eta.x, next, etaRel)) {
       s.event = Event::Refract;
       s.rho = Rgb{1, 1, 1} * (1 - f);
     } else {
+      // The reflected branch (weight F), or total internal reflection (F = 1).
       s.event = Event::Reflect;
       next = reflect(w, cosI >= 0 ? h.ns : -h.ns);
-      s.rho = {1, 1, 1};
+      s.rho = Rgb{1, 1, 1} * f;
     }
   } else {
     const Vec3 n = dot(h.ns, w) >= 0 ? h.ns : -h.ns;
@@ -77,7 +84,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   }
   const float offset = PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
   const SurfaceHit at{p, h.ng, offset};
-  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level};
+  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, c.reflectAt};
   return s;
 }
 
@@ -88,33 +95,122 @@ bool coaxial(const Vec3 (&d)[3]) {
   return true;
 }
 
-}  // namespace
+// The beams of one pass: first corner rays with their branch bits, triangles over them, and
+// per triangle its root (the seed triangle it descends from), the generation up to which an
+// ancestor already emitted its segments, and how often it was split.
+struct Pass {
+  std::vector<Corner> corners;
+  std::vector<std::array<uint32_t, 3>> triangles;
+  std::vector<Rgb> flux;
+  std::vector<uint32_t> root;
+  std::vector<int> emitted;   // segments of generations ≤ this come from an ancestor
+  std::vector<int> branched;  // reflected branches of generations ≤ this were spawned by an ancestor
+  std::vector<uint8_t> level;
+};
 
-std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, int maxDepth, float far,
-                                    size_t raysPerTrace, const TraceRays& trace, BeamTraceStats& stats) {
-  const size_t nv = seeds.org.size(), nt = seeds.triangles.size();
-  stats.generatorTriangles = nt;
-  std::vector<Corner> corners(nv);
-  for (size_t i = 0; i < nv; ++i)
-    corners[i] = {seeds.org[i], seeds.dir[i], seeds.coneWidth[i], seeds.coneSpread[i], kNoLeaf, 0};
+// A beam to trace again in the next pass: split into four (its corner rays did not stay
+// together) or its Fresnel-reflected branch at a dielectric, both from generation `at` on.
+struct Derived {
+  uint32_t triangle;
+  int at;
+  bool branch;             // else a split
+  bool branchedToo = false;  // a split whose parent also spawned its reflected branch at `at`
+};
+
+// The next pass: the derived beams, in the order of their parents. Split children subdivide
+// the parent's first corner rays at edge midpoints (shared by the siblings and by neighbours
+// split along the same edge), with flux in proportion to their solid angle (point-like origins)
+// or area (a quarter, parallel rays); a branch keeps the corners, with generation `at`'s bit set.
+Pass derive(const Pass& p, const std::vector<Derived>& derived) {
+  Pass out;
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> ids;  // (corner, corner or self, bits) -> new id
+  auto copy = [&](uint32_t a, uint32_t bits) {
+    auto [it, fresh] = ids.try_emplace({a, a, bits}, uint32_t(out.corners.size()));
+    if (fresh) {
+      Corner c = p.corners[a];
+      c.reflectAt = bits;
+      out.corners.push_back(c);
+    }
+    return it->second;
+  };
+  auto mid = [&](uint32_t a, uint32_t b, uint32_t bits) {
+    if (a > b) std::swap(a, b);
+    auto [it, fresh] = ids.try_emplace({a, b, bits}, uint32_t(out.corners.size()));
+    if (fresh) {
+      const Corner &ca = p.corners[a], &cb = p.corners[b];
+      Corner c = ca;
+      c.org = (ca.org + cb.org) * 0.5f;
+      c.dir = normalize(ca.dir + cb.dir);
+      c.width = std::min(ca.width, cb.width);
+      c.spread = std::min(ca.spread, cb.spread);
+      c.reflectAt = bits;
+      out.corners.push_back(c);
+    }
+    return it->second;
+  };
+  auto add = [&](std::array<uint32_t, 3> t, Rgb flux, uint32_t root, int emitted, int branched, uint8_t level) {
+    out.triangles.push_back(t);
+    out.flux.push_back(flux);
+    out.root.push_back(root);
+    out.emitted.push_back(emitted);
+    out.branched.push_back(branched);
+    out.level.push_back(level);
+  };
+  for (const Derived& d : derived) {
+    const auto& v = p.triangles[d.triangle];
+    const uint32_t bits = p.corners[v[0]].reflectAt;
+    const int emitted = std::max(p.emitted[d.triangle], d.at);
+    if (d.branch) {
+      const uint32_t b = bits | (1u << d.at);
+      add({copy(v[0], b), copy(v[1], b), copy(v[2], b)}, p.flux[d.triangle], p.root[d.triangle], emitted, d.at,
+          p.level[d.triangle]);
+      continue;
+    }
+    const uint32_t a = copy(v[0], bits), b = copy(v[1], bits), c = copy(v[2], bits);
+    const uint32_t ab = mid(v[0], v[1], bits), bc = mid(v[1], v[2], bits), ca = mid(v[2], v[0], bits);
+    const bool pointLike = p.corners[v[0]].org == p.corners[v[1]].org && p.corners[v[1]].org == p.corners[v[2]].org;
+    const double whole = pointLike ? sphericalTriangleArea(p.corners[v[0]].dir, p.corners[v[1]].dir, p.corners[v[2]].dir) : 0;
+    for (const std::array<uint32_t, 3> t : {std::array<uint32_t, 3>{a, ab, ca}, std::array<uint32_t, 3>{ab, b, bc},
+                                            std::array<uint32_t, 3>{ca, bc, c}, std::array<uint32_t, 3>{ab, bc, ca}}) {
+      double share = 0.25;
+      if (pointLike && whole > 0)
+        share = sphericalTriangleArea(out.corners[t[0]].dir, out.corners[t[1]].dir, out.corners[t[2]].dir) / whole;
+      add(t, p.flux[d.triangle] * float(share), p.root[d.triangle], emitted,
+          std::max(p.branched[d.triangle], d.branchedToo ? d.at : d.at - 1), uint8_t(p.level[d.triangle] + 1));
+    }
+  }
+  return out;
+}
+
+struct Tagged {
+  uint32_t root;
+  BeamSegment segment;
+};
+
+// Traces one pass generation by generation; appends its segments (tagged with their root) and
+// the beams to trace again in the next pass.
+void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptions& o, const TraceRays& trace,
+               BeamTraceStats& stats, std::vector<Tagged>& segments, std::vector<Derived>& derived) {
+  const size_t nv = pass.corners.size(), nt = pass.triangles.size();
+  std::vector<Corner> corners(pass.corners);
   std::vector<uint8_t> cornerLive(nv, 1), triLive(nt, 1);
-  std::vector<Rgb> power(seeds.flux);
+  std::vector<Rgb> power(pass.flux);
   std::vector<float> sigma2(nt, 0.0f);
   std::vector<Scatter> scatter(nv);
-  std::vector<BeamSegment> segments, generation(nt);
-  std::vector<uint8_t> emitted(nt);
+  std::vector<BeamSegment> generation(nt);
+  std::vector<uint8_t> emitted(nt), branch(nt);
   std::vector<Outcome> outcome(nt);
   std::vector<uint32_t> live;
   RayBatch rays;
-  for (int g = 0; g <= maxDepth; ++g) {
+  for (int g = 0; g <= o.maxDepth; ++g) {
     live.clear();
     for (uint32_t i = 0; i < nv; ++i)
       if (cornerLive[i]) live.push_back(i);
     if (live.empty()) break;
-    stats.generations = g + 1;
+    stats.generations = std::max(stats.generations, g + 1);
     // One generation of corner rays, in chunks the engine's budget holds.
-    for (size_t first = 0; first < live.size(); first += raysPerTrace) {
-      const size_t count = std::min(raysPerTrace, live.size() - first);
+    for (size_t first = 0; first < live.size(); first += o.raysPerTrace) {
+      const size_t count = std::min(o.raysPerTrace, live.size() - first);
       rays.resize(count);
       for (size_t k = 0; k < count; ++k) {
         const Corner& c = corners[live[first + k]];
@@ -126,7 +222,7 @@ std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& 
       tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k != r.end(); ++k) {
           const uint32_t i = live[first + k];
-          scatter[i] = scatterAt(scene, corners[i], rays.hit[k], far);
+          scatter[i] = scatterAt(scene, corners[i], rays.hit[k], o.far, g);
         }
       });
     }
@@ -134,33 +230,45 @@ std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& 
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nt, 1024), [&](const auto& r) {
       for (size_t t = r.begin(); t != r.end(); ++t) {
         emitted[t] = 0;
+        branch[t] = 0;
         if (!triLive[t]) continue;
-        const auto& v = seeds.triangles[t];
+        const auto& v = pass.triangles[t];
         const Scatter* s[3] = {&scatter[v[0]], &scatter[v[1]], &scatter[v[2]]};
         const Vec3 dirs[3] = {corners[v[0]].dir, corners[v[1]].dir, corners[v[2]].dir};
         // A segment all of whose corners left the scene has nothing to light.
         const bool reachesSomething = s[0]->material != kNone || s[1]->material != kNone || s[2]->material != kNone;
-        if (g > 0 && reachesSomething) {
+        if (g > 0 && g > pass.emitted[t] && reachesSomething) {
           BeamSegment& seg = generation[t];
           for (int i = 0; i < 3; ++i) seg.o[i] = corners[v[i]].org, seg.d[i] = dirs[i], seg.t[i] = s[i]->t;
           seg.power = power[t];
           seg.sigma = std::sqrt(sigma2[t]);
           emitted[t] = 1;
         }
-        Outcome o = Outcome::Continue;
+        Outcome out = Outcome::Continue;
         const bool allScatter = s[0]->event != Event::Stop && s[1]->event != Event::Stop && s[2]->event != Event::Stop;
         const bool sameMaterial = s[0]->material == s[1]->material && s[1]->material == s[2]->material;
-        if (g >= maxDepth) o = Outcome::End;
-        else if (!sameMaterial || !allScatter) o = sameMaterial && s[0]->event == Event::Stop && s[1]->event == Event::Stop &&
-                                                       s[2]->event == Event::Stop ? Outcome::End : Outcome::Mixed;
-        else if (s[0]->front != s[1]->front || s[1]->front != s[2]->front) o = Outcome::Silhouette;
-        else if (s[0]->event != s[1]->event || s[1]->event != s[2]->event) o = Outcome::Tir;
+        const bool sameSide = s[0]->front == s[1]->front && s[1]->front == s[2]->front;
+        if (g >= o.maxDepth) out = Outcome::End;
+        else if (!sameMaterial || !allScatter) out = sameMaterial && s[0]->event == Event::Stop && s[1]->event == Event::Stop &&
+                                                         s[2]->event == Event::Stop ? Outcome::End : Outcome::Mixed;
+        else if (!sameSide) out = Outcome::Silhouette;
+        else if (s[0]->dielectric && g <= pass.branched[t] && !((corners[v[0]].reflectAt >> g) & 1u) &&
+                 (s[0]->event == Event::Reflect || s[1]->event == Event::Reflect || s[2]->event == Event::Reflect))
+          // The refracted part of a beam whose reflected branch at g exists: totally reflected
+          // corners carry nothing here (the branch has them).
+          out = s[0]->event == Event::Reflect && s[1]->event == Event::Reflect && s[2]->event == Event::Reflect
+                    ? Outcome::End : Outcome::Tir;
+        else if (s[0]->event != s[1]->event || s[1]->event != s[2]->event) out = Outcome::Tir;
         else {
           const Vec3 next[3] = {s[0]->next.dir, s[1]->next.dir, s[2]->next.dir};
-          if (!coaxial(next)) o = Outcome::Divergent;
+          if (!coaxial(next)) out = Outcome::Divergent;
         }
-        outcome[t] = o;
-        if (o == Outcome::Continue) {
+        // At a dielectric that this beam does not yet reflect at, its reflected part is a beam
+        // of its own (traced in the next pass; TIR corners reflect in both).
+        branch[t] = g < o.maxDepth && g < 31 && g > pass.branched[t] && allScatter && sameMaterial && sameSide && s[0]->dielectric &&
+                    (s[0]->event == Event::Refract || s[1]->event == Event::Refract || s[2]->event == Event::Refract);
+        outcome[t] = out;
+        if (out == Outcome::Continue) {
           power[t] = power[t] * ((s[0]->rho + s[1]->rho + s[2]->rho) * (1.0f / 3));
           const float sg = (s[0]->sigma + s[1]->sigma + s[2]->sigma) / 3;
           sigma2[t] += sg * sg;
@@ -171,22 +279,68 @@ std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& 
     });
     std::fill(cornerLive.begin(), cornerLive.end(), 0);
     for (size_t t = 0; t < nt; ++t) {
-      if (emitted[t] && maxComponent(generation[t].power) > 0) segments.push_back(generation[t]);
-      switch (outcome[t]) {
-        case Outcome::Mixed: ++stats.stoppedMixed; break;
-        case Outcome::Silhouette: ++stats.stoppedSilhouette; break;
-        case Outcome::Tir: ++stats.stoppedTir; break;
-        case Outcome::Divergent: ++stats.stoppedDivergent; break;
-        default: break;
+      if (emitted[t] && maxComponent(generation[t].power) > 0) segments.push_back({pass.root[t], generation[t]});
+      if (branch[t]) derived.push_back({uint32_t(t), g, true}), ++stats.reflectedBranches;
+      const Outcome out = outcome[t];
+      if (out != Outcome::Continue && out != Outcome::End) {
+        if (pass.level[t] < o.splitDepth) {
+          derived.push_back({uint32_t(t), g, false, branch[t] != 0});
+          ++stats.splits;
+        } else {
+          // The part of the beam whose corners would have gone on is lost.
+          const auto& v = pass.triangles[t];
+          int going = 0;
+          for (uint32_t i : v) going += scatter[i].event != Event::Stop;
+          const Rgb lost = power[t] * (float(going) / 3);
+          stats.droppedFlux += (double(lost.x) + double(lost.y) + double(lost.z)) / 3;
+          switch (out) {
+            case Outcome::Mixed: ++stats.stoppedMixed; break;
+            case Outcome::Silhouette: ++stats.stoppedSilhouette; break;
+            case Outcome::Tir: ++stats.stoppedTir; break;
+            case Outcome::Divergent: ++stats.stoppedDivergent; break;
+            default: break;
+          }
+        }
       }
       if (triLive[t])
-        for (uint32_t i : seeds.triangles[t]) cornerLive[i] = 1;
+        for (uint32_t i : pass.triangles[t]) cornerLive[i] = 1;
     }
     for (uint32_t i = 0; i < nv; ++i)
       if (cornerLive[i]) corners[i] = scatter[i].next;
     std::fill(outcome.begin(), outcome.end(), Outcome::End);
   }
-  stats.segments = segments.size();
+}
+
+}  // namespace
+
+std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, const BeamTraceOptions& o,
+                                    const TraceRays& trace, BeamTraceStats& stats) {
+  const size_t nt = seeds.triangles.size();
+  stats.generatorTriangles += nt;
+  Pass pass;
+  pass.corners.resize(seeds.org.size());
+  for (size_t i = 0; i < seeds.org.size(); ++i)
+    pass.corners[i] = {seeds.org[i], seeds.dir[i], seeds.coneWidth[i], seeds.coneSpread[i], kNoLeaf, 0, 0};
+  pass.triangles = seeds.triangles;
+  pass.flux = seeds.flux;
+  pass.root.resize(nt);
+  for (uint32_t t = 0; t < nt; ++t) pass.root[t] = t;
+  pass.emitted.assign(nt, -1);
+  pass.branched.assign(nt, -1);
+  pass.level.assign(nt, 0);
+  std::vector<Tagged> tagged;
+  std::vector<Derived> derived;
+  while (!pass.triangles.empty()) {
+    derived.clear();
+    tracePass(scene, pass, o, trace, stats, tagged, derived);
+    pass = derive(pass, derived);
+  }
+  // Segment order: by root triangle, then pass, generation and triangle (stable), so the
+  // segments of a range of roots traced alone come out as the same run of this order.
+  std::stable_sort(tagged.begin(), tagged.end(), [](const Tagged& a, const Tagged& b) { return a.root < b.root; });
+  std::vector<BeamSegment> segments(tagged.size());
+  for (size_t i = 0; i < tagged.size(); ++i) segments[i] = tagged[i].segment;
+  stats.segments += segments.size();
   return segments;
 }
 

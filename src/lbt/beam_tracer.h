@@ -8,12 +8,18 @@
 // materials or a non-scatterer, straddle a silhouette or total internal reflection, stop being
 // coaxial, or after maxDepth scatterings. Flux: Φ = I·Ω (or E·A), times each bounce's
 // reflectance averaged over the three corners; σ² adds up over glossy bounces.
-// Not done (documented limits): a stopped beam is not split into smaller ones, so energy is
-// lost along scatterer edges and seams in a band one cell wide; dielectrics carry only the
-// refracted part (the Fresnel-reflected part of glass is dropped).
+// Splitting: a beam that stops for one of those reasons is split into four (its first corner
+// rays subdivided at edge midpoints, flux in proportion) and the children are traced again
+// from the light, as generations through the engine, in a later pass; they emit segments only
+// from the generation where their parent stopped. After splitDepth splits the beam is dropped
+// and the flux its scattering corners carried is counted (droppedFlux). Dielectrics: a beam
+// whose corners refract also spawns its Fresnel-reflected branch (weight F per corner, TIR
+// corners F = 1), traced the same way, so glass carries both parts; a beam straddling total
+// internal reflection splits, its reflected branch is whole.
 //
-// Deterministic: segments come out in (generation, triangle) order whatever the thread count
-// or how many rays each trace() call holds.
+// Deterministic: segments come out ordered by seed triangle (then pass, generation, triangle)
+// whatever the thread count or how many rays each trace() call holds, and the segments of
+// seeds.range(a, b) traced alone are the same run of that order (batches, BeamBatches).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -35,13 +41,22 @@ struct BeamTraceStats {
   uint64_t stoppedSilhouette = 0;   // corners on both sides of a surface, or leaking through it
   uint64_t stoppedTir = 0;          // some corners refracted, others totally reflected
   uint64_t stoppedDivergent = 0;    // corner rays no longer roughly coaxial
+  uint64_t splits = 0;              // beams split into four instead of stopping
+  uint64_t reflectedBranches = 0;   // Fresnel-reflected beams spawned at dielectrics
+  double droppedFlux = 0;           // W (mean over RGB) of beams stopped after splitDepth splits
+};
+
+struct BeamTraceOptions {
+  int maxDepth = 4;          // ≥ 1 scatterings
+  int splitDepth = 4;        // ≥ 0 splits of a beam before it is dropped
+  float far = 1e30f;         // the length given to a corner ray that escapes the scene
+  size_t raysPerTrace = 1;   // ≥ 1: the most rays handed to one trace() call
 };
 
 using TraceRays = std::function<void(RayBatch&)>;
 
-// maxDepth ≥ 1 scatterings; far: the length given to a corner ray that escapes the scene;
-// raysPerTrace ≥ 1: the most rays handed to one trace() call.
-std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, int maxDepth, float far,
-                                    size_t raysPerTrace, const TraceRays& trace, BeamTraceStats& stats);
+// Adds to stats (so batches accumulate).
+std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, const BeamTraceOptions& options,
+                                    const TraceRays& trace, BeamTraceStats& stats);
 
 }  // namespace rayes

@@ -5,9 +5,11 @@
 // input.
 #include <gtest/gtest.h>
 #include <fstream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 #include "render_fixtures.h"
 #include "support/temp_folder.h"
+#include "shading/fresnel.h"
 
 namespace rayes::testing {
 namespace {
@@ -99,6 +101,224 @@ TEST(Beams, TwoGlossyBouncesCombineInQuadrature) {
     twoBounce += std::fabs(s.sigma - 0.05f) < 1e-6f;
   }
   EXPECT_GT(twoBounce, 0);
+}
+
+// A point light off the mirror's axis, so the mirror's edges cut the light's cells, above a
+// large ceiling: the beams' flux on the ceiling, ∫E dA by the midpoint rule, is ρ·I·Ω with Ω the
+// mirror's solid angle from the light. The cells the edges cut are split (--beam-split-depth);
+// without splits their flux is dropped (and counted).
+std::string offAxisMirror(const TempFolder& tmp, const char* mirror) {
+  const std::string path = tmp.path("mirror.json");
+  std::ofstream(path) << R"({
+    "camera": {"position": [0, -6, 0.3], "look_at": [0, 0, 1.6], "up": [0, 0, 1], "fov": 55},
+    "film": {"resolution": [8, 6], "spp": 1},
+    "materials": {"mirror": )" << mirror << R"(,
+      "ceiling": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+    "shapes": [
+      {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
+      {"type": "bilinear", "material": "ceiling", "quads": [[[-6, -6, 2], [6, -6, 2], [-6, 6, 2], [6, 6, 2]]]}],
+    "lights": [{"type": "point", "position": [0.13, 0.07, 1], "intensity": [10, 10, 10]}]})";
+  return path;
+}
+
+double ceilingFlux(const BeamStore& beams, uint32_t leaf, float half, int n) {
+  const double h = 2.0 * half / n;
+  double sum = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      sum += gatherAt(beams, leaf, {float(-half + (i + 0.5) * h), float(-half + (j + 0.5) * h), 2}, {0, 0, -1});
+  return sum * h * h;
+}
+
+double mirrorSolidAngle(Vec3 light) {
+  const Vec3 c[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  Vec3 d[4];
+  for (int k = 0; k < 4; ++k) d[k] = normalize(c[k] - light);
+  return sphericalTriangleArea(d[0], d[1], d[2]) + sphericalTriangleArea(d[0], d[2], d[3]);
+}
+
+TEST(Beams, SplittingKeepsTheFluxWhereTheMirrorsEdgeCutsBeams) {
+  TempFolder tmp;
+  const Scene scene = loadScene(offAxisMirror(tmp, R"({"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.0001})"));
+  const double exact = 0.9 * 10 * mirrorSolidAngle({0.13f, 0.07f, 1});
+  const uint32_t ceiling = uint32_t(scene.leaves.size() - 1);
+  // The footprint lies inside [-2.7, 3.3]²; the midpoint rule's error is at the footprint's
+  // edge: below perimeter·h/2·E_edge ≈ 24·0.01·0.4 ≈ 0.1 (0.5 % of the 18.7 W).
+  RenderOptions split = lbtOptions(16);
+  Renderer r(scene, split);
+  ASSERT_NE(r.beams(), nullptr);
+  EXPECT_GT(r.stats().beams.trace.splits, 0u);
+  EXPECT_NEAR(ceilingFlux(*r.beams(), ceiling, 4, 400), exact, 0.01 * exact);
+  EXPECT_LT(r.stats().beams.trace.droppedFlux, 0.01 * exact);
+  // Without splits a band one cell wide along the edges is lost, and counted.
+  RenderOptions whole = split;
+  whole.beams.splitDepth = 0;
+  Renderer w(scene, whole);
+  ASSERT_NE(w.beams(), nullptr);
+  EXPECT_GT(w.stats().beams.trace.droppedFlux, 0);
+  EXPECT_LT(ceilingFlux(*w.beams(), ceiling, 4, 400), 0.98 * exact);
+}
+
+// A dielectric plane under the light: the beams carry its Fresnel-reflected part too, E =
+// F(cos θ)·I·cos θ/D² on the ceiling (D² = x² + y² + 9, cos θ = 3/D at the mirror point), F of
+// ior 1.5 from shading/fresnel.h.
+TEST(Beams, DielectricsReflectTheirFresnelPart) {
+  TempFolder tmp;
+  const Scene scene = loadScene(offAxisMirror(tmp, R"({"type": "dielectric", "ior": 1.5})"));
+  const int n = 64;
+  Renderer r(scene, lbtOptions(n));
+  ASSERT_NE(r.beams(), nullptr);
+  EXPECT_GT(r.stats().beams.trace.reflectedBranches, 0u);
+  const uint32_t ceiling = uint32_t(scene.leaves.size() - 1);
+  // The light at (0.13, 0.07, 1), its image at (0.13, 0.07, -1); E = F·3I/D³ with D the
+  // distance from the image. Error: the corner blend, ~(2/n)² (as the mirror's), plus F
+  // averaged over a triangle's corners instead of taken at x: at most F's change over one
+  // cell's angle (2/n at the face's centre).
+  for (float x : {0.1f, 0.9f, -1.2f})
+    for (float y : {0.0f, 1.4f}) {
+      const double dx = x - 0.13, dy = y - 0.07, d = std::sqrt(dx * dx + dy * dy + 9);
+      const double theta = std::acos(3 / d), cell = 2.0 / n;
+      const double f = fresnelDielectric(float(3 / d), 1.5f);
+      const double df = std::fabs(fresnelDielectric(float(std::cos(theta + cell)), 1.5f) -
+                                  fresnelDielectric(float(std::cos(std::max(0.0, theta - cell))), 1.5f));
+      const double exact = f * 3 * 10 / (d * d * d);
+      EXPECT_NEAR(gatherAt(*r.beams(), ceiling, {x, y, 2}, {0, 0, -1}), exact, (1.5e-3 + df / f) * exact)
+          << x << ", " << y;
+    }
+}
+
+// A light inside glass under its flat top (normal up): corner rays steeper than the critical
+// angle refract out (1 − F) and reflect back in (F); past it they reflect wholly. Beams that
+// straddle the critical angle split; their reflected branch is whole. Every first-bounce beam
+// starts on the plane, so their powers add up to I·Ω of the plane (minus what is dropped at the
+// plane's edges and along the critical circle).
+TEST(Beams, BeamsStraddlingTotalInternalReflectionSplitAndKeepTheirFlux) {
+  TempFolder tmp;
+  const std::string path = tmp.path("tir.json");
+  std::ofstream(path) << R"({
+    "camera": {"position": [0, -8, 0], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 55},
+    "film": {"resolution": [8, 6], "spp": 1},
+    "materials": {"glass": {"type": "dielectric", "ior": 1.5},
+      "wall": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+    "shapes": [
+      {"type": "bilinear", "material": "glass", "quads": [[[-3, -3, 0], [3, -3, 0], [-3, 3, 0], [3, 3, 0]]]},
+      {"type": "bilinear", "material": "wall", "quads": [[[-30, -30, 2], [30, -30, 2], [-30, 30, 2], [30, 30, 2]]]},
+      {"type": "bilinear", "material": "wall", "quads": [[[-30, 30, -3], [30, 30, -3], [-30, -30, -3], [30, -30, -3]]]}],
+    "lights": [{"type": "point", "position": [0.05, 0.03, -1], "intensity": [1, 1, 1]}]})";
+  const Scene scene = loadScene(path);
+  RenderOptions o = lbtOptions(24);
+  o.beams.maxDepth = 1;
+  Renderer r(scene, o);
+  ASSERT_NE(r.beams(), nullptr);
+  const BeamRenderStats& b = r.stats().beams;
+  EXPECT_GT(b.trace.splits, 0u);
+  EXPECT_GT(b.trace.reflectedBranches, 0u);
+  double up = 0, down = 0;
+  for (const BeamSegment& s : r.beams()->segments()) {
+    for (int i = 0; i < 3; ++i) EXPECT_TRUE(isFinite(s.d[i]) && std::isfinite(s.t[i]));
+    (s.d[0].z > 0 ? up : down) += s.power.x;
+  }
+  const Vec3 light{0.05f, 0.03f, -1};
+  const Vec3 c[4] = {{-3, -3, 0}, {3, -3, 0}, {3, 3, 0}, {-3, 3, 0}};
+  Vec3 d[4];
+  for (int k = 0; k < 4; ++k) d[k] = normalize(c[k] - light);
+  const double omega = sphericalTriangleArea(d[0], d[1], d[2]) + sphericalTriangleArea(d[0], d[2], d[3]);
+  // Nothing counted twice (each split shares its parent's flux exactly, each corner's 1 − F and F
+  // add up to 1), and what splitting could not keep is under 1 %.
+  EXPECT_LT(up + down, omega * (1 + 1e-4));
+  EXPECT_GT(up + down, 0.99 * omega);
+  EXPECT_GT(b.trace.droppedFlux, 0);
+  // Out through the escape cone (θ < θc = asin(1/1.5)): ∫ (1 − F(θ)) dΩ, F seen from inside.
+  const double thetaC = std::asin(1 / 1.5);
+  double escape = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const double th = (k + 0.5) * thetaC / 4000;
+    escape += (1 - fresnelDielectric(-float(std::cos(th)), 1.5f)) * 2 * std::numbers::pi * std::sin(th) * thetaC / 4000;
+  }
+  EXPECT_NEAR(up, escape, 0.01 * escape);
+}
+
+// A budget that holds a third of the beams: they are processed in batches (the camera paths
+// once per batch), and the image is the unbatched one bit for bit.
+TEST(Beams, BatchesUnderTheBeamMemoryBudgetGiveTheSameImage) {
+  Scene scene = loadScene(sourcePath("scenes/lbt-mirror-glossy.json"));
+  scene.width = 20;
+  scene.height = 15;
+  scene.samplesPerPixel = 1;
+  const RenderOptions whole = lbtOptions(12);
+  Renderer one(scene, whole);
+  ASSERT_NE(one.beams(), nullptr);
+  EXPECT_EQ(one.stats().beams.batches, 1u);
+  RenderOptions small = whole;
+  small.beams.memoryBytes = one.stats().beams.bytes / 3;
+  Renderer several(scene, small);
+  EXPECT_GE(several.stats().beams.batches, 3u);
+  EXPECT_EQ(several.stats().beams.trace.segments, one.stats().beams.trace.segments);
+  const auto ref = renderBeauty(scene, whole, 2);
+  EXPECT_EQ(renderBeauty(scene, small, 2), ref);
+  EXPECT_NE(renderBeauty(scene, RenderOptions{}, 2), ref);  // the beams are in the image
+}
+
+// A small rect light facing down onto a mirror, the ceiling above lit only through the mirror:
+// every light path to the ceiling is a caustic one. lbt (beams from 2×2 points of the light)
+// against the light tracer, the reference for caustics: the image means agree within 4
+// standard errors, estimated from independent seeds of both.
+TEST(Beams, AreaLightsSendBeamsFromSamplePointsAndMatchTheLightTracer) {
+  TempFolder tmp;
+  const std::string path = tmp.path("area.json");
+  std::ofstream(path) << R"({
+    "camera": {"position": [0, -5, 0.5], "look_at": [0, 0, 2], "up": [0, 0, 1], "fov": 50},
+    "film": {"resolution": [12, 9], "spp": 4},
+    "integrator": {"max_depth": 4, "seed": 0},
+    "materials": {"mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.0001},
+      "ceiling": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+    "shapes": [
+      {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
+      {"type": "bilinear", "material": "ceiling", "quads": [[[-4, -4, 2], [4, -4, 2], [-4, 4, 2], [4, 4, 2]]]}],
+    "lights": [{"type": "rect", "corner": [-0.15, -0.15, 1], "edge_u": [0, 0.3, 0], "edge_v": [0.3, 0, 0],
+                "radiance": [40, 40, 40]}]})";
+  Scene scene = loadScene(path);
+  {
+    Renderer r(scene, lbtOptions(24));
+    ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+    EXPECT_GT(r.stats().beams.trace.segments, 0u);
+  }
+  auto mean = [](const std::vector<float>& rgba) {
+    double sum = 0;
+    for (size_t i = 0; i < rgba.size(); i += 4) sum += rgba[i];
+    return sum / double(rgba.size() / 4);
+  };
+  auto stats = [&](const RenderOptions& o, int seeds, double& m, double& se) {
+    std::vector<double> means;
+    for (int k = 0; k < seeds; ++k) {
+      scene.integrator.seed = uint32_t(k + 1);
+      means.push_back(mean(renderBeauty(scene, o, 2)));
+    }
+    m = 0;
+    for (double x : means) m += x / seeds;
+    double var = 0;
+    for (double x : means) var += (x - m) * (x - m) / (seeds - 1);
+    se = std::sqrt(var / seeds);
+  };
+  RenderOptions lt;
+  lt.method = IntegratorMethod::LightTracing;
+  double mLt, seLt, mLbt, seLbt;
+  stats(lt, 8, mLt, seLt);
+  stats(lbtOptions(24), 4, mLbt, seLbt);
+  EXPECT_GT(mLt, 0);
+  EXPECT_NEAR(mLbt, mLt, 4 * std::sqrt(seLt * seLt + seLbt * seLbt)) << "lt " << mLt << " ± " << seLt;
+}
+
+// glass-caustic.json's light is a rect: lbt now traces beams through its glass.
+TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
+  Scene scene = loadScene(sourcePath("scenes/glass-caustic.json"));
+  scene.width = 8;
+  scene.height = 6;
+  scene.samplesPerPixel = 1;
+  Renderer r(scene, lbtOptions(8));
+  ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+  EXPECT_GT(r.stats().beams.trace.reflectedBranches, 0u);
+  for (const BeamSegment& s : r.beams()->segments()) EXPECT_TRUE(isFinite(s.power) && maxComponent(s.power) > 0);
 }
 
 TEST(Beams, ImagesAreOrderIndependentAndBudgetIndependent) {
