@@ -197,26 +197,27 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
   for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
     integrator_->startLight(first, count, rays);
-    for (int depth = 0;; ++depth) {
-      GenerationRecord rec{pass, batch, depth, {}};
-      engine_->trace(rays, rec.stats, stats_.trace);
-      stats_.generations.push_back(std::move(rec));
-      if (integrator_->shadeLight(uint32_t(depth), rays, stats_.shade) == 0) break;
-    }
+    runGenerations(pass, batch, rays, true);
     integrator_->finishLightBatch(stats_.shade);
     ++stats_.batches;
   }
   integrator_->lightPassDone(stats_.shade);
 }
 
-void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays) {
-  integrator_->start(first, count, rays);
+void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths) {
   for (int depth = 0;; ++depth) {
     GenerationRecord rec{pass, batch, depth, {}};
     engine_->trace(rays, rec.stats, stats_.trace);
     stats_.generations.push_back(std::move(rec));
-    if (integrator_->shade(uint32_t(depth), rays, stats_.shade) == 0) break;
+    const size_t next = lightPaths ? integrator_->shadeLight(uint32_t(depth), rays, stats_.shade)
+                                   : integrator_->shade(uint32_t(depth), rays, stats_.shade);
+    if (next == 0) break;
   }
+}
+
+void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays) {
+  integrator_->start(first, count, rays);
+  runGenerations(pass, batch, rays, false);
 }
 
 Film Renderer::render(const Progress& progress) {

@@ -159,6 +159,9 @@ class Renderer {
   std::vector<std::pair<size_t, size_t>> beamRanges_;
   std::unique_ptr<BeamBatches> beamBatches_;
   void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays);
+  // Generations of the batch in `rays` until no path goes on (camera paths, or the
+  // integrator's light paths).
+  void runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths);
 };
 
 // Root-mean-square difference of the film's mean RGB against a reference (RGB per pixel).

@@ -130,8 +130,9 @@ double ceilingFlux(const BeamStore& beams, uint32_t leaf, float half, int n) {
   return sum * h * h;
 }
 
-double mirrorSolidAngle(Vec3 light) {
-  const Vec3 c[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+// The solid angle of the square [-h, h]² at z = 0 seen from `light`.
+double squareSolidAngle(Vec3 light, float h) {
+  const Vec3 c[4] = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
   Vec3 d[4];
   for (int k = 0; k < 4; ++k) d[k] = normalize(c[k] - light);
   return sphericalTriangleArea(d[0], d[1], d[2]) + sphericalTriangleArea(d[0], d[2], d[3]);
@@ -140,7 +141,7 @@ double mirrorSolidAngle(Vec3 light) {
 TEST(Beams, SplittingKeepsTheFluxWhereTheMirrorsEdgeCutsBeams) {
   TempFolder tmp;
   const Scene scene = loadScene(offAxisMirror(tmp, R"({"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.0001})"));
-  const double exact = 0.9 * 10 * mirrorSolidAngle({0.13f, 0.07f, 1});
+  const double exact = 0.9 * 10 * squareSolidAngle({0.13f, 0.07f, 1}, 1);
   const uint32_t ceiling = uint32_t(scene.leaves.size() - 1);
   // The footprint lies inside [-2.7, 3.3]²; the midpoint rule's error is at the footprint's
   // edge: below perimeter·h/2·E_edge ≈ 24·0.01·0.4 ≈ 0.1 (0.5 % of the 18.7 W).
@@ -218,11 +219,7 @@ TEST(Beams, BeamsStraddlingTotalInternalReflectionSplitAndKeepTheirFlux) {
     for (int i = 0; i < 3; ++i) EXPECT_TRUE(isFinite(s.d[i]) && std::isfinite(s.t[i]));
     (s.d[0].z > 0 ? up : down) += s.power.x;
   }
-  const Vec3 light{0.05f, 0.03f, -1};
-  const Vec3 c[4] = {{-3, -3, 0}, {3, -3, 0}, {3, 3, 0}, {-3, 3, 0}};
-  Vec3 d[4];
-  for (int k = 0; k < 4; ++k) d[k] = normalize(c[k] - light);
-  const double omega = sphericalTriangleArea(d[0], d[1], d[2]) + sphericalTriangleArea(d[0], d[2], d[3]);
+  const double omega = squareSolidAngle({0.05f, 0.03f, -1}, 3);
   // Nothing counted twice (each split shares its parent's flux exactly, each corner's 1 − F and F
   // add up to 1), and what splitting could not keep is under 1 %.
   EXPECT_LT(up + down, omega * (1 + 1e-4));
@@ -354,10 +351,12 @@ TEST(Beams, BadOptionsAreRefusedWithExitCode2AndNoOutput) {
   EXPECT_NE(r.err.find("--beam-memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("one beam"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
-  r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", "--beam-resolution", "0"});
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--beam-resolution"), std::string::npos) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(out));
+  for (const char* option : {"--beam-resolution", "--beam-split-depth", "--beam-area-samples"}) {
+    r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", option, "-1"});
+    EXPECT_EQ(r.code, 2) << option;
+    EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
 }
 
 TEST(Beams, StatsCountTheBeams) {
