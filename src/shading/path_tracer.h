@@ -65,8 +65,10 @@ struct DiffuseVertex {
   const Bsdf* bsdf;
   uint32_t sample;    // the path's sample number (progressive methods shrink with it)
   uint32_t leaf = kNoLeaf;  // the leaf hit (light beams gather from that leaf's bins)
-  uint32_t path = 0;        // the path's index in its batch, and the vertex's bounce (< maxDepth):
-  uint32_t bounce = 0;      // beams processed in batches keep a partial sum per (path, bounce)
+  uint32_t bounce = 0;      // the camera path's bounce here (0: the first hit): with the light
+                            // side's vertices it must stay within max_depth, as in the path tracer
+  uint32_t path = 0;        // the path's index in its batch: beams processed in batches keep a
+                            // partial sum per (path, bounce)
 };
 
 // Reflected radiance along wo carried by caustic paths (light -> caustic scatterers -> here).
