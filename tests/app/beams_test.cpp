@@ -312,7 +312,9 @@ TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
   scene.width = 8;
   scene.height = 6;
   scene.samplesPerPixel = 1;
-  Renderer r(scene, lbtOptions(8));
+  RenderOptions o = lbtOptions(8);
+  o.beams.areaSamples = 1;
+  Renderer r(scene, o);
   ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
   EXPECT_GT(r.stats().beams.trace.reflectedBranches, 0u);
   for (const BeamSegment& s : r.beams()->segments()) EXPECT_TRUE(isFinite(s.power) && maxComponent(s.power) > 0);
