@@ -110,7 +110,7 @@ std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, B
   for (size_t l = 0; l < leafReceives.size(); ++l)
     leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
   return std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
-                                     leafReceives);
+                                     leafReceives, scene_.integrator.maxDepth);
 }
 
 void Renderer::buildBeams() {

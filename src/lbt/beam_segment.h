@@ -23,6 +23,7 @@ struct BeamSegment {
   float t[3];       // where each corner ray ends (its hit, or the scene's far bound)
   Rgb power;        // ρ·Φ in W
   float sigma = 0;  // combined lobe width in radians, 0 for specular
+  uint8_t scatterings = 1;  // specular/glossy bounces before it: it lands at light-path vertex scatterings + 1
 };
 
 // Corner rays closer to each other's direction than this are "roughly coaxial" (cos of 60°);

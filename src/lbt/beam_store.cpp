@@ -64,8 +64,8 @@ bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
 }
 
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
-                     size_t budget, std::span<const uint8_t> receives)
-    : segments_(std::move(segments)) {
+                     size_t budget, std::span<const uint8_t> receives, int maxDepth)
+    : segments_(std::move(segments)), maxDepth_(maxDepth) {
   const size_t leaves = top.leafCount();
   if (!segments_.empty() && minimumBytes(leaves) > budget)
     throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
@@ -155,7 +155,8 @@ std::pair<uint64_t, uint64_t> BeamStore::cellRange(uint32_t leaf, Vec3 x) const 
 }
 
 Rgb BeamStore::radiance(const DiffuseVertex& v, Rgb sum) const {
-  gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance) {
+  gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance, const BeamSegment& segment) {
+    if (int64_t(v.bounce) + segment.scatterings + 1 > maxDepth_) return;
     const Vec3 wi = -psi;
     const Vec3 wiL = v.frame->toLocal(wi);
     // Both directions on the sides of the true surface the shading frame claims.

@@ -25,6 +25,7 @@
 #pragma once
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 #include "lbt/beam_segment.h"
 #include "shading/path_tracer.h"
@@ -37,9 +38,10 @@ class BeamStore final : public CausticRadiance {
   // leafBoxes: the boxes the top level was built over (Patch::bounds per leaf); receives: per
   // leaf, whether gathers happen there (empty: every leaf), so scatterers get no bins.
   BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
-            size_t memoryBudget, std::span<const uint8_t> receives = {});
-  // Calls add(psi, E) for each segment of the cell of `leaf`'s grid holding x that lights x
-  // (psi: the light's unit direction there, E: irradiance, cosine included), in segment order.
+            size_t memoryBudget, std::span<const uint8_t> receives = {}, int maxDepth = 1 << 30);
+  // Calls add(psi, E) (or add(psi, E, segment)) for each segment of the cell of `leaf`'s grid
+  // holding x that lights x (psi: the light's unit direction there, E: irradiance, cosine
+  // included), in segment order.
   template <class Add>
   void gather(uint32_t leaf, Vec3 x, Vec3 normal, Add&& add) const {
     const auto [first, last] = cellRange(leaf, x);
@@ -50,11 +52,15 @@ class BeamStore final : public CausticRadiance {
       Vec3 psi;
       const BeamSegment& s = segments_[entries_[e]];
       const Rgb irradiance = beamIrradiance(s, x, normal, psi);
-      if (maxComponent(irradiance) > 0 && reaches(s, inside)) add(psi, irradiance);
+      if (!(maxComponent(irradiance) > 0 && reaches(s, inside))) continue;
+      if constexpr (std::is_invocable_v<Add, Vec3, Rgb, const BeamSegment&>) add(psi, irradiance, s);
+      else add(psi, irradiance);
     }
   }
   // The caustic radiance at a diffuse vertex: sum + f(wo, -psi)·E over the gathered segments,
-  // added one by one in segment order (a batch continues the previous batch's sum).
+  // added one by one in segment order (a batch continues the previous batch's sum). As the path
+  // tracer it complements counts them, only paths within maxDepth: camera bounce + light-path
+  // vertex (scatterings + 1) ≤ maxDepth.
   Rgb radiance(const DiffuseVertex& v, Rgb sum) const;
   Rgb radiance(const DiffuseVertex& v) const override { return radiance(v, Rgb{}); }
 
@@ -91,6 +97,7 @@ class BeamStore final : public CausticRadiance {
   std::vector<uint64_t> offsets_;   // cell c's segments: entries_[offsets_[c], offsets_[c + 1])
   std::vector<uint32_t> entries_;
   size_t needed_ = 0;
+  int maxDepth_;
 };
 
 

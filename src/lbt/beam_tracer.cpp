@@ -242,6 +242,7 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
           for (int i = 0; i < 3; ++i) seg.o[i] = corners[v[i]].org, seg.d[i] = dirs[i], seg.t[i] = s[i]->t;
           seg.power = power[t];
           seg.sigma = std::sqrt(sigma2[t]);
+          seg.scatterings = uint8_t(std::min(g, 255));
           emitted[t] = 1;
         }
         Outcome out = Outcome::Continue;

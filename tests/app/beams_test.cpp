@@ -320,6 +320,22 @@ TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
   for (const BeamSegment& s : r.beams()->segments()) EXPECT_TRUE(isFinite(s.power) && maxComponent(s.power) > 0);
 }
 
+// As pm, lbt complements the path tracer within max_depth: camera bounces and the beam's
+// scatterings together. At max_depth 1 the mirror caustic (ceiling, mirror, light: 2 bounces)
+// is no path of the render; at 2 it is.
+TEST(Beams, MaxDepthBoundsCameraBouncesAndBeamScatteringsTogether) {
+  Scene scene = loadScene(sourcePath("scenes/lbt-mirror.json"));
+  scene.width = 12;
+  scene.height = 9;
+  scene.samplesPerPixel = 2;
+  RenderOptions without;
+  without.integrator.causticPaths = CausticPaths::Without;
+  scene.integrator.maxDepth = 1;
+  EXPECT_EQ(renderBeauty(scene, lbtOptions(8), 2), renderBeauty(scene, without, 2));
+  scene.integrator.maxDepth = 2;
+  EXPECT_NE(renderBeauty(scene, lbtOptions(8), 2), renderBeauty(scene, without, 2));
+}
+
 TEST(Beams, ImagesAreOrderIndependentAndBudgetIndependent) {
   Scene scene = loadScene(sourcePath("scenes/lbt-mirror-glossy.json"));
   scene.width = 24;
