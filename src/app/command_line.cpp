@@ -65,7 +65,7 @@ void parseResolution(const std::string& text, int& width, int& height) {
 struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
               method = "pt", causticPaths = "all";
-  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G";
+  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G", gridCache;
   int beamResolution = 128, beamDepth = 4;
   std::optional<int> spp;
   int64_t photons = 20000;
@@ -109,6 +109,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  if (!a.gridCache.empty()) options.gridCacheBytes = a.gridCache == "0" ? 0 : parseBytes(a.gridCache, "--grid-cache");
   options.progressive = a.progressive;
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
@@ -288,6 +289,9 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                 "memory for ray, path and candidate buffers, e.g. 512M or 2G (default: an eighth of physical "
                 "memory, within [256M, 2G]); a smaller budget means more batches, iterations and dicings, "
                 "never a different image");
+  c->add_option("--grid-cache", a.gridCache,
+                "memory for diced grids kept across iterations and generations of a batch, e.g. 256M (default "
+                "512M; 0: off); a smaller cache means more dicings, never a different image");
   c->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
                                 "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
                                 "(every ray at --max-lod: one geometry for every ray, for references)")
