@@ -39,9 +39,10 @@ class GridCache {
   explicit GridCache(size_t budgetBytes) : budget_(budgetBytes) {}
   bool enabled() const { return budget_ > 0; }
 
-  // The entry holding `leaf` at `level` or finer (toDice false), or one with an empty grid made
-  // for `level` (toDice true: dice into it and set patch), evicting least recently used entries
-  // that are not pinned; nullptr when the grid does not fit beside the pinned ones.
+  // The entry holding `leaf` diced at `level` or finer (toDice false), or one with an empty grid
+  // made for `level` (toDice true: the caller must dice it at `level` and set patch before the
+  // next acquire of that leaf), evicting least recently used entries that are not pinned;
+  // nullptr when the grid does not fit beside the pinned ones.
   Entry* acquire(uint32_t leaf, int level);
   // Ends an iteration: its entries become evictable.
   void nextIteration() { ++iteration_; }

@@ -3,6 +3,7 @@
 // current iteration are never evicted (the parallel step is still using them), least recently used
 // ones are.
 #include <gtest/gtest.h>
+#include "geometry/bilinear_patch.h"
 #include "rays/grid_cache.h"
 
 namespace rayes {
@@ -10,16 +11,26 @@ namespace {
 
 size_t gridBytes(int level) { return DiceBuffer(level).bytesAllocated(); }
 
+// What the Tracer does with an entry: dices into it when asked to.
+GridCache::Entry* acquireAndDice(GridCache& cache, uint32_t leaf, int level) {
+  GridCache::Entry* e = cache.acquire(leaf, level);
+  if (e && e->toDice) {
+    e->patch = std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{1, 1, 0.5f});
+    e->grid->dice(*e->patch, level);
+  }
+  return e;
+}
+
 TEST(GridCache, HoldsALeafAndServesItsLevelAndCoarserOnes) {
   GridCache cache(1 << 20);
-  GridCache::Entry* e = cache.acquire(7, 3);
+  GridCache::Entry* e = acquireAndDice(cache, 7, 3);
   ASSERT_NE(e, nullptr);
   EXPECT_TRUE(e->toDice);
   EXPECT_EQ(e->grid->maxLevel(), 3);
   EXPECT_EQ(cache.bytes(), gridBytes(3));
   cache.nextIteration();
   for (int level : {3, 1, 0}) {
-    GridCache::Entry* again = cache.acquire(7, level);
+    GridCache::Entry* again = acquireAndDice(cache, 7, level);
     ASSERT_EQ(again, e);
     EXPECT_FALSE(again->toDice) << level;
     cache.nextIteration();
@@ -29,7 +40,7 @@ TEST(GridCache, HoldsALeafAndServesItsLevelAndCoarserOnes) {
 
 TEST(GridCache, AFinerRequestIsDicedAgainAtTheFinerLevel) {
   GridCache cache(1 << 20);
-  cache.acquire(7, 1);
+  acquireAndDice(cache, 7, 1);
   cache.nextIteration();
   GridCache::Entry* e = cache.acquire(7, 4);
   ASSERT_NE(e, nullptr);
@@ -55,17 +66,17 @@ TEST(GridCache, NeverEvictsAnEntryOfTheCurrentIteration) {
 
 TEST(GridCache, EvictsTheLeastRecentlyUsed) {
   GridCache cache(3 * gridBytes(1));
-  for (uint32_t leaf : {1u, 2u, 3u}) cache.acquire(leaf, 1);
+  for (uint32_t leaf : {1u, 2u, 3u}) acquireAndDice(cache, leaf, 1);
   cache.nextIteration();
-  cache.acquire(1, 1);  // 2 is now the least recently used
+  acquireAndDice(cache, 1, 1);  // 2 is now the least recently used
   cache.nextIteration();
-  cache.acquire(4, 1);
+  acquireAndDice(cache, 4, 1);
   cache.nextIteration();
-  EXPECT_FALSE(cache.acquire(1, 1)->toDice);
+  EXPECT_FALSE(acquireAndDice(cache, 1, 1)->toDice);
   cache.nextIteration();
-  EXPECT_FALSE(cache.acquire(3, 1)->toDice);
+  EXPECT_FALSE(acquireAndDice(cache, 3, 1)->toDice);
   cache.nextIteration();
-  EXPECT_TRUE(cache.acquire(2, 1)->toDice);  // evicted, diced again
+  EXPECT_TRUE(acquireAndDice(cache, 2, 1)->toDice);  // evicted, diced again
   EXPECT_LE(cache.peakBytes(), 3 * gridBytes(1));
 }
 
