@@ -17,17 +17,16 @@ struct CachedRender {
 };
 
 CachedRender renderWithGridCache(const Scene& scene, size_t bytes, int threads) {
-  ThreadLimit limit(threads);
   RenderOptions o;
   o.gridCacheBytes = bytes;
-  Renderer r(scene, o);
+  RenderStats stats;
   CachedRender out;
-  out.image = r.render().beautyRgba();
-  for (const auto& g : r.stats().generations) {
+  out.image = testing::renderBeauty(scene, o, threads, &stats);
+  for (const auto& g : stats.generations) {
     out.dicings += g.stats.leavesDiced;
     out.hits += g.stats.gridCacheHits;
   }
-  out.cacheBytes = r.stats().memory.diceCache;
+  out.cacheBytes = stats.memory.diceCache;
   return out;
 }
 
