@@ -363,10 +363,7 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
 }
 
 // Dices `leaf` (its time interval, or static when interval < 0) at the finest level of `count`
-// slots and intersects them all. A leaf with many rays (a wall seen by most of the image) would
-// serialise the iteration on one thread, so its rays are split into chunks that other threads
-// intersect against the same, now read-only, buffer; the chunk loop is isolated so this thread
-// cannot pick up another leaf's task (which would re-dice its buffer) while it waits.
+// slots and intersects them all.
 void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                               const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters) {
   const int m = runLevel(b, slots, count, leaf);
@@ -398,6 +395,10 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
     counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
 }
 
+// A leaf with many rays (a wall seen by most of the image) would serialise the iteration on one
+// thread, so its rays are split into chunks that other threads intersect against the same, now
+// read-only, buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
+// (which would re-dice its buffer) while it waits.
 void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                           const Patch& patch, int m, TraceTimes& times, DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
