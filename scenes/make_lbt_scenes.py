@@ -76,11 +76,24 @@ def pool(sigma):
     s["materials"] = {"water": {"type": "dielectric", "ior": 1.33},
                       "tiles": {"type": "diffuse", "albedo": [0.55, 0.7, 0.75]},
                       "rim": {"type": "glossy", "specular": [0.8, 0.8, 0.8], "sigma": sigma}}
+    # Everything under the water is lit only through it (caustic paths: a point light seen
+    # through a smooth surface, which the path tracer can never sample), so the pool has side
+    # walls and a deck lit directly: without them pt and lt rendered it black.
+    deck = [quad([-3.5, -3.5, 0.05], [3.5, -3.5, 0.05], [-3.5, -2, 0.05], [3.5, -2, 0.05]),
+            quad([-3.5, 2, 0.05], [3.5, 2, 0.05], [-3.5, 3.5, 0.05], [3.5, 3.5, 0.05]),
+            quad([-3.5, -2, 0.05], [-2, -2, 0.05], [-3.5, 2, 0.05], [-2, 2, 0.05]),
+            quad([2, -2, 0.05], [3.5, -2, 0.05], [2, 2, 0.05], [3.5, 2, 0.05])]
+    walls = [quad([-2, -2, -1], [2, -2, -1], [-2, -2, 0.05], [2, -2, 0.05]),
+             quad([-2, -2, -1], [-2, 2, -1], [-2, -2, 0.05], [-2, 2, 0.05]),
+             quad([2, -2, -1], [2, 2, -1], [2, -2, 0.05], [2, 2, 0.05])]
+    s["materials"]["deck"] = {"type": "diffuse", "albedo": [0.8, 0.78, 0.72]}
     s["shapes"] = [
         {"type": "bilinear", "material": "water", "quads": quads,
          "displacement": {"type": "noise", "amplitude": 0.06, "offset": -0.03, "frequency": 1.2, "octaves": 3,
                           "gain": 0.5, "lacunarity": 2, "seed": 3}},
-        {"type": "bilinear", "material": "tiles", "quads": [quad([-2, -2, -1], [2, -2, -1], [-2, 2, -1], [2, 2, -1])]},
+        {"type": "bilinear", "material": "tiles", "quads": [quad([-2, -2, -1], [2, -2, -1], [-2, 2, -1], [2, 2, -1])]
+         + walls},
+        {"type": "bilinear", "material": "deck", "quads": deck},
         {"type": "bilinear", "material": "rim", "quads": [quad([-2, 2, -1], [2, 2, -1], [-2, 2, 0.3], [2, 2, 0.3])]}]
     s["lights"] = [{"type": "point", "position": [0.8, -1.0, 4.0], "intensity": [40, 38, 34]}]
     return s
