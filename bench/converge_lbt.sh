@@ -7,7 +7,8 @@
 # Effort per step (docs/design.md, "Caustic paths"): spp doubles; pm and ppm trace PHOTONS per
 # sample (so their photons double); lbt starts at BEAM_RES cells per side and grows by sqrt 2 per
 # step (twice the beams), BEAM_GROWTH overriding it.
-# Usage: bench/converge_lbt.sh OUT RES BUDGET SCENE=REGION... (env: PHOTONS, BEAM_RES, BEAM_GROWTH, METHODS)
+# Usage: bench/converge_lbt.sh OUT RES BUDGET SCENE=REGION... (env: PHOTONS, BEAM_RES, BEAM_GROWTH, METHODS;
+#   TAG is appended to lbt's CSV name: another lbt schedule, compared as its own row by equal_rmse.py)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out=$1 res=$2 budget=$3
@@ -22,12 +23,14 @@ for arg in "$@"; do
   name=$(basename "$scene" .json)
   names+=("$name")
   for m in "${methods[@]}"; do
+    file="$out/$name-$m.csv"
+    [ "$m" = lbt ] && file="$out/$name-lbt${TAG:-}.csv"
     uptime
     nice -n 5 build/bin/rayes converge "$scene" --reference "$out/$name-ref-pt.exr" --reference "$out/$name-ref-lt.exr" \
       --error-mask "$out/$name-mask.exr" --region "$region" --res "$res" --lod fixed --max-lod 6 --method "$m" \
       --budget "$budget" --seed 1 --photons "$photons" --beam-resolution "$beamres" --beam-growth "$growth" \
-      -o "$out/$name-$m.csv" -q
-    echo "== $name $m"; cat "$out/$name-$m.csv"
+      -o "$file" -q
+    echo "== $file"; cat "$file"
   done
 done
 uptime

@@ -18,6 +18,7 @@ import sys
 
 METHODS = ["lbt", "pm", "ppm", "pt"]
 COLOURS = {"lbt": "#c33", "pm": "#36c", "ppm": "#393", "pt": "#888"}
+VARIANT_COLOURS = ["#e83", "#a3a", "#3aa"]
 
 
 def curve(path):
@@ -68,11 +69,12 @@ def svg(scene, curves, target, path):
         y = Y(target)
         out.append(f'<line x1="{L}" y1="{y:.1f}" x2="{W - R}" y2="{y:.1f}" stroke="#000" stroke-dasharray="4 3"/>')
     for k, (m, c) in enumerate(curves.items()):
+        colour = COLOURS.get(m) or VARIANT_COLOURS[(k - len(COLOURS)) % len(VARIANT_COLOURS)]
         pts = " ".join(f"{X(t):.1f},{Y(e):.1f}" for t, e in c if t > 0 and e > 0)
-        out.append(f'<polyline fill="none" stroke="{COLOURS[m]}" stroke-width="1.5" points="{pts}"/>')
-        out += [f'<circle cx="{X(t):.1f}" cy="{Y(e):.1f}" r="3" fill="{COLOURS[m]}"/>' for t, e in c if t > 0 and e > 0]
+        out.append(f'<polyline fill="none" stroke="{colour}" stroke-width="1.5" points="{pts}"/>')
+        out += [f'<circle cx="{X(t):.1f}" cy="{Y(e):.1f}" r="3" fill="{colour}"/>' for t, e in c if t > 0 and e > 0]
         out.append(f'<line x1="{W - R + 10}" y1="{T + 10 + 18 * k}" x2="{W - R + 30}" y2="{T + 10 + 18 * k}" '
-                   f'stroke="{COLOURS[m]}" stroke-width="2"/><text x="{W - R + 36}" y="{T + 14 + 18 * k}">{m}</text>')
+                   f'stroke="{colour}" stroke-width="2"/><text x="{W - R + 36}" y="{T + 14 + 18 * k}">{m}</text>')
     out.append("</svg>")
     with open(path, "w") as f:
         f.write("\n".join(out) + "\n")
@@ -80,23 +82,33 @@ def svg(scene, curves, target, path):
 
 def main(argv):
     folder, scenes = argv[0], argv[1:]
-    print("| scene | X | RMSE | lbt CPU s | X CPU s | X / lbt | lbt min RMSE | X min RMSE |")
+    print("| scene | lbt vs X | RMSE | lbt CPU s | X CPU s | X / lbt | lbt min RMSE | X min RMSE |")
     print("|---|---|---|---|---|---|---|---|")
     for scene in scenes:
         curves = {m: curve(f"{folder}/{scene}-{m}.csv") for m in METHODS if os.path.exists(f"{folder}/{scene}-{m}.csv")}
+        # other lbt schedules: SCENE-lbtTAG.csv
+        variants = sorted(f[len(scene) + 1:-4] for f in os.listdir(folder)
+                          if f.startswith(f"{scene}-lbt") and f.endswith(".csv") and f != f"{scene}-lbt.csv")
+        for v in variants:
+            curves[v] = curve(f"{folder}/{scene}-{v}.csv")
         lbt = curves.get("lbt")
         line = max(min(e for _, e in lbt), min(e for _, e in curves["pm"])) if lbt and "pm" in curves else None
         svg(scene, curves, line, f"{folder}/{scene}-curves.svg")
-        if not lbt:
+        for name in ["lbt"] + variants:
+            if name in curves:
+                compare(scene, name, curves)
+
+
+def compare(scene, name, curves):
+    lbt = curves[name]
+    for m in ["pm", "ppm", "pt"]:
+        if m not in curves:
             continue
-        for m in ["pm", "ppm", "pt"]:
-            if m not in curves:
-                continue
-            lo_l, lo_x = min(e for _, e in lbt), min(e for _, e in curves[m])
-            target = max(lo_l, lo_x)
-            (tl, first_l), (tx, first_x) = time_at(lbt, target), time_at(curves[m], target)
-            bound = "≥ " if first_l and not first_x else "≤ " if first_x and not first_l else "~ " if first_x else ""
-            print(f"| {scene} | {m} | {target:.4g} | {tl:.3g} | {tx:.3g} | {bound}{tx / tl:.2f} | {lo_l:.4g} | {lo_x:.4g} |")
+        lo_l, lo_x = min(e for _, e in lbt), min(e for _, e in curves[m])
+        target = max(lo_l, lo_x)
+        (tl, first_l), (tx, first_x) = time_at(lbt, target), time_at(curves[m], target)
+        bound = "≥ " if first_l and not first_x else "≤ " if first_x and not first_l else "~ " if first_x else ""
+        print(f"| {scene} | {name} vs {m} | {target:.4g} | {tl:.3g} | {tx:.3g} | {bound}{tx / tl:.2f} | {lo_l:.4g} | {lo_x:.4g} |")
 
 
 if __name__ == "__main__":
