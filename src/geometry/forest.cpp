@@ -1,6 +1,7 @@
 #include "geometry/forest.h"
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -131,6 +132,30 @@ void check(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument(what);
 }
 
+}  // namespace
+
+// A shear or an unequal scale would bend displacement heights, and a mirror would turn the
+// terrain's normals down: a forest is placed by similarities only.
+float Forest::placementScale(const Transform& t) {
+  if (std::memcmp(t.m, Transform{}.m, sizeof t.m) == 0) return 0;
+  for (const auto& row : t.m)
+    for (float v : row) check(std::isfinite(v), "the placement must be finite");
+  const double det = t.determinant();
+  check(det > 0, "the placement must keep orientation (positive determinant)");
+  const double s = std::cbrt(det);
+  check(s > 1e-30 && s < 1e30, "the placement's scale must be in (1e-30, 1e30)");
+  // Columns of the linear part: orthogonal, each of length s (to float rounding).
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) {
+      double d = 0;
+      for (int k = 0; k < 3; ++k) d += double(t.m[k][i]) * double(t.m[k][j]);
+      check(std::fabs(d - (i == j ? s * s : 0.0)) <= 1e-5 * s * s,
+            "a forest takes only rotations, uniform scales and translations");
+    }
+  return float(s);
+}
+
+namespace {
 NoiseParams terrainNoiseParams(const ForestParams& p) {
   NoiseParams n;
   n.amplitude = p.terrainAmplitude;
@@ -169,7 +194,15 @@ Forest::Forest(const ForestParams& prm, uint64_t maxLeaves) : params_(prm) {
   const uint64_t count = leafCount(prm);
   check(count <= maxLeaves, "the forest would have " + std::to_string(count) + " leaves, more than the limit of " +
                                 std::to_string(maxLeaves));
+  placementScale_ = placementScale(prm.placement);
   terrainNoise_ = std::make_shared<NoiseDisplacement>(terrainNoiseParams(prm));
+  placedTerrainNoise_ = terrainNoise_;
+  if (placed()) {
+    NoiseParams n = terrainNoiseParams(prm);
+    n.amplitude *= placementScale_;
+    n.offset *= placementScale_;
+    placedTerrainNoise_ = std::make_shared<NoiseDisplacement>(n);
+  }
 
   // Trees grow in parallel into their own lists; joining them in tree order makes the result
   // independent of the thread count.
@@ -227,8 +260,11 @@ PatchPtr Forest::makeTerrain(uint32_t tile) const {
   auto coord = [&](uint32_t k) { return -half + side * (float(k) / float(n)); };
   const float x0 = coord(i), x1 = coord(i + 1), z0 = coord(j), z1 = coord(j + 1);
   // u along +x and v along -z, so dP/du x dP/dv points up (+y).
-  auto base = std::make_shared<BilinearPatch>(Vec3{x0, 0, z1}, Vec3{x1, 0, z1}, Vec3{x0, 0, z0}, Vec3{x1, 0, z0});
-  return std::make_shared<DisplacedPatch>(std::move(base), terrainNoise_);
+  const Vec3 c[4] = {{x0, 0, z1}, {x1, 0, z1}, {x0, 0, z0}, {x1, 0, z0}};
+  auto base = std::make_shared<BilinearPatch>(place(c[0]), place(c[1]), place(c[2]), place(c[3]));
+  // Placed, the noise stays a function of the unplaced surface (DisplacedPatch's reference).
+  PatchPtr reference = placed() ? std::make_shared<BilinearPatch>(c[0], c[1], c[2], c[3]) : nullptr;
+  return std::make_shared<DisplacedPatch>(std::move(base), placedTerrainNoise_, std::move(reference));
 }
 
 PatchPtr Forest::makeBark(const ForestLeaf& leaf) const {
@@ -257,7 +293,14 @@ PatchPtr Forest::makeBark(const ForestLeaf& leaf) const {
   bark.octaves = 3;
   bark.ridged = true;
   bark.seed = uint32_t(mix64(params_.seed ^ br.tree));
-  return std::make_shared<DisplacedPatch>(std::make_shared<BezierPatch>(cp), std::make_shared<NoiseDisplacement>(bark));
+  if (!placed())
+    return std::make_shared<DisplacedPatch>(std::make_shared<BezierPatch>(cp), std::make_shared<NoiseDisplacement>(bark));
+  auto reference = std::make_shared<BezierPatch>(cp);
+  for (Vec3& p : cp) p = place(p);
+  bark.amplitude *= placementScale_;
+  bark.offset *= placementScale_;
+  return std::make_shared<DisplacedPatch>(std::make_shared<BezierPatch>(cp), std::make_shared<NoiseDisplacement>(bark),
+                                          std::move(reference));
 }
 
 PatchPtr Forest::makePatch(size_t i) const {
@@ -268,8 +311,8 @@ PatchPtr Forest::makePatch(size_t i) const {
     case ForestLeaf::Part::Foliage: break;
   }
   const Foliage& f = foliage_[leaf.index];
-  return std::make_shared<BilinearPatch>(f.centre - f.halfU - f.halfV, f.centre + f.halfU - f.halfV,
-                                         f.centre - f.halfU + f.halfV, f.centre + f.halfU + f.halfV);
+  return std::make_shared<BilinearPatch>(place(f.centre - f.halfU - f.halfV), place(f.centre + f.halfU - f.halfV),
+                                         place(f.centre - f.halfU + f.halfV), place(f.centre + f.halfU + f.halfV));
 }
 
 uint64_t Forest::countOf(ForestLeaf::Part part) const {

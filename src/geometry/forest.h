@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 #include "core/box.h"
+#include "core/transform.h"
 #include "core/vec.h"
 #include "geometry/displacement.h"
 #include "geometry/patch.h"
@@ -38,6 +39,10 @@ struct ForestParams {
   int terrainTiles = 16;     // terrain patches per side, 1..kMaxTerrainTiles
   float terrainAmplitude = 1.5f;  // >= 0
   int leavesPerTwig = 12;    // 0..kMaxLeavesPerTwig
+  // Where the grown forest is placed: a similarity (rotation, uniform scale, translation),
+  // so that the whole forest, its displacement heights included, is mapped exactly -- its
+  // noise stays a function of the unplaced position. Checked by the constructor.
+  Transform placement;
   static constexpr int kMaxDetail = 8;
   static constexpr int kMaxBranching = 6;
   static constexpr int kMaxTerrainTiles = 4096;
@@ -67,6 +72,9 @@ class Forest {
   float dicingError(size_t i) const { return size_[i].dicingError; }
   PatchPtr makePatch(size_t i) const;
 
+  // The uniform scale of a placement (0 for the identity); std::invalid_argument for anything
+  // but a similarity with positive determinant.
+  static float placementScale(const Transform& placement);
   // Leaves of a forest with these parameters, without growing it (for limits and stats).
   static uint64_t leafCount(const ForestParams& params);
   // Bytes the description holds per leaf (records, boxes, branches and foliage shared out).
@@ -92,10 +100,14 @@ class Forest {
  private:
   PatchPtr makeTerrain(uint32_t tile) const;
   PatchPtr makeBark(const ForestLeaf& leaf) const;
+  bool placed() const { return placementScale_ != 0; }
+  Vec3 place(Vec3 p) const { return placed() ? params_.placement.point(p) : p; }
   float groundHeight(float x, float z) const;
 
   ForestParams params_;
-  DisplacementPtr terrainNoise_;
+  DisplacementPtr terrainNoise_;        // unplaced: where the trees stand
+  DisplacementPtr placedTerrainNoise_;  // its heights scaled by the placement
+  float placementScale_ = 0;            // the placement's uniform scale; 0: no placement
   std::vector<Branch> branches_;
   std::vector<Foliage> foliage_;
   std::vector<ForestLeaf> leaves_;

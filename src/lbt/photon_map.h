@@ -16,6 +16,7 @@ struct Photon {
   Vec3 wi;     // unit, toward where it came from
   Vec3 n;      // unit geometric normal of the surface, on wi's side
   Rgb power;   // flux, W (already divided by the number of photons of its map)
+  uint32_t vertex = 1;  // the light path's vertex it landed at (1: straight from the light)
 };
 
 class PhotonMap {

@@ -72,7 +72,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
         if (run == LightRun::NotCaustic) continue;  // no caustic path can follow
         if (run == LightRun::CausticPath) {
           const Vec3 n = dot(hit.at.ng, hit.wi) > 0 ? hit.at.ng : -hit.at.ng;
-          landing_[k] = Photon{hit.at.p, hit.wi, n, throughput_[k]};
+          landing_[k] = Photon{hit.at.p, hit.wi, n, throughput_[k], vertex};
           landed_[k] = 1;
           continue;
         }
@@ -135,7 +135,9 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     Rgb sum{};
     auto add = [&](uint32_t i) {
       const Photon& ph = map_[i];
-      if (dot(ph.n, n) <= kSameSurfaceCos) return;
+      // The path the photon closes has bounce + vertex scattering events before the light: the
+      // path tracer, which pm complements, counts it only within max_depth.
+      if (dot(ph.n, n) <= kSameSurfaceCos || int(v.bounce + ph.vertex) > scene_.integrator.maxDepth) return;
       sum += v.bsdf->eval(v.woL, v.frame->toLocal(ph.wi)) * ph.power;
     };
     float r2;

@@ -4,6 +4,7 @@
 #include "core/memory.h"
 #include "geometry/forest_leaves.h"
 #include "scene/scene_sections.h"
+#include "scene/shape_kinds.h"
 
 namespace rayes {
 namespace {
@@ -23,7 +24,7 @@ uint64_t maxForestLeaves() {
 void readForestShape(const JsonReader& r, const json& shape, const std::string& p, Scene& scene,
                      const MaterialIndex& materials) {
   r.object(shape, p, {"type", "trees", "seed", "detail", "branching", "area", "tree_height", "terrain_tiles",
-                      "terrain_amplitude", "leaves_per_twig", "materials"});
+                      "terrain_amplitude", "leaves_per_twig", "materials", "transform"});
   ForestParams fp;
   auto integerIn = [&](const char* key, int lo, int hi, int fallback) {
     if (!shape.contains(key)) return fallback;
@@ -51,6 +52,14 @@ void readForestShape(const JsonReader& r, const json& shape, const std::string& 
   fp.treeHeight = positive("tree_height", fp.treeHeight, false);
   fp.terrainTiles = integerIn("terrain_tiles", 1, ForestParams::kMaxTerrainTiles, fp.terrainTiles);
   fp.terrainAmplitude = positive("terrain_amplitude", fp.terrainAmplitude, true);
+  if (shape.contains("transform")) {
+    fp.placement = readTransform(r, shape["transform"], p + "/transform");
+    try {
+      Forest::placementScale(fp.placement);
+    } catch (const std::invalid_argument& e) {
+      r.fail(p + "/transform", e.what());
+    }
+  }
   fp.leavesPerTwig = integerIn("leaves_per_twig", 0, ForestParams::kMaxLeavesPerTwig, fp.leavesPerTwig);
 
   // One material per part, by ForestLeaf::Part.

@@ -271,7 +271,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   if (!isCausticScatterer(*v.mat)) {
     run = kAfterDiffuse;
     if (options_.causticRadiance) {
-      const DiffuseVertex dv{p, h.ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf};
+      const DiffuseVertex dv{p, h.ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce};
       addFinite(paths.radiance[k], paths.throughput[k] * options_.causticRadiance->radiance(dv), stats);
     }
   } else if (run != kNoDiffuseYet) {

@@ -65,6 +65,8 @@ struct DiffuseVertex {
   const Bsdf* bsdf;
   uint32_t sample;    // the path's sample number (progressive methods shrink with it)
   uint32_t leaf = kNoLeaf;  // the leaf hit (light beams gather from that leaf's bins)
+  uint32_t bounce = 0;      // the camera path's bounce here (0: the first hit): with the light
+                            // side's vertices it must stay within max_depth, as in the path tracer
 };
 
 // Reflected radiance along wo carried by caustic paths (light -> caustic scatterers -> here).

@@ -10,6 +10,11 @@
 //  - ppm's bias shrinks with passes: its mean absolute block error against the light tracer
 //    falls from 2 to 64 samples per pixel.
 //  - Images are bit-identical for 1 and 2 threads, every ray alone, and a budget of 37 paths.
+//  - max_depth bounds the whole path, camera and photon sides together, as in the path tracer
+//    pm complements: at max_depth 1 the mirror caustic (floor, mirror, light: 2 bounces) is no
+//    path at all, and pm is the path tracer without caustic paths, bit for bit. (This scene has
+//    no diffuse vertex after the first hit, so it checks the photon side's bound; the camera
+//    side's share, bounce + photon vertex <= max_depth, is the same comparison in the gather.)
 #include <cmath>
 #include <gtest/gtest.h>
 #include "mirror_caustic_scene.h"
@@ -56,6 +61,19 @@ TEST(ProgressivePhotonMapping, BiasShrinksWithPasses) {
     return sum;
   };
   EXPECT_LT(error(64), error(2));
+}
+
+TEST(PhotonMapping, MaxDepthBoundsCameraAndPhotonBouncesTogether) {
+  for (const IntegratorMethod m : {IntegratorMethod::PhotonMapping, IntegratorMethod::ProgressivePhotonMapping}) {
+    Scene scene = testing::mirrorCausticScene(12, 9, 2);
+    RenderOptions without = method(IntegratorMethod::PathTracing);
+    without.integrator.causticPaths = CausticPaths::Without;
+    scene.integrator.maxDepth = 1;
+    EXPECT_EQ(testing::renderBeauty(scene, method(m), 2), testing::renderBeauty(scene, without, 2));
+    // One bounce more and the caustic is there (the check above is not vacuous).
+    scene.integrator.maxDepth = 2;
+    EXPECT_NE(testing::renderBeauty(scene, method(m), 2), testing::renderBeauty(scene, without, 2));
+  }
 }
 
 TEST(PhotonMapping, OrderIndependent) {

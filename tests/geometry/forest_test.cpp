@@ -3,7 +3,10 @@
 // whatever the thread count, tubes and terrain are watertight at shared borders, the counts
 // are what leafCount() predicts, and bad parameters are refused before anything is grown.
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <tbb/global_control.h>
 #include "geometry/displaced_patch.h"
@@ -125,6 +128,51 @@ TEST(Forest, TerrainTilesShareTheirBorders) {
   for (size_t j = 0; j < n; ++j)
     for (size_t i = 0; i + 1 < n; ++i)
       EXPECT_TRUE(sameBits(borderOf(*f.makePatch(j * n + i), 4, 1), borderOf(*f.makePatch(j * n + i + 1), 4, 0)));
+}
+
+// A placed forest is the unplaced one mapped by its similarity: every dicing vertex (bark and
+// terrain heights included, which scale with it) is the placed unplaced vertex, to rounding:
+// 8 ulps of the largest placed coordinate -- the placement's own (a 3-term dot product, about
+// 2 ulps) and the patch's evaluation from placed control points (a few ulps of them).
+TEST(Forest, APlacementMapsTheWholeForest) {
+  ForestParams p = smallForest();
+  const Forest unplaced(p);
+  const float s = 1e3f;
+  const Vec3 offset{1e4f, -2e3f, 5e2f};
+  p.placement = Transform::translate(offset) * Transform::rotate({0, 1, 1}, 30) * Transform::scale({s, s, s});
+  const Forest placed(p);
+  ASSERT_EQ(placed.size(), unplaced.size());
+  std::vector<Vec3> a, na, b, nb;
+  const int level = 3, side = (1 << level) + 1;
+  for (std::vector<Vec3>* v : {&a, &na, &b, &nb}) v->resize(size_t(side) * side);
+  float largest = 0;
+  for (size_t i = 0; i < placed.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      largest = std::max({largest, std::fabs(placed.bounds(i).lo[k]), std::fabs(placed.bounds(i).hi[k])});
+  const float tolerance = 8 * std::numeric_limits<float>::epsilon() * largest;
+  float worst = 0;
+  for (size_t i = 0; i < placed.size(); i += 7) {
+    unplaced.makePatch(i)->dice(level, a.data(), na.data());
+    const PatchPtr patch = placed.makePatch(i);
+    patch->dice(level, b.data(), nb.data());
+    const Box3& box = placed.bounds(i);
+    for (size_t k = 0; k < a.size(); ++k) {
+      ASSERT_TRUE(box.contains(b[k])) << "leaf " << i;
+      worst = std::max(worst, length(b[k] - p.placement.point(a[k])));
+    }
+  }
+  EXPECT_LE(worst, tolerance);
+}
+
+TEST(Forest, OnlySimilaritiesPlaceAForest) {
+  EXPECT_EQ(Forest::placementScale(Transform{}), 0.0f);
+  EXPECT_NEAR(Forest::placementScale(Transform::rotate({1, 2, 3}, 70) * Transform::scale({3, 3, 3})), 3.0f, 1e-5f);
+  EXPECT_THROW(Forest::placementScale(Transform::scale({1, 2, 1})), std::invalid_argument);
+  EXPECT_THROW(Forest::placementScale(Transform::scale({-1, 1, 1})), std::invalid_argument);
+  EXPECT_THROW(Forest::placementScale(Transform::scale({0, 0, 0})), std::invalid_argument);
+  Transform shear;
+  shear.m[0][1] = 0.5f;
+  EXPECT_THROW(Forest::placementScale(shear), std::invalid_argument);
 }
 
 TEST(Forest, BadParametersAreRefusedBeforeGrowing) {
