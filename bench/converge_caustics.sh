@@ -4,7 +4,8 @@
 # from its area light, slowly), then pt, lt, pm and ppm at doubling effort until BUDGET seconds
 # each, with the mean signed error inside the caustic box REGION. CSVs and SVGs go to OUT.
 # Usage: bench/converge_caustics.sh [SCENE] [RES] [REF_SPP] [BUDGET] [REGION] [OUT] [METHODS...]
-# lbt is passed through like the others once it exists (add it to METHODS).
+# lbt is passed through like the others (add it to METHODS); for the lbt scenes, with references
+# that see their caustics and error masks, use bench/converge_lbt.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-scenes/glass-caustic.json}

@@ -20,6 +20,16 @@ def quad(p00, p10, p01, p11):
     return [p00, p10, p01, p11]
 
 
+def tiles(p00, p10, p01, n):
+    """The planar parallelogram p00, p10, p01 as n x n quads. A receiver's beam segments are binned
+    per top-level leaf (at most 64 cells a side each), so one big quad under thousands of thin
+    beams makes every gather visit hundreds of them; the same surface in n² leaves does not."""
+    u = [(p10[k] - p00[k]) / n for k in range(3)]
+    v = [(p01[k] - p00[k]) / n for k in range(3)]
+    at = lambda i, j: [p00[k] + i * u[k] + j * v[k] for k in range(3)]
+    return [quad(at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1)) for j in range(n) for i in range(n)]
+
+
 def base(camera, res=(320, 240), spp=16, depth=6):
     return {"camera": camera, "film": {"resolution": list(res), "spp": spp},
             "integrator": {"max_depth": depth, "seed": 0}}
@@ -57,8 +67,7 @@ def ring(sigma):
     s["materials"] = {"metal": {"type": "glossy", "specular": [0.95, 0.8, 0.5], "sigma": sigma},
                       "floor": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]}}
     s["shapes"] = [{"type": "bezier", "material": "metal", "patches": cylinder(1.0, 0.5)},
-                   {"type": "bilinear", "material": "floor",
-                    "quads": [quad([-3, -3, 0], [3, -3, 0], [-3, 3, 0], [3, 3, 0])]}]
+                   {"type": "bilinear", "material": "floor", "quads": tiles([-3, -3, 0], [3, -3, 0], [-3, 3, 0], 8)}]
     alpha = math.radians(25)
     s["lights"] = [{"type": "distant", "direction": [-math.cos(alpha), 0, math.sin(alpha)], "irradiance": [3, 3, 3]}]
     return s
@@ -76,11 +85,24 @@ def pool(sigma):
     s["materials"] = {"water": {"type": "dielectric", "ior": 1.33},
                       "tiles": {"type": "diffuse", "albedo": [0.55, 0.7, 0.75]},
                       "rim": {"type": "glossy", "specular": [0.8, 0.8, 0.8], "sigma": sigma}}
+    # Everything under the water is lit only through it (caustic paths: a point light seen
+    # through a smooth surface, which the path tracer can never sample), so the pool has side
+    # walls and a deck lit directly: without them pt and lt rendered it black.
+    deck = [quad([-3.5, -3.5, 0.05], [3.5, -3.5, 0.05], [-3.5, -2, 0.05], [3.5, -2, 0.05]),
+            quad([-3.5, 2, 0.05], [3.5, 2, 0.05], [-3.5, 3.5, 0.05], [3.5, 3.5, 0.05]),
+            quad([-3.5, -2, 0.05], [-2, -2, 0.05], [-3.5, 2, 0.05], [-2, 2, 0.05]),
+            quad([2, -2, 0.05], [3.5, -2, 0.05], [2, 2, 0.05], [3.5, 2, 0.05])]
+    walls = [quad([-2, -2, -1], [2, -2, -1], [-2, -2, 0.05], [2, -2, 0.05]),
+             quad([-2, -2, -1], [-2, 2, -1], [-2, -2, 0.05], [-2, 2, 0.05]),
+             quad([2, -2, -1], [2, 2, -1], [2, -2, 0.05], [2, 2, 0.05])]
+    s["materials"]["deck"] = {"type": "diffuse", "albedo": [0.8, 0.78, 0.72]}
     s["shapes"] = [
         {"type": "bilinear", "material": "water", "quads": quads,
          "displacement": {"type": "noise", "amplitude": 0.06, "offset": -0.03, "frequency": 1.2, "octaves": 3,
                           "gain": 0.5, "lacunarity": 2, "seed": 3}},
-        {"type": "bilinear", "material": "tiles", "quads": [quad([-2, -2, -1], [2, -2, -1], [-2, 2, -1], [2, 2, -1])]},
+        {"type": "bilinear", "material": "tiles", "quads": [quad([-2, -2, -1], [2, -2, -1], [-2, 2, -1], [2, 2, -1])]
+         + walls},
+        {"type": "bilinear", "material": "deck", "quads": deck},
         {"type": "bilinear", "material": "rim", "quads": [quad([-2, 2, -1], [2, 2, -1], [-2, 2, 0.3], [2, 2, 0.3])]}]
     s["lights"] = [{"type": "point", "position": [0.8, -1.0, 4.0], "intensity": [40, 38, 34]}]
     return s
@@ -104,8 +126,7 @@ def gears(sigma):
                       "floor": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]}}
     quads = gear(-0.9, 0.0, 0.7, 12, 0.3) + gear(0.85, 0.3, 0.5, 9, 0.3) + gear(0.2, 1.3, 0.35, 7, 0.3)
     s["shapes"] = [{"type": "bilinear", "material": "brass", "quads": quads},
-                   {"type": "bilinear", "material": "floor",
-                    "quads": [quad([-4, -4, 0], [4, -4, 0], [-4, 4, 0], [4, 4, 0])]}]
+                   {"type": "bilinear", "material": "floor", "quads": tiles([-4, -4, 0], [4, -4, 0], [-4, 4, 0], 8)}]
     s["lights"] = [{"type": "spot", "position": [-2.5, -2.0, 2.0], "look_at": [0, 0.3, 0], "intensity": [30, 30, 30],
                     "cone_angle": 45, "falloff_start": 35}]
     return s
@@ -127,11 +148,9 @@ def discoball(sigma):
             p00, p10, p01 = point(i, j), point(i, j + 1), point(i + 1, j)
             p11 = [p10[k] + p01[k] - p00[k] for k in range(3)]  # planar parallelogram facet
             quads.append(quad(p00, p10, p01, p11))
-    room = [quad([-4, -4, 0], [4, -4, 0], [-4, 4, 0], [4, 4, 0]),
-            quad([-4, 4, 0], [4, 4, 0], [-4, 4, 4], [4, 4, 4]),
-            quad([-4, -4, 0], [-4, 4, 0], [-4, -4, 4], [-4, 4, 4]),
-            quad([4, -4, 0], [4, 4, 0], [4, -4, 4], [4, 4, 4]),
-            quad([-4, -4, 4], [4, -4, 4], [-4, 4, 4], [4, 4, 4])]
+    room = (tiles([-4, -4, 0], [4, -4, 0], [-4, 4, 0], 6) + tiles([-4, 4, 0], [4, 4, 0], [-4, 4, 4], 6)
+            + tiles([-4, -4, 0], [-4, 4, 0], [-4, -4, 4], 6) + tiles([4, -4, 0], [4, 4, 0], [4, -4, 4], 6)
+            + tiles([-4, -4, 4], [4, -4, 4], [-4, 4, 4], 6))
     s["shapes"] = [{"type": "bilinear", "material": "facet", "quads": quads},
                    {"type": "bilinear", "material": "room", "quads": room}]
     s["lights"] = [{"type": "spot", "position": [1.5, -2.5, 3.2], "look_at": c, "intensity": [60, 55, 50],

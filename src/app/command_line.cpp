@@ -65,7 +65,7 @@ void parseResolution(const std::string& text, int& width, int& height) {
 struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
               method = "pt", causticPaths = "all";
-  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G";
+  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G", gridCache;
   int beamResolution = 128, beamDepth = 4, beamSplitDepth = 4, beamAreaSamples = 2;
   std::optional<int> spp;
   int64_t photons = 20000;
@@ -76,8 +76,9 @@ struct RenderArgs {
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
   // converge
-  double budget = 0;
-  std::string region, mask, svg;
+  double budget = 0, beamGrowth = 1.4142135623730951;
+  std::string region, mask, errorMask, svg;
+  std::vector<std::string> references;
 };
 
 // Checks every option that does not need the scene, so that a bad option costs no loading.
@@ -113,6 +114,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  if (!a.gridCache.empty()) options.gridCacheBytes = a.gridCache == "0" ? 0 : parseBytes(a.gridCache, "--grid-cache");
   options.progressive = a.progressive;
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
@@ -253,25 +255,38 @@ int runConverge(const RenderArgs& a) {
   RenderOptions options = checkedOptions(a);
   if (!(a.budget > 0) || !std::isfinite(a.budget)) throw InputError("--budget", "", "must be a positive number of seconds");
   if (!a.region.empty() && !a.mask.empty()) throw InputError("--mask", "", "give --region or --mask, not both");
+  if (!(a.beamGrowth >= 1 && a.beamGrowth <= 4))
+    throw InputError("--beam-growth", "", "must lie in [1, 4] (the beam resolution's factor per doubling of spp)");
   ThreadLimit limit(a.threads);
   const Scene scene = preparedScene(a);
-  const std::vector<float> reference = imageOfSceneSize(a.reference, scene, "reference");
-  ConvergeRegion region;
+  // Several references are summed: pt --caustic-paths without plus lt --caustic-paths only.
+  std::vector<float> reference;
+  for (const std::string& file : a.references) {
+    const std::vector<float> part = imageOfSceneSize(file, scene, "reference");
+    if (reference.empty()) reference.assign(part.size(), 0.0f);
+    for (size_t i = 0; i < part.size(); ++i) reference[i] += part[i];
+  }
+  const ConvergeRegion wholeImage{0, 0, scene.width, scene.height, {}};
+  ConvergeRegion region = wholeImage, errorPixels = wholeImage;
   if (!a.mask.empty()) region.mask = imageOfSceneSize(a.mask, scene, "mask");
   else if (!a.region.empty()) region = parseRegion(a.region, scene);
-  else region = {0, 0, scene.width, scene.height, {}};
+  if (!a.errorMask.empty()) errorPixels.mask = imageOfSceneSize(a.errorMask, scene, "error mask");
   const std::string stem = std::filesystem::path(a.scene).stem().string() + "-" + a.method;
   const std::string csv = a.out.empty() ? "out/" + stem + "-converge.csv" : a.out;
   const std::string svg = a.svg.empty() ? std::filesystem::path(csv).replace_extension(".svg").string() : a.svg;
   OutputSet outputs;
   std::error_code ec;
+  std::vector<std::string> inputs{a.scene, a.mask, a.errorMask};
+  inputs.insert(inputs.end(), a.references.begin(), a.references.end());
   for (const std::string& target : {csv, svg})
-    for (const std::string& input : {a.scene, a.reference, a.mask})
+    for (const std::string& input : inputs)
       if (!input.empty() && std::filesystem::equivalent(target, input, ec))
         throw InputError(target, "", "the output would overwrite an input of this run");
   outputs.add(csv, "error curve");
   outputs.add(svg, "chart");
-  const auto rows = converge(scene, options, reference, region, a.budget, [&](const ConvergeRow& r) {
+  ConvergeSchedule schedule;
+  schedule.beamGrowth = a.beamGrowth;
+  const auto rows = converge(scene, options, reference, errorPixels, region, a.budget, schedule, [&](const ConvergeRow& r) {
     if (!a.quiet)
       std::fprintf(stderr, "rayes converge: %d spp, %.2fs, RMSE %.5g, relMSE %.5g, region bias %.5g\n", r.spp, r.seconds,
                    r.rmse, r.relMse, r.regionBias);
@@ -292,6 +307,9 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                 "memory for ray, path and candidate buffers, e.g. 512M or 2G (default: an eighth of physical "
                 "memory, within [256M, 2G]); a smaller budget means more batches, iterations and dicings, "
                 "never a different image");
+  c->add_option("--grid-cache", a.gridCache,
+                "memory for diced grids kept across iterations and generations of a batch, e.g. 256M (default "
+                "512M; 0: off); a smaller cache means more dicings, never a different image");
   c->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
                                 "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
                                 "(every ray at --max-lod: one geometry for every ray, for references)")
@@ -374,18 +392,27 @@ int runCommandLine(int argc, char** argv) {
 
   RenderArgs ca;
   CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
-                                               "pm and ppm double their photons with it) until the budget, compare "
-                                               "each render with a reference; writes a CSV and an SVG chart");
+                                               "pm and ppm double their photons with it, lbt grows its beam resolution "
+                                               "by --beam-growth) until the budget, compare each render with a "
+                                               "reference; writes a CSV and an SVG chart");
   c->add_option("scene", ca.scene, "the scene file")->required();
-  c->add_option("--reference", ca.reference, "reference OpenEXR of the render's resolution")->required();
+  c->add_option("--reference", ca.references, "reference OpenEXR of the render's resolution; given several times, "
+                                              "their sum (e.g. pt --caustic-paths without + lt --caustic-paths only)")
+      ->required();
+  c->add_option("--error-mask", ca.errorMask, "an OpenEXR of the render's size: RMSE and rel_mse count only the pixels "
+                                              "with non-zero red (default: every pixel)");
+  c->add_option("--beam-growth", ca.beamGrowth, "lbt: factor of the beam resolution per doubling of spp, from "
+                                                "--beam-resolution at 1 spp, in [1, 4] (default sqrt 2: twice the "
+                                                "beams per step; 1: fixed beams)");
   c->add_option("--budget", ca.budget, "seconds to spend in all (the next doubling is skipped when it would not fit)")
       ->required();
   c->add_option("--region", ca.region, "x0,y0,x1,y1: the pixel box (x1, y1 excluded) whose mean signed error is the "
                                        "bias column (default: the whole image)");
   c->add_option("--mask", ca.mask, "instead of --region: an OpenEXR of the render's size; pixels with non-zero red "
                                    "are the region");
-  c->add_option("-o,--output", ca.out, "the CSV (default out/<scene>-<method>-converge.csv): seconds, spp, photons, "
-                                       "rmse, rel_mse, region_bias; the SVG chart goes beside it");
+  c->add_option("-o,--output", ca.out, "the CSV (default out/<scene>-<method>-converge.csv): seconds, cpu_seconds, "
+                                       "spp, photons, beam_resolution, beam_segments, rmse, rel_mse, region_bias; "
+                                       "the SVG chart goes beside it");
   c->add_option("--svg", ca.svg, "the chart's file (default: the CSV's name with .svg)");
   addSharedOptions(c, ca);
 

@@ -7,25 +7,39 @@
 
 namespace rayes {
 
-double relMseAgainst(const std::vector<float>& rgba, const std::vector<float>& ref) {
-  const size_t n = rgba.size() / 4;
-  double sum = 0;
-  for (size_t p = 0; p < n; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const double r = ref[3 * p + c], d = double(rgba[4 * p + c]) - r;
-      sum += d * d / (r * r + 0.01);
+ImageError errorAgainst(const std::vector<float>& rgba, const std::vector<float>& ref, const ConvergeRegion& pixels,
+                        int width, int height) {
+  double squares = 0, relative = 0;
+  size_t count = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      if (!pixels.contains(x, y, width)) continue;
+      const size_t p = size_t(y) * size_t(width) + size_t(x);
+      for (int c = 0; c < 3; ++c) {
+        const double r = ref[3 * p + c], d = double(rgba[4 * p + c]) - r;
+        squares += d * d;
+        relative += d * d / (r * r + 0.01);
+      }
+      count += 3;
     }
-  return n ? sum / double(3 * n) : 0.0;
+  if (count == 0) return {};
+  return {std::sqrt(squares / double(count)), relative / double(count)};
+}
+
+int ConvergeSchedule::beamResolution(int first, int step) const {
+  const double r = std::round(double(first) * std::pow(beamGrowth, step));
+  return int(std::clamp(r, 1.0, double(std::max(first, maxBeamResolution))));
 }
 
 namespace {
+// Over the pixels in both `region` and `errorPixels` (where the reference is complete).
 double regionBias(const std::vector<float>& rgba, const std::vector<float>& ref, const ConvergeRegion& region,
-                  int width, int height) {
+                  const ConvergeRegion& errorPixels, int width, int height) {
   double sum = 0;
   size_t count = 0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      if (!region.contains(x, y, width)) continue;
+      if (!region.contains(x, y, width) || !errorPixels.contains(x, y, width)) continue;
       const size_t p = size_t(y) * size_t(width) + size_t(x);
       for (int c = 0; c < 3; ++c) sum += double(rgba[4 * p + c]) - double(ref[3 * p + c]);
       count += 3;
@@ -35,15 +49,18 @@ double regionBias(const std::vector<float>& rgba, const std::vector<float>& ref,
 }  // namespace
 
 std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& options, const std::vector<float>& reference,
-                                  const ConvergeRegion& region, double budgetSeconds,
+                                  const ConvergeRegion& errorPixels, const ConvergeRegion& region, double budgetSeconds,
+                                  const ConvergeSchedule& schedule,
                                   const std::function<void(const ConvergeRow&)>& report) {
   std::vector<ConvergeRow> rows;
   double spent = 0;
   RenderOptions o = options;
   o.reference.clear();
-  for (int spp = 1; spp <= (1 << 20); spp *= 2) {
+  const bool beams = options.method == IntegratorMethod::LightBeams;
+  for (int step = 0, spp = 1; spp <= (1 << 20); ++step, spp *= 2) {
     Scene scene = base;
     scene.samplesPerPixel = spp;
+    if (beams) o.beams.resolution = schedule.beamResolution(options.beams.resolution, step);
     const auto t0 = Clock::now();
     const std::clock_t c0 = std::clock();
     Renderer renderer(scene, o);
@@ -51,23 +68,32 @@ std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& option
     const double seconds = secondsSince(t0);
     const double cpuSeconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
     const std::vector<float> rgba = film.beautyRgba();
-    const ConvergeRow row{seconds, cpuSeconds, spp, renderer.stats().shade.photonsTraced.load(), rmseAgainst(film, reference),
-                          relMseAgainst(rgba, reference), regionBias(rgba, reference, region, scene.width, scene.height)};
+    const ImageError error = errorAgainst(rgba, reference, errorPixels, scene.width, scene.height);
+    const ConvergeRow row{seconds,
+                          cpuSeconds,
+                          spp,
+                          renderer.stats().shade.photonsTraced.load(),
+                          beams ? o.beams.resolution : 0,
+                          renderer.stats().beams.trace.segments,
+                          error.rmse,
+                          error.relMse,
+                          regionBias(rgba, reference, region, errorPixels, scene.width, scene.height)};
     rows.push_back(row);
     if (report) report(row);
     spent += seconds;
-    // The next render costs about twice this one.
+    // The next render costs about twice this one (lbt: its beams double too).
     if (spent + 2 * seconds > budgetSeconds) break;
   }
   return rows;
 }
 
 std::string convergeCsv(const std::vector<ConvergeRow>& rows) {
-  std::string out = "seconds,cpu_seconds,spp,photons,rmse,rel_mse,region_bias\n";
+  std::string out = "seconds,cpu_seconds,spp,photons,beam_resolution,beam_segments,rmse,rel_mse,region_bias\n";
   char line[256];
   for (const ConvergeRow& r : rows) {
-    std::snprintf(line, sizeof line, "%.4f,%.4f,%d,%llu,%.6g,%.6g,%.6g\n", r.seconds, r.cpuSeconds, r.spp,
-                  static_cast<unsigned long long>(r.photons), r.rmse, r.relMse, r.regionBias);
+    std::snprintf(line, sizeof line, "%.4f,%.4f,%d,%llu,%d,%llu,%.6g,%.6g,%.6g\n", r.seconds, r.cpuSeconds, r.spp,
+                  static_cast<unsigned long long>(r.photons), r.beamResolution,
+                  static_cast<unsigned long long>(r.beamSegments), r.rmse, r.relMse, r.regionBias);
     out += line;
   }
   return out;

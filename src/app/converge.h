@@ -1,9 +1,13 @@
 // `rayes converge`: error against run time. A scene is rendered afresh at doubling effort
-// (spp 1, 2, 4, ...; photon counts are per sample, so pm and ppm double their photons too)
 // until the time budget would be exceeded, and every render is compared with a reference:
-// RMSE and relative MSE over the image, and the mean signed error (bias) inside a region
-// (a pixel box, or the non-zero pixels of a mask EXR; docs/design.md, "Caustic paths"). One CSV row per
-// render, and an SVG chart of RMSE against seconds (log-log).
+// RMSE and relative MSE over the image (or over the pixels of an error mask), and the mean
+// signed error (bias) inside a region (a pixel box, or the non-zero pixels of a mask EXR;
+// docs/design.md, "Caustic paths"). One CSV row per render, and an SVG chart of RMSE against
+// seconds (log-log).
+// The effort schedule (ConvergeSchedule): spp doubles at every step for every method; photon
+// counts are per sample, so pm and ppm double their photons with it; lbt also refines its beams,
+// the light grid's resolution growing by `beamGrowth` per step (sqrt 2: twice the beams), since
+// more samples alone leave the beam discretisation, and so its bias, where it was.
 #pragma once
 #include <string>
 #include <vector>
@@ -16,10 +20,20 @@ struct ConvergeRow {
   double cpuSeconds;  // the process's CPU time over the same span (all threads; steadier under load)
   int spp;
   uint64_t photons; // photons traced (pm, ppm), else 0
+  int beamResolution;       // lbt: cells per side of each light's grid of beams, else 0
+  uint64_t beamSegments;    // lbt: beam segments built, else 0
   double rmse, relMse, regionBias;
 };
 
-// Pixels [x0, x1) x [y0, y1), or a mask (non-zero red) when `mask` is not empty.
+struct ConvergeSchedule {
+  double beamGrowth = 1.4142135623730951;  // lbt: resolution factor per doubling of spp (1: fixed)
+  int maxBeamResolution = 4096;            // the resolution stops growing here
+  // lbt's beam resolution at step k (spp = 2^k), from `first`.
+  int beamResolution(int first, int step) const;
+};
+
+// Pixels [x0, x1) x [y0, y1), or a mask (non-zero red) when `mask` is not empty. The whole
+// image as {0, 0, width, height}.
 struct ConvergeRegion {
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   std::vector<float> mask;  // RGB per pixel
@@ -30,13 +44,19 @@ struct ConvergeRegion {
 };
 
 // Renders until the next doubling is not expected to fit in `budgetSeconds` (at least once).
+// RMSE and relMSE count the pixels of `errorPixels`, the bias those of `region` among them.
 // `row` is called after every render (progress).
 std::vector<ConvergeRow> converge(const Scene& scene, const RenderOptions& options, const std::vector<float>& reference,
-                                  const ConvergeRegion& region, double budgetSeconds,
+                                  const ConvergeRegion& errorPixels, const ConvergeRegion& region, double budgetSeconds,
+                                  const ConvergeSchedule& schedule = {},
                                   const std::function<void(const ConvergeRow&)>& row = {});
 
-// The mean of (x - r)² / (r² + 0.01) over pixels and channels (the 0.01 keeps black pixels finite).
-double relMseAgainst(const std::vector<float>& rgba, const std::vector<float>& referenceRgb);
+// Over the pixels of `pixels` (every pixel when it is the whole image) and the RGB channels:
+// the root-mean-square error, and the mean of (x - r)² / (r² + 0.01) (the 0.01 keeps black
+// pixels finite). An empty set gives 0.
+struct ImageError { double rmse = 0, relMse = 0; };
+ImageError errorAgainst(const std::vector<float>& rgba, const std::vector<float>& referenceRgb,
+                        const ConvergeRegion& pixels, int width, int height);
 std::string convergeCsv(const std::vector<ConvergeRow>& rows);
 std::string convergeSvg(const std::vector<ConvergeRow>& rows, const std::string& title);
 

@@ -71,6 +71,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.samplesPerPixel = scene.samplesPerPixel;
     ts.candidateCapacity = stats_.candidateCapacity;
     ts.sortByLeaf = options.sortByLeaf;
+    ts.gridCacheBytes = options.gridCacheBytes;
     if (caching) engine_ = std::make_unique<CachingEngine>(data_.top, scene.leaves, ts, options.diceCacheEntries);
     else engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
   }
@@ -270,7 +271,8 @@ Film Renderer::render(const Progress& progress) {
   }
   stats_.engine = engine_->engineStats();
   stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
-  stats_.memory.diceBuffers = engine_->fixedBytes();
+  stats_.memory.diceCache = stats_.engine.cachePeakBytes;
+  stats_.memory.diceBuffers = engine_->fixedBytes() - stats_.engine.cachePeakBytes;
   stats_.memory.film = film.bytes();
   stats_.timeTotal = secondsSince(t0);
   return film;

@@ -74,6 +74,7 @@ struct RenderOptions {
   LodRule lod = LodRule::PerRay;
   int lodBias = 0;               // TraceSettings::lodBias (--lod-bias)
   size_t rayMemoryBytes = defaultRayMemoryBytes();
+  size_t gridCacheBytes = size_t(512) << 20;  // TraceSettings::gridCacheBytes (--grid-cache); 0: off
   bool sortByLeaf = true;
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   IntegratorMethod method = IntegratorMethod::PathTracing;

@@ -18,6 +18,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"lod_bias", options.lodBias},
                    {"dice_cache_entries", options.diceCacheEntries},
+                   {"grid_cache_bytes", options.gridCacheBytes},
                    {"progressive", s.progressive},
                    {"ray_memory_bytes", options.rayMemoryBytes}};
 
@@ -27,10 +28,12 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
     json its = json::array();
     for (const auto& it : g.stats.iterations)
       its.push_back({{"active_rays", it.activeRays}, {"candidates_per_ray", it.candidatesPerRay},
-                     {"candidates", it.candidates}});
+                     {"candidates", it.candidates}, {"dicings", it.dicings}, {"grid_cache_hits", it.cacheHits}});
     gens.push_back({{"pass", g.pass}, {"batch", g.batch}, {"depth", g.depth}, {"rays", g.stats.rays},
                     {"shadow_rays", g.stats.shadowRays}, {"iterations", its},
-                    {"leaves_diced", g.stats.leavesDiced}, {"micropolygons_created", g.stats.micropolygonsCreated}});
+                    {"leaves_diced", g.stats.leavesDiced}, {"grid_cache_hits", g.stats.gridCacheHits},
+                    {"origin_leaf_dicings", g.stats.originLeafDicings},
+                    {"micropolygons_created", g.stats.micropolygonsCreated}});
     diced += g.stats.leavesDiced;
     created += g.stats.micropolygonsCreated;
     rays += g.stats.rays;
@@ -108,13 +111,15 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   }
   // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
-  uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0;
+  uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0, gridCacheHits = 0;
   for (const auto& g : s.generations) {
+    gridCacheHits += g.stats.gridCacheHits;
     movingDicings += g.stats.movingDicings;
     borderHits += g.stats.borderHits;
     originLeafDicings += g.stats.originLeafDicings;
   }
   j["totals"]["origin_leaf_dicings"] = originLeafDicings;
+  j["totals"]["grid_cache_hits"] = gridCacheHits;
   j["features"] = {
       {"motion_blur", f.movingLeaves > 0 && f.shutterOpen},
       {"moving_leaves", f.movingLeaves},

@@ -26,6 +26,9 @@ struct TraceSettings {
   int samplesPerPixel = 1;          // only for LodRule::Density
   size_t candidateCapacity = 1 << 20;
   int maxCandidatesPerRay = 100;    // Table 6.3 clips N at 100
+  // Bytes of diced grids the sorted pipeline keeps across iterations and generations
+  // (rays/grid_cache.h); 0: every iteration dices every leaf it has rays for.
+  size_t gridCacheBytes = 0;
   bool sortByLeaf = true;           // false: debug mode, every ray traced alone, unsorted
   // Crack-free level of detail: curved patches are also intersected as their conservative
   // border boxes (DiceBuffer::intersect). Off only to show, in tests, the slits it closes.
@@ -39,6 +42,8 @@ struct IterationStats {
   uint64_t activeRays = 0;
   double candidatesPerRay = 0;  // N chosen for this iteration
   uint64_t candidates = 0;      // candidates actually recorded
+  uint64_t dicings = 0;         // leaves diced in this iteration (cache hits not counted)
+  uint64_t cacheHits = 0;       // leaves whose grid came from the grid cache
 };
 
 struct GenerationStats {
@@ -52,6 +57,7 @@ struct GenerationStats {
   // Dicings whose rays all leave from that leaf: what the thesis's second optimisation
   // (§6.2.1: continuation rays intersected with their still-diced leaf) could save at most.
   uint64_t originLeafDicings = 0;
+  uint64_t gridCacheHits = 0;        // leaf visits served by the grid cache instead of a dicing
 };
 
 // Times of the tracing stages. toplevel and sort are wall clock; dice and bottom are summed

@@ -37,7 +37,8 @@ RayHit hitRecord(const GridHit& h, uint32_t leaf, int level) {
 }  // namespace
 
 Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
-    : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)) {
+    : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)),
+      cache_(s.gridCacheBytes) {
   leafSize_.resize(leaves.size());
   leafBox_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
@@ -147,6 +148,8 @@ EngineStats Tracer::engineStats() const {
   s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafBox_.capacity() * sizeof(Box3) +
                      leafMoving_.capacity() + borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
   s.maxLevel = settings_.maxLod;
+  s.cacheHits = cache_.hits();
+  s.cachePeakBytes = cache_.peakBytes();
   return s;
 }
 
@@ -236,7 +239,10 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     it.candidatesPerRay = N;
     collectCandidates(b, nNow, N, times);
     it.candidates = sortCandidates(nNow, N, times);
+    const uint64_t dicedBefore = stats.leavesDiced, hitsBefore = stats.gridCacheHits;
     diceAndIntersectRuns(b, stats, times);
+    it.dicings = stats.leavesDiced - dicedBefore;
+    it.cacheHits = stats.gridCacheHits - hitsBefore;
     keepUnfinishedRays(b, nActive, nNow);
     stats.iterations.push_back(it);
   }
@@ -279,17 +285,45 @@ size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
   return sort_.order.size();
 }
 
-// 3+4. One task per leaf: dice once, intersect all of its rays; a moving leaf once per time
-// interval its rays fall in.
+// 3+4. One task per leaf: dice once (or take the cached grid), intersect all of its rays; a
+// moving leaf once per time interval its rays fall in. The cache is asked serially, in run
+// order, so its history does not depend on the thread count (rays/grid_cache.h).
 void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
+  auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
+  auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
+  runEntry_.assign(nRuns, nullptr);
+  if (cache_.enabled()) {
+    runLevel_.resize(nRuns);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 64), [&](const auto& r) {
+      for (size_t run = r.begin(); run != r.end(); ++run)
+        runLevel_[run] = runLevel(b, runSlots(run), runCount(run), cand_.leaf[runSlots(run)[0]]);
+    });
+    uint64_t hits = 0;
+    for (size_t run = 0; run < nRuns; ++run) {
+      const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
+      if (leafMoving_[leaf]) continue;
+      runEntry_[run] = cache_.acquire(leaf, runLevel_[run]);
+      hits += runEntry_[run] && !runEntry_[run]->toDice;
+    }
+    cache_.nextIteration();
+    stats.gridCacheHits += hits;
+  }
   DicingCounters counters;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
-    DiceBuffer& dice = localDiceBuffer();
     for (size_t run = r.begin(); run != r.end(); ++run) {
-      const uint32_t* slots = sort_.order.data() + sort_.runs[run];
-      const size_t count = sort_.runs[run + 1] - sort_.runs[run];
+      const uint32_t* slots = runSlots(run);
+      const size_t count = runCount(run);
       const uint32_t leaf = cand_.leaf[slots[0]];
+      if (GridCache::Entry* e = runEntry_[run]) {
+        if (e->toDice) {
+          e->patch = leaves_.patch(leaf);  // kept with the grid: border queries read it
+          diceRun(b, *e->grid, slots, count, leaf, *e->patch, -1, runLevel_[run], times, counters);
+        }
+        intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], times, counters);
+        continue;
+      }
+      DiceBuffer& dice = localDiceBuffer();
       // A generated leaf's patch lives only for this run.
       const PatchPtr patch = leaves_.patch(leaf);
       if (!leafMoving_[leaf]) diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, times, counters);
@@ -329,19 +363,25 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
 }
 
 // Dices `leaf` (its time interval, or static when interval < 0) at the finest level of `count`
-// slots and intersects them all. A leaf with many rays (a wall seen by most of the image) would
-// serialise the iteration on one thread, so its rays are split into chunks that other threads
-// intersect against the same, now read-only, buffer; the chunk loop is isolated so this thread
-// cannot pick up another leaf's task (which would re-dice its buffer) while it waits.
+// slots and intersects them all.
 void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                               const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters) {
+  const int m = runLevel(b, slots, count, leaf);
+  diceRun(b, dice, slots, count, leaf, patch, interval, m, times, counters);
+  intersectRun(b, dice, slots, count, leaf, patch, m, times, counters);
+}
+
+int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf) const {
+  if (settings_.lod == LodRule::Density)
+    return biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
+                       settings_.maxLod);
   int m = 0;
-  if (settings_.lod == LodRule::Density) {
-    m = biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
-                    settings_.maxLod);
-  } else {
-    for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, rayOfSlot(slots[k]), leaf));
-  }
+  for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, rayOfSlot(slots[k]), leaf));
+  return m;
+}
+
+void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                     const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
   {
     ScopedTimer timer(times.dice);
     if (interval < 0) dice.dice(patch, m);
@@ -353,6 +393,14 @@ void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slo
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
   if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.originLeaf[rayOfSlot(s)] == leaf; }))
     counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
+}
+
+// A leaf with many rays (a wall seen by most of the image) would serialise the iteration on one
+// thread, so its rays are split into chunks that other threads intersect against the same, now
+// read-only, buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
+// (which would re-dice its buffer) while it waits.
+void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                          const Patch& patch, int m, TraceTimes& times, DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     uint64_t borders = 0;

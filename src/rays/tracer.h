@@ -6,7 +6,9 @@
 //                 A candidate slot is the leaf id alone (4 bytes).
 //   2. sort       the candidate slots are grouped by leaf (CandidateSort).
 //   3. dice       one oneTBB task per leaf dices the patch at the finest level its rays need
-//                 into this thread's DiceBuffer and
+//                 into this thread's DiceBuffer, or takes it from the GridCache (a static leaf
+//                 diced in an earlier iteration or generation of the batch at that level or
+//                 finer; rays/grid_cache.h, --grid-cache), and
 //   4. bottom     intersects every ray at its own level, searching up to the ray's best hit of
 //                 the previous iterations, and offers each hit to the ray's RayHit: kept when
 //                 nearer under nearerHit's total order (t, leaf, micro-quad), under a per-ray
@@ -21,21 +23,9 @@
 // is the minimum of a total order, whatever order the offers come in). Shadow rays stop at
 // their first occluder. Memory: the candidate buffer with its sort (bytesPerCandidate() per
 // slot of fixed capacity), per-ray state (bytesPerRayState() per ray of the largest batch) and
-// one DiceBuffer per thread, allocated on first use and kept. Not thread-safe: one trace() at
+// one DiceBuffer per thread, allocated on first use and kept, plus the grid cache (bounded by
+// TraceSettings::gridCacheBytes; fixedBytes() counts its peak). Not thread-safe: one trace() at
 // a time; trace() itself is parallel.
-//
-// Motion blur (thesis §6.3): a leaf whose patch has K > 1 time samples has its rays regrouped,
-// within the leaf's run, by the time interval [t_i, t_i+1] their time falls in (a stable
-// counting sort); each interval present is diced once, both samples (DiceBuffer::diceInterval),
-// and its rays are intersected at their own time weight. A static leaf takes the static path
-// unchanged.
-// The Rayes implementation of RayEngine (rays/ray_engine.h).
-//
-// Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
-// default per-ray LOD: independent of thread count, sort order, N and batch size. Shadow rays
-// stop at their first occluder. Memory: the candidate buffer (fixed capacity), per-ray state
-// (bytesPerRayState() per ray of the largest batch) and one DiceBuffer per thread, allocated
-// on first use and kept. Not thread-safe: one trace() at a time; trace() itself is parallel.
 //
 // Motion blur (thesis §6.3): a leaf whose patch has K > 1 time samples has its rays regrouped,
 // within the leaf's run, by the time interval [t_i, t_i+1] their time falls in (a stable
@@ -54,6 +44,7 @@
 #include "geometry/leaf_source.h"
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
+#include "rays/grid_cache.h"
 #include "rays/ray_engine.h"
 #include "rays/trace_settings.h"
 #include "toplevel/toplevel_bvh.h"
@@ -69,7 +60,7 @@ class Tracer : public RayEngine {
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
   size_t bytesPerRay() const override { return bytesPerRaySlot(); }
-  size_t fixedBytes() const override { return diceBufferBytes(); }
+  size_t fixedBytes() const override { return diceBufferBytes() + cache_.peakBytes(); }
   EngineStats engineStats() const override;
 
   const TraceSettings& settings() const { return settings_; }
@@ -130,6 +121,13 @@ class Tracer : public RayEngine {
                               uint32_t leaf, const Patch& patch, TraceTimes& times, DicingCounters& counters);
   void diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                         const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters);
+  // The finest level the run's rays need on `leaf` (the level the leaf is diced at).
+  int runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf) const;
+  void diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+               const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters);
+  // Every slot of the run against the diced leaf (rays at their own level <= m).
+  void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                    const Patch& patch, int m, TraceTimes& times, DicingCounters& counters);
   void offerHit(RayBatch& b, uint32_t ray, const RayHit& h);                             // 4
   void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);               // 5
   // The ray a candidate slot of this iteration belongs to (slots are N per active ray).
@@ -177,6 +175,9 @@ class Tracer : public RayEngine {
     std::vector<uint32_t> slots, interval, start;
   };
   tbb::enumerable_thread_specific<IntervalScratch> intervals_;
+  GridCache cache_;
+  std::vector<int> runLevel_;                  // per run of the current iteration
+  std::vector<GridCache::Entry*> runEntry_;    // its cache entry, or nullptr (diced per thread)
 };
 
 // True when hit (t, leaf, quad) is nearer than `best` under the total order used everywhere:

@@ -422,6 +422,8 @@ std::vector<HostileCase> catalogue() {
       {"RayMemoryNaN", {validScene()}, renderWith({"--ray-memory", "nan"}), "--ray-memory", "positive"},
       {"RayMemoryInfinite", {validScene()}, renderWith({"--ray-memory", "inf"}), "--ray-memory", "positive"},
       {"RayMemoryText", {validScene()}, renderWith({"--ray-memory", "lots"}), "--ray-memory", "expected a byte count"},
+      {"GridCacheText", {validScene()}, renderWith({"--grid-cache", "lots"}), "--grid-cache", "expected a byte count"},
+      {"GridCacheNegative", {validScene()}, renderWith({"--grid-cache", "-1G"}), "--grid-cache", "positive"},
       {"MaxLodNegative", {validScene()}, renderWith({"--max-lod", "-1"}), "--max-lod", "must be in [0, 12]"},
       {"MaxLod13", {validScene()}, renderWith({"--max-lod", "13"}), "--max-lod", "must be in [0, 12]"},
       {"LodUnknownRule", {validScene()}, renderWith({"--lod", "random"}), "--lod", ""},

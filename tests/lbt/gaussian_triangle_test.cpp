@@ -46,6 +46,27 @@ TEST(OwenT, ClosedFormsAndSymmetries) {
   EXPECT_EQ(owenT(1, 0), 0);
 }
 
+// At 9σ from every edge P is 0 or 1 to within the mass of a half-plane 9σ away, Q(9).
+TEST(GaussianTriangle, FarFromEveryEdgeIsZeroOrOneWithinTheTail) {
+  const FlatPoint a{-20, -20}, b{20, -20}, c{0, 20};
+  EXPECT_EQ(gaussianTriangleMass(a, b, c), 1.0);
+  EXPECT_NEAR(gaussianTriangleMass({a.x, -8.99}, {b.x, -8.99}, c), 1 - normalTail(8.99), 1e-15);  // an edge closer
+  EXPECT_EQ(gaussianTriangleMass({30, 30}, {40, 30}, {35, 40}), 0.0);
+  EXPECT_LE(gaussianTriangleMass({-50, 8.99}, {50, 8.99}, {0, 50}), normalTail(8.99) * (1 + 1e-9));
+}
+
+// Far from the centre T is below Q(h)/2 (< 6e-20 at h = 9), and is returned as 0 there: no jump
+// larger than that bound at the cut, nothing negative, nothing that is not finite.
+TEST(OwenT, VanishesFarFromTheCentreWithinItsBound) {
+  for (double a : {0.3, 1.0, 40.0, std::numeric_limits<double>::infinity()}) {
+    const double below = owenT(8.999, a);
+    EXPECT_GE(below, 0.0);
+    EXPECT_LE(below, 0.5 * normalTail(8.999) * (1 + 1e-9)) << a;
+    EXPECT_EQ(owenT(9.0, a), 0.0);
+    EXPECT_EQ(owenT(1e6, a), 0.0);
+  }
+}
+
 TEST(GaussianTriangle, HalfPlaneIsTheNormalTail) {
   // One edge on the line x = d, the other corners far beyond: the mass of {x >= d}.
   for (double d : {-2.0, -0.5, 0.0, 0.25, 1.0, 3.0}) {

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# References and error masks for the lbt error-against-time curves (bench/converge_lbt.sh).
+# At RES with one geometry for every ray (--lod fixed --max-lod 6: per-ray LOD would give camera
+# and light paths different dicings of the curved scatterers), a scene's reference is the sum of
+#   NAME-ref-pt.exr  pt --caustic-paths without, PT_SPP samples (seed 1000): everything but caustic paths
+#   NAME-ref-lt.exr  lt --caustic-paths only, LT_SPP light paths per pixel (seed 1000): the caustic paths
+# plus NAME-ref-lt-check.exr (lt only, LT_SPP/4, seed 2000) to measure the reference's own noise:
+# RMSE(check, ref-lt)² = 5 · (RMSE of ref-lt)², and NAME-mask.exr (bench/lbt_error_mask_scene.py).
+# Usage: bench/lbt_references.sh OUT RES PT_SPP LT_SPP SCENE...
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=$1 res=$2 ptspp=$3 ltspp=$4
+shift 4
+mkdir -p "$out"
+geometry=(--res "$res" --lod fixed --max-lod 6 -q)
+for scene in "$@"; do
+  name=$(basename "$scene" .json)
+  uptime
+  [ -f "$out/$name-ref-pt.exr" ] || /usr/bin/time -f "$name pt: %U+%S s CPU, %e s wall" nice -n 5 build/bin/rayes render \
+    "$scene" "${geometry[@]}" --method pt --caustic-paths without --spp "$ptspp" --seed 1000 -o "$out/$name-ref-pt.exr"
+  [ -f "$out/$name-ref-lt.exr" ] || /usr/bin/time -f "$name lt: %U+%S s CPU, %e s wall" nice -n 5 build/bin/rayes render \
+    "$scene" "${geometry[@]}" --method lt --caustic-paths only --spp "$ltspp" --seed 1000 -o "$out/$name-ref-lt.exr"
+  [ -f "$out/$name-ref-lt-check.exr" ] || nice -n 5 build/bin/rayes render "$scene" "${geometry[@]}" --method lt \
+    --caustic-paths only --spp $((ltspp / 4)) --seed 2000 -o "$out/$name-ref-lt-check.exr"
+  if [ ! -f "$out/$name-mask.exr" ]; then
+    python3 bench/lbt_error_mask_scene.py "$scene" "$out/$name-mask.json"
+    nice -n 5 build/bin/rayes render "$out/$name-mask.json" "${geometry[@]}" --spp 16 --seed 1000 -o "$out/$name-mask.exr"
+  fi
+done
+uptime

@@ -1,0 +1,43 @@
+#include "rays/grid_cache.h"
+
+namespace rayes {
+
+GridCache::Entry* GridCache::acquire(uint32_t leaf, int level) {
+  if (!enabled()) return nullptr;
+  if (auto found = index_.find(leaf); found != index_.end()) {
+    auto it = found->second;
+    if (it->grid->level() >= level) {
+      lru_.splice(lru_.begin(), lru_, it);
+      it->lastUse = iteration_;
+      it->toDice = false;
+      ++hits_;
+      return &*it;
+    }
+    erase(it);  // held too coarse: diced again, finer, as a new entry
+  }
+  auto grid = std::make_unique<DiceBuffer>(level);
+  const size_t need = grid->bytesAllocated();
+  if (!makeRoom(need)) return nullptr;
+  lru_.push_front(Entry{leaf, std::move(grid), nullptr, true, iteration_});
+  index_[leaf] = lru_.begin();
+  bytes_ += need;
+  if (bytes_ > peakBytes_) peakBytes_ = bytes_;
+  return &lru_.front();
+}
+
+bool GridCache::makeRoom(size_t need) {
+  if (need > budget_) return false;
+  while (bytes_ + need > budget_) {
+    if (lru_.empty() || lru_.back().lastUse == iteration_) return false;  // the rest is pinned
+    erase(std::prev(lru_.end()));
+  }
+  return true;
+}
+
+void GridCache::erase(std::list<Entry>::iterator it) {
+  bytes_ -= it->grid->bytesAllocated();
+  index_.erase(it->leaf);
+  lru_.erase(it);
+}
+
+}  // namespace rayes
