@@ -39,12 +39,6 @@ double farthestCorner2(const Box3& box, Vec3 a, const double axis[3], double len
 // Relative slack for the rounding of farthestCorner2 and the square root (double, on float inputs).
 double radiusFrom(double worst2) { return std::sqrt(worst2) * (1.0 + 1e-9); }
 
-// The pieces of a radius are those of level k + split: the radius exceeds the curve's true
-// distance by about a piece's size, so coarse segments, which secondary rays with wide
-// footprints use, take pieces of level 7 (128 per segment at level 0): curved objects would
-// otherwise get visibly fatter for them.
-int radiusSplit(int k) { return std::max(3, 7 - k); }
-
 }  // namespace
 
 Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
@@ -118,12 +112,18 @@ void DiceBuffer::buildBorders(const Patch&, int sample, const Sample& s, std::ve
 }
 
 // The radius about the line through the chord (a, b) of segment j of border e at level k that
-// holds the true border curve of a moving dicing: the curve lies in the boxes of its pieces
-// (at time weights w0, w1 with `blend`, the blend of both samples' boxes, which holds the
-// blended curve; computed per query, so with pieces of level k + 3 only), and its distance
-// from the line is at most their farthest corner's.
-double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool blend) const {
-  const int split = blend ? 3 : radiusSplit(k);
+// holds the true border curve: the curve lies in the boxes of its pieces (with `blend`, the
+// blend of both samples' boxes at time weights w0, w1, which holds the blended curve), and its
+// distance from the line is at most their farthest corner's. The radius exceeds the curve's
+// true distance by about a piece's size, so a static dicing's region takes pieces of level
+// k + radiusSplit(k) = max(k + 3, 7) (at most 128): coarse segments, which secondary rays
+// with wide footprints use, would otherwise make curved objects visibly fatter for them (a
+// moving dicing, computed per query: k + 3). Its pieces are curveBox entries, so the coarse
+// levels' radii share their level-7 pieces within a dicing. (Tried: branch and bound,
+// splitting only the piece that reaches farthest; on displaced borders every piece's box
+// reaches about as far, so it split nearly all and made up to twice the boundsOver calls.)
+double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0,
+                                float w1) const {
   const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
   const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
   if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
@@ -141,46 +141,15 @@ double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float 
   return radiusFrom(worst);
 }
 
-// A static dicing's radius: the same bound as borderRadius's over the pieces of level k +
-// radiusSplit(k), found by branch and bound instead of from all of them. A cover of the
-// segment by pieces (the segment itself first) is refined by splitting the piece whose box
-// reaches farthest from the line, until that piece is of the finest level: its distance is
-// then at least every other piece's, so it bounds the curve, and it is one of the pieces the
-// exhaustive bound takes the largest of, so the radius is no larger. Pieces whose boxes stay
-// closer to the chord than the answer are never split; their boxes (and the split ones') are
-// the curveBox entries the traversal's walk shares. A pure function of (e, k, j): the order of
-// splits depends only on the boxes.
-double DiceBuffer::staticBorderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b) const {
-  const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
-  const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
-  if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
-  const int finest = k + radiusSplit(k);
-  struct Piece {
-    double d2;
-    int level;
-    uint32_t j;
-  };
-  // Farthest first; ties by (level, j), so the order of splits is fixed.
-  auto nearer = [](const Piece& x, const Piece& y) {
-    if (x.d2 != y.d2) return x.d2 < y.d2;
-    if (x.level != y.level) return x.level > y.level;
-    return x.j > y.j;
-  };
-  // Each split replaces one piece by two, and at most 2^split - 1 pieces are split.
-  Piece heap[2 << 7];
-  int size = 0;
-  auto push = [&](int level, uint32_t s) {
-    heap[size++] = {farthestCorner2(curveBox(e, level, s, 0), a, ax, len2), level, s};
-    std::push_heap(heap, heap + size, nearer);
-  };
-  push(k, j);
-  for (;;) {
-    std::pop_heap(heap, heap + size, nearer);
-    const Piece top = heap[--size];
-    if (top.level >= finest) return radiusFrom(top.d2);
-    push(top.level + 1, 2 * top.j);
-    push(top.level + 1, 2 * top.j + 1);
-  }
+double DiceBuffer::cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const {
+  BorderSegment& seg = segments_[borderOffset(e, k, j) / 6];
+  const int which = coarse ? 0 : 1;
+  if (seg.radiusStamp[which].load(std::memory_order_acquire) == stamp_)
+    return seg.radius[which].load(std::memory_order_relaxed);
+  const double r = borderRadius(e, k, j, a, b, coarse ? 3 : radiusSplit(k), false, 1.0f, 0.0f);
+  seg.radius[which].store(r, std::memory_order_relaxed);
+  seg.radiusStamp[which].store(stamp_, std::memory_order_release);
+  return r;
 }
 
 }  // namespace rayes

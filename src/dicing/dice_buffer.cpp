@@ -41,7 +41,7 @@ void DiceBuffer::newStamp() {
   if (++stamp_ == 0) {
     for (size_t i = 0, n = borderOffset(4, 0, 0) / 6; i < n; ++i) {
       segments_[i].boxStamp.store(0, std::memory_order_relaxed);
-      segments_[i].radiusStamp.store(0, std::memory_order_relaxed);
+      for (auto& r : segments_[i].radiusStamp) r.store(0, std::memory_order_relaxed);
     }
     stamp_ = 1;
   }

@@ -36,6 +36,7 @@
 // children) and blends it per query. The patch must outlive the queries of its dicing. See
 // intersect().
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -134,15 +135,16 @@ class DiceBuffer {
   };
   struct Best;
   // What a static dicing has computed of one border segment (border e, level i, segment j),
-  // valid while its stamp equals the dicing's: the box of the true curve over it
-  // (Patch::boundsOverAt, without the chord) and the radius of its region. Filled on first use
+  // each value valid while its stamp equals the dicing's: the box of the true curve over it
+  // (Patch::boundsOverAt, without the chord) and the two radius bounds of its region (a
+  // cheap one first, see traverseBorders). Filled on first use
   // by whichever query gets there; concurrent queries of one dicing may race on an entry
   // harmlessly (idempotent writes of a pure function, each value its own atomic, the stamp
   // published last).
   struct BorderSegment {
-    std::atomic<uint32_t> boxStamp{0}, radiusStamp{0};
+    std::atomic<uint32_t> boxStamp{0}, radiusStamp[2] = {0, 0};
     std::atomic<float> box[6];
-    std::atomic<double> radius{0};
+    std::atomic<double> radius[2] = {0, 0};  // from pieces of level k + 3 and k + radiusSplit(k)
   };
   void allocate(Sample& s) const;
   void newStamp();
@@ -162,10 +164,14 @@ class DiceBuffer {
   // A static dicing's region box of segment j of border e at level i <= level(): curveBox and
   // the chord's two grid vertices.
   Box3 regionBox(int e, int i, uint32_t j) const;
-  // Radius about the chord's line that holds the true border curve of segment j of border e
-  // at level k (at time weights w0, w1): see traverseBorders.
-  double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool blend) const;
-  double staticBorderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b) const;
+  // Radius about the chord's line (a, b) that holds the true border curve of segment j of
+  // border e at level k, from its pieces of level k + split (with `blend`, the pieces blended
+  // at time weights w0, w1): see border_regions.cpp.
+  double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0, float w1) const;
+  // A static region's pieces are of level k + radiusSplit(k) = max(k + 3, 7).
+  static int radiusSplit(int k) { return std::max(3, 7 - k); }
+  // The same at time weight 0, with split 3 (`coarse`) or radiusSplit(k), cached per dicing.
+  double cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const;
   size_t borderOffset(int e, int level, uint32_t j) const {
     return 6 * (size_t(e) * ((size_t(2) << maxLevel_) - 1) + ((size_t(1) << level) - 1) + j);
   }

@@ -485,15 +485,19 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         double c0, c1;
         double radius;
         if constexpr (Moving) {
-          radius = borderRadius(e, k, n.j, a, b, w0, w1, true);
+          radius = borderRadius(e, k, n.j, a, b, 3, true, w0, w1);
         } else {
-          BorderSegment& seg = segments_[borderOffset(e, k, n.j) / 6];
-          if (seg.radiusStamp.load(std::memory_order_acquire) == stamp_) {
-            radius = seg.radius.load(std::memory_order_relaxed);
-          } else {
-            radius = moving_ ? borderRadius(e, k, n.j, a, b, w0, w1, false) : staticBorderRadius(e, k, n.j, a, b);
-            seg.radius.store(radius, std::memory_order_relaxed);
-            seg.radiusStamp.store(stamp_, std::memory_order_release);
+          // The radius is the smaller of two bounds, from 8 pieces and from the finer pieces of
+          // radiusSplit(k) (<= 128): the first is cheap, and a ray that misses its cylinder, or
+          // enters it after the best hit, misses the region whatever the second (shrinking the
+          // cylinder only delays the entry and advances the exit), so most rays near a coarse
+          // segment never need the second. The region is the same function of (k, j) either way.
+          radius = cachedRadius(e, k, n.j, a, b, true);
+          if (radiusSplit(k) > 3) {
+            if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1)) continue;
+            if (!(std::max(t0, roundDown(c0)) <= std::min(t1, roundUp(c1))) || std::max(t0, roundDown(c0)) > best.t)
+              continue;
+            radius = std::min(radius, cachedRadius(e, k, n.j, a, b, false));
           }
         }
         // The cylinder is tested in double: only the watertight test's rounding is added to

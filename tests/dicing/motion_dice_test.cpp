@@ -165,7 +165,7 @@ TEST(MovingDice, StaticPatchesUseOneSampleAndTheSecondGridIsAllocatedOnFirstUse)
   const size_t segments = 4 * ((size_t(2) << 4) - 1);
   // The border segments' boxes, radii and stamps are shared, not per sample; a moving dicing
   // adds a border tree per sample.
-  const size_t shared = segments * (sizeof(Box3) + sizeof(double) + 2 * sizeof(uint32_t));
+  const size_t shared = segments * (sizeof(Box3) + 2 * sizeof(double) + 16);
   EXPECT_EQ(buffer.bytesAllocated(), 2 * before - shared + 2 * segments * sizeof(Box3));
   buffer.dice(*movingTeapotPatch(), 3);  // sample 0 alone
   EXPECT_FALSE(buffer.moving());
