@@ -5,6 +5,7 @@
 #pragma once
 #include <cmath>
 #include <limits>
+#include "core/next_float.h"
 #include "core/vec.h"
 
 namespace rayes {
@@ -48,8 +49,8 @@ struct Box3 {
     const float e = err + magnitude() * 0x1p-24f;  // half an ulp: ulp(x) <= x 2^-23
     Box3 r;
     for (int a = 0; a < 3; ++a) {
-      r.lo[a] = std::nextafter(lo[a] - e, -std::numeric_limits<float>::infinity());
-      r.hi[a] = std::nextafter(hi[a] + e, std::numeric_limits<float>::infinity());
+      r.lo[a] = nextFloatDown(lo[a] - e);
+      r.hi[a] = nextFloatUp(hi[a] + e);
     }
     return r;
   }

@@ -1,7 +1,7 @@
 // Interval arithmetic with outward rounding: every operation returns an interval that contains
 // the exact result for every choice of operands inside its operand intervals. Each endpoint is
 // computed in float (round to nearest, so off by at most half an ulp) and then moved one ulp
-// outward with nextafter, which makes the result conservative without touching the FPU's
+// outward (nextFloatDown/Up, std::nextafter's results inline), which makes the result conservative without touching the FPU's
 // rounding mode (the rest of the program must keep round-to-nearest for bit-identical images).
 //
 // Used by displacement bounds (geometry/displacement.h): the range of a noise function or a
@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include "core/next_float.h"
 
 namespace rayes {
 
@@ -32,8 +33,8 @@ struct Interval {
 };
 
 // One ulp outward (the identity on infinities; NaN stays NaN and makes the caller's checks fail).
-inline float roundDown(float x) { return std::nextafter(x, -std::numeric_limits<float>::infinity()); }
-inline float roundUp(float x) { return std::nextafter(x, std::numeric_limits<float>::infinity()); }
+inline float roundDown(float x) { return nextFloatDown(x); }
+inline float roundUp(float x) { return nextFloatUp(x); }
 
 // Widens by an absolute margin (rounded outward too).
 inline Interval widened(Interval a, float margin) { return {roundDown(a.lo - margin), roundUp(a.hi + margin)}; }

@@ -14,7 +14,7 @@ using detail::morton;
 DiceBuffer::DiceBuffer(int maxLevel) : maxLevel_(maxLevel) {
   if (maxLevel < 0 || maxLevel > 12) throw std::invalid_argument("DiceBuffer: maxLevel not in 0..12");
   allocate(a_);
-  radius_ = std::make_unique<std::atomic<double>[]>(borderOffset(4, 0, 0) / 6);
+  segments_ = std::make_unique<BorderSegment[]>(borderOffset(4, 0, 0) / 6);
 }
 
 void DiceBuffer::allocate(Sample& s) const {
@@ -22,7 +22,6 @@ void DiceBuffer::allocate(Sample& s) const {
   s.positions.resize(res * res);
   s.normals.resize(res * res);
   s.nodes.resize(levelOffset(maxLevel_ + 1) * 6);  // 6 floats per box
-  s.borders.resize(borderOffset(4, 0, 0));         // 4 borders x (2^(maxLevel+1) - 1) boxes
 }
 
 void DiceBuffer::diceSample(const Patch& patch, int sample, int level, Sample& out) {
@@ -30,11 +29,21 @@ void DiceBuffer::diceSample(const Patch& patch, int sample, int level, Sample& o
   const size_t count = size_t(resolution()) * resolution();
   for (size_t k = 0; k < count; ++k) out.normals[k] = detail::unitOrZero(out.normals[k]);
   buildTree(out.positions, out.nodes);
-  if (borders_) {  // only for the patches that need them
+  if (borders_ && moving_) {  // a static dicing computes its border segments on demand
+    if (out.borders.empty()) out.borders.resize(borderOffset(4, 0, 0));  // 4 x (2^(maxLevel+1) - 1) boxes
     buildBorders(patch, sample, out, out.borders);
-    for (int e = 0; e < 4; ++e)
-      for (size_t i = borderOffset(e, 0, 0) / 6, end = borderOffset(e, level + 1, 0) / 6; i < end; ++i)
-        radius_[i].store(-1.0, std::memory_order_relaxed);
+  }
+}
+
+// A new serial number makes every border segment entry stale; on wrap-around (after 2^32
+// dicings) the entries are cleared so that no old stamp can match.
+void DiceBuffer::newStamp() {
+  if (++stamp_ == 0) {
+    for (size_t i = 0, n = borderOffset(4, 0, 0) / 6; i < n; ++i) {
+      segments_[i].boxStamp.store(0, std::memory_order_relaxed);
+      for (auto& r : segments_[i].radiusStamp) r.store(0, std::memory_order_relaxed);
+    }
+    stamp_ = 1;
   }
 }
 
@@ -46,6 +55,7 @@ void DiceBuffer::dice(const Patch& patch, int level) {
   sampleA_ = 0;
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();
+  newStamp();
   diceSample(patch, 0, level, a_);
 }
 
@@ -60,6 +70,7 @@ void DiceBuffer::diceInterval(const Patch& patch, int interval, int level) {
   sampleA_ = interval;
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();  // the union over all samples: the margin is per patch, not per interval
+  newStamp();
   if (b_.positions.empty()) allocate(b_);
   diceSample(patch, interval, level, a_);
   diceSample(patch, interval + 1, level, b_);
@@ -158,53 +169,10 @@ void DiceBuffer::buildTree(const std::vector<Vec3>& positions_, std::vector<floa
   }
 }
 
-// Border trees: for each border e and level i, box (e, i, j) is the box of the true border
-// curve over segment j (Patch::boundsOverAt on the degenerate rectangle of that border) and of
-// the segment's chord (its two grid vertices), united with its two children's boxes so that a
-// node contains every finer level's box below it (the traversal prunes with it). Built
-// finest level first. Levels above level_ are never read.
-void DiceBuffer::buildBorders(const Patch& patch, int sample, const Sample& s, std::vector<float>& out) const {
-  const int m = level_;
-  const size_t res = (size_t(1) << m) + 1;
-  for (int e = 0; e < 4; ++e) {
-    for (int i = m; i >= 0; --i) {
-      const uint32_t n = 1u << i;
-      const size_t stride = size_t(1) << (m - i);
-      const float inv = 1.0f / float(n);  // a power of two: j * inv is exact
-      for (uint32_t j = 0; j < n; ++j) {
-        const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
-        Box3 b;
-        size_t v0, v1;  // grid indices of the chord's ends
-        switch (e) {
-          case 0: b = patch.boundsOverAt(sample, t0, t1, 0.0f, 0.0f); v0 = j * stride; v1 = v0 + stride; break;
-          case 1: b = patch.boundsOverAt(sample, 1.0f, 1.0f, t0, t1);
-                  v0 = j * stride * res + (res - 1); v1 = v0 + stride * res; break;
-          case 2: b = patch.boundsOverAt(sample, t0, t1, 1.0f, 1.0f);
-                  v0 = (res - 1) * res + j * stride; v1 = v0 + stride; break;
-          default: b = patch.boundsOverAt(sample, 0.0f, 0.0f, t0, t1); v0 = j * stride * res; v1 = v0 + stride * res; break;
-        }
-        b.extend(s.positions[v0]);
-        b.extend(s.positions[v1]);
-        float* box = out.data() + borderOffset(e, i, j);
-        if (i < m) {
-          const float* c = out.data() + borderOffset(e, i + 1, 2 * j);  // the two children are adjacent
-          for (int a = 0; a < 3; ++a) {
-            b.lo[a] = std::min(b.lo[a], std::min(c[a], c[6 + a]));
-            b.hi[a] = std::max(b.hi[a], std::max(c[3 + a], c[9 + a]));
-          }
-        }
-        for (int a = 0; a < 3; ++a) {
-          box[a] = b.lo[a];
-          box[3 + a] = b.hi[a];
-        }
-      }
-    }
-  }
-}
-
 Box3 DiceBuffer::borderNode(int e, int treeLevel, int j) const {
   Box3 b;
   if (!borders_) return b;
+  if (!moving_) return regionBox(e, treeLevel, uint32_t(j));
   const float* r = a_.borders.data() + borderOffset(e, treeLevel, uint32_t(j));
   b.lo = {r[0], r[1], r[2]};
   b.hi = {r[3], r[4], r[5]};
@@ -237,7 +205,7 @@ size_t DiceBuffer::bytesAllocated() const {
   for (const Sample* s : {&a_, &b_})
     b += s->positions.capacity() * sizeof(Vec3) + s->normals.capacity() * sizeof(Vec3) +
          s->nodes.capacity() * sizeof(float) + s->borders.capacity() * sizeof(float);
-  return b + borderOffset(4, 0, 0) / 6 * sizeof(double);  // radius_
+  return b + borderOffset(4, 0, 0) / 6 * sizeof(BorderSegment);  // segments_
 }
 
 }  // namespace rayes

@@ -23,14 +23,20 @@
 // grid: its traversal is the static code path, unchanged.
 //
 // Crack-free borders (docs/architecture.md): for a patch whose borders are curved
-// (Patch::needsBorderClosure) the buffer also builds, per border, a binary tree over the
-// border segments of every level, whose node at level k bounds the true border curve over
-// that segment (Patch::boundsOver on the degenerate rectangle) and its chord. A query with
-// closeBorders also hits the border region of each segment at the ray's level: that box cut
-// down to a cylinder about the chord that still holds the true curve. Whatever level a
-// neighbour was intersected at, the slit between the two dicings lies in these regions. The
-// patch must outlive the queries of its dicing. See intersect().
+// (Patch::needsBorderClosure) a query with closeBorders also hits the border region of each
+// border segment at the ray's level k: a box that holds the true border curve over that
+// segment (Patch::boundsOver on the degenerate rectangle) and its chord, cut down to a cylinder
+// about the chord that still holds the curve. Whatever level a neighbour was intersected at,
+// the slit between the two dicings lies in these regions. A static dicing computes a segment's
+// box and radius only when a ray first reaches it (a dicing of a displaced leaf serves a few
+// rays, and the bounds of its borders cost far more than its micro-polygons), as pure
+// functions of (border, level, segment): the ray walks the segments' boxes of levels 0..k, so
+// neither pruning nor the region depends on the level the patch was diced at. A moving dicing
+// builds, per time sample, the binary tree of those boxes up front (each node united with its
+// children) and blends it per query. The patch must outlive the queries of its dicing. See
+// intersect().
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -96,8 +102,9 @@ class DiceBuffer {
   // stopped by it). The hit distance is the ray's crossing of the adjacent micro-triangle's
   // plane clamped to the region's entry/exit, so the point lies as close to the surface as
   // the region allows; the normals are that quad's; quad is the border micro-quad; border is
-  // set. The result is still a pure function of (ray, patch, k, alpha): the border tree's
-  // boxes contain every finer level's, and a region depends on k and j only.
+  // set. The result is still a pure function of (ray, patch, k, alpha): a static dicing's
+  // segment boxes and radii are functions of (e, level, j) alone (a moving dicing's tree
+  // nodes contain every finer level's box).
   bool intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,
                  BottomQuery query = {}) const;
 
@@ -112,13 +119,14 @@ class DiceBuffer {
   // Node box of the implicit tree at (treeLevel, x, y).
   Box3 node(int treeLevel, int x, int y) const;
   // Border box of segment j (0 <= j < 2^treeLevel) of border e (0: v=0, 1: u=1, 2: v=1,
-  // 3: u=0) at treeLevel, for the first time sample; empty when hasBorders() is false.
+  // 3: u=0) at treeLevel <= level(), for the first time sample: a static dicing's region box,
+  // a moving dicing's tree node; empty when hasBorders() is false.
   Box3 borderNode(int e, int treeLevel, int j) const;
   size_t nodeCount() const;                                  // sum_{i<=level} 4^i
   size_t bytesAllocated() const;
 
  private:
-  // One time sample's grid, tree and border trees.
+  // One time sample's grid, tree and (moving dicings) border trees.
   struct Sample {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;  // unit (or zero where the patch is degenerate as a whole)
@@ -126,7 +134,20 @@ class DiceBuffer {
     std::vector<float> borders; // 4 binary trees of boxes (6 floats), see borderOffset()
   };
   struct Best;
+  // What a static dicing has computed of one border segment (border e, level i, segment j),
+  // each value valid while its stamp equals the dicing's: the box of the true curve over it
+  // (Patch::boundsOverAt, without the chord) and the two radius bounds of its region (a
+  // cheap one first, see traverseBorders). Filled on first use
+  // by whichever query gets there; concurrent queries of one dicing may race on an entry
+  // harmlessly (idempotent writes of a pure function, each value its own atomic, the stamp
+  // published last).
+  struct BorderSegment {
+    std::atomic<uint32_t> boxStamp{0}, radiusStamp[2] = {0, 0};
+    std::atomic<float> box[6];
+    std::atomic<double> radius[2] = {0, 0};  // from pieces of level k + 3 and k + radiusSplit(k)
+  };
   void allocate(Sample& s) const;
+  void newStamp();
   void diceSample(const Patch& patch, int sample, int level, Sample& out);
   void buildTree(const std::vector<Vec3>& positions, std::vector<float>& nodes) const;
   void buildBorders(const Patch& patch, int sample, const Sample& s, std::vector<float>& borders) const;
@@ -136,9 +157,21 @@ class DiceBuffer {
   template <bool AnyHit, bool Moving>
   bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
                        float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const;
-  // Radius about the chord's line that holds the true border curve of segment j of border e
-  // at level k (at time weights w0, w1): see traverseBorders.
-  double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool moving) const;
+  // The box of the true border curve over segment j of border e at level i, of time sample
+  // `sample` (Patch::boundsOverAt on the degenerate rectangle); of a static dicing's sample,
+  // cached for i <= maxLevel.
+  Box3 curveBox(int e, int i, uint32_t j, int sample) const;
+  // A static dicing's region box of segment j of border e at level i <= level(): curveBox and
+  // the chord's two grid vertices.
+  Box3 regionBox(int e, int i, uint32_t j) const;
+  // Radius about the chord's line (a, b) that holds the true border curve of segment j of
+  // border e at level k, from its pieces of level k + split (with `blend`, the pieces blended
+  // at time weights w0, w1): see border_regions.cpp.
+  double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0, float w1) const;
+  // A static region's pieces are of level k + radiusSplit(k) = max(k + 3, 7).
+  static int radiusSplit(int k) { return std::max(3, 7 - k); }
+  // The same at time weight 0, with split 3 (`coarse`) or radiusSplit(k), cached per dicing.
+  double cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const;
   size_t borderOffset(int e, int level, uint32_t j) const {
     return 6 * (size_t(e) * ((size_t(2) << maxLevel_) - 1) + ((size_t(1) << level) - 1) + j);
   }
@@ -148,11 +181,11 @@ class DiceBuffer {
   bool moving_ = false;   // the second sample (b_) holds this dicing's other time sample
   const Patch* patch_ = nullptr;  // the diced patch (border regions query it; must outlive the queries)
   int sampleA_ = 0;       // its time samples in a_ and b_
-  bool borders_ = false;  // this dicing has border trees
-  // Border radii of a static dicing (borderRadius at alpha 0), per (border, level, segment),
-  // filled on first use (-1: not yet): many rays near a border share one. Idempotent writes of
-  // a pure function, so concurrent queries of one dicing may race on an entry harmlessly.
-  std::unique_ptr<std::atomic<double>[]> radius_;
+  bool borders_ = false;  // this dicing has border regions
+  // Per (border, level <= maxLevel, segment), index borderOffset() / 6: what this dicing has
+  // computed of its borders (a moving dicing uses only the radii, at alpha 0).
+  std::unique_ptr<BorderSegment[]> segments_;
+  uint32_t stamp_ = 0;    // this dicing's serial number (entries with another stamp are stale)
   Sample a_;              // first (or only) time sample
   Sample b_;              // second time sample: allocated by the first diceInterval()
   // The tree, stored by sibling groups: group g of level i (i < level_) holds the boxes of the

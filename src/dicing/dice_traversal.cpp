@@ -390,9 +390,13 @@ borders:
   return true;
 }
 
-// The border boxes at the ray's level k (see DiceBuffer::intersect): per border, a depth-first
-// walk of its binary tree, pruned by the slab test against the best hit so far (inclusive, as
-// the quad-tree walk). Returns true when it improved `best` (for AnyHit: found any hit).
+// The border regions at the ray's level k (see DiceBuffer::intersect): per border, a
+// depth-first walk of the binary tree of its segments, pruned by the slab test on each
+// segment's box against the best hit so far (inclusive, as the quad-tree walk). A static
+// dicing's boxes are its segments' own (regionBox, computed on first use): each holds the true
+// curve and every grid vertex of its segment, so a region part that closes a slit is never
+// pruned, and the walk depends on (ray, k) alone. A moving dicing's are its tree's, blended.
+// Returns true when it improved `best` (for AnyHit: found any hit).
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
                                  float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const {
@@ -403,6 +407,12 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
   const Vec3* const normals_ = a_.normals.data();
   bool found = false;
   auto box = [&](int e, int lv, uint32_t j, Vec3& lo, Vec3& hi) {
+    if (!Moving && !moving_) {
+      const Box3 r = regionBox(e, lv, j);
+      lo = r.lo;
+      hi = r.hi;
+      return;
+    }
     const size_t o = borderOffset(e, lv, j);
     const float* a = a_.borders.data() + o;
     lo = Vec3{a[0], a[1], a[2]};
@@ -475,13 +485,19 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         double c0, c1;
         double radius;
         if constexpr (Moving) {
-          radius = borderRadius(e, k, n.j, a, b, w0, w1, true);
+          radius = borderRadius(e, k, n.j, a, b, 3, true, w0, w1);
         } else {
-          std::atomic<double>& cached = radius_[borderOffset(e, k, n.j) / 6];
-          radius = cached.load(std::memory_order_relaxed);
-          if (radius < 0) {
-            radius = borderRadius(e, k, n.j, a, b, w0, w1, false);
-            cached.store(radius, std::memory_order_relaxed);
+          // The radius is the smaller of two bounds, from 8 pieces and from the finer pieces of
+          // radiusSplit(k) (<= 128): the first is cheap, and a ray that misses its cylinder, or
+          // enters it after the best hit, misses the region whatever the second (shrinking the
+          // cylinder only delays the entry and advances the exit), so most rays near a coarse
+          // segment never need the second. The region is the same function of (k, j) either way.
+          radius = cachedRadius(e, k, n.j, a, b, true);
+          if (radiusSplit(k) > 3) {
+            if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1)) continue;
+            if (!(std::max(t0, roundDown(c0)) <= std::min(t1, roundUp(c1))) || std::max(t0, roundDown(c0)) > best.t)
+              continue;
+            radius = std::min(radius, cachedRadius(e, k, n.j, a, b, false));
           }
         }
         // The cylinder is tested in double: only the watertight test's rounding is added to
@@ -527,51 +543,6 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
     }
   }
   return found;
-}
-
-// The radius about the line through the chord (a, b) of segment j of border e at level k that
-// holds the true border curve: the curve lies in the boxes of its pieces (Patch::boundsOverAt;
-// at time weights w0, w1 the blend of both samples' boxes, which holds the blended curve), and
-// the distance to a line, a convex function, is largest over a box at one of its corners. The
-// radius exceeds the curve's true distance by about a piece's size, so the pieces are those of
-// level max(k + 3, 7) (at most 128; a moving dicing, computed per query, k + 3): coarse
-// segments, which secondary rays with wide footprints use, would otherwise make curved objects
-// visibly fatter for them. A function of (e, k, j) alone, so the region does not depend on the
-// level the patch was diced at.
-double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, float w0, float w1, bool moving) const {
-  const int split = moving ? 3 : std::max(3, 7 - k);
-  const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
-  const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
-  if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
-  const uint32_t pieces = 1u << split;
-  const float inv = 1.0f / float(1u << (k + split));  // a power of two: exact parameters
-  double worst = 0;
-  for (uint32_t i = 0; i < pieces; ++i) {
-    const float t0 = float(j * pieces + i) * inv, t1 = float(j * pieces + i + 1) * inv;
-    auto over = [&](int sample) {
-      switch (e) {
-        case 0: return patch_->boundsOverAt(sample, t0, t1, 0.0f, 0.0f);
-        case 1: return patch_->boundsOverAt(sample, 1.0f, 1.0f, t0, t1);
-        case 2: return patch_->boundsOverAt(sample, t0, t1, 1.0f, 1.0f);
-        default: return patch_->boundsOverAt(sample, 0.0f, 0.0f, t0, t1);
-      }
-    };
-    Box3 box = over(sampleA_);
-    if (moving) {
-      const Box3 other = over(sampleA_ + 1);
-      box.lo = lerpPoint(box.lo, other.lo, w0, w1);
-      box.hi = lerpPoint(box.hi, other.hi, w0, w1);
-    }
-    for (int c = 0; c < 8; ++c) {
-      const double p[3] = {double((c & 1) ? box.hi.x : box.lo.x) - a.x, double((c & 2) ? box.hi.y : box.lo.y) - a.y,
-                           double((c & 4) ? box.hi.z : box.lo.z) - a.z};
-      // |p x axis|^2 / |axis|^2
-      const double x = p[1] * ax[2] - p[2] * ax[1], y = p[2] * ax[0] - p[0] * ax[2], z = p[0] * ax[1] - p[1] * ax[0];
-      worst = std::max(worst, (x * x + y * y + z * z) / len2);
-    }
-  }
-  // Relative slack for the rounding of the above (double, on float inputs).
-  return std::sqrt(worst) * (1.0 + 1e-9);
 }
 
 namespace {

@@ -104,24 +104,39 @@ Interval ValueNoise::range(Vec3 lo, Vec3 hi) const {
     const float t1 = cell == int64_t(ch[a]) ? std::clamp(h - ch[a], 0.0f, 1.0f) : 1.0f;
     return {std::max(0.0, fadeExact(t0) - kFadeError), std::min(1.0, fadeExact(t1) + kFadeError)};
   };
+  // The weights of each axis's cells and the lattice values at the cells' corners, computed
+  // once (a corner is shared by up to 8 cells; a weight by every cell of its slab) and then
+  // combined per cell exactly as before.
+  int count[3];
+  D w[3][kMaxCells];
+  for (int a = 0; a < 3; ++a) {
+    count[a] = int(int64_t(ch[a]) - int64_t(cl[a]) + 1);
+    for (int c = 0; c < count[a]; ++c) w[a][c] = weights(a, int64_t(cl[a]) + c);
+  }
+  const int sx = count[0] + 1, sy = count[1] + 1;
+  float corner[8 * kMaxCells];  // (count+1) per axis: at most 2 * 2 * (kMaxCells + 1) <= 8 kMaxCells
+  for (int z = 0; z <= count[2]; ++z)
+    for (int y = 0; y < sy; ++y)
+      for (int x = 0; x < sx; ++x)
+        corner[(z * sy + y) * sx + x] =
+            lattice(int64_t(cl[0]) + x, int64_t(cl[1]) + y, int64_t(cl[2]) + z);
   double rlo = 2, rhi = -2;
-  // Integer loops: beyond 2^24 floats skip integers, which only adds cells eval() never uses.
-  for (int64_t iz = int64_t(cl[2]); iz <= int64_t(ch[2]); ++iz) {
-    const D sz = weights(2, iz);
-    for (int64_t iy = int64_t(cl[1]); iy <= int64_t(ch[1]); ++iy) {
-      const D sy = weights(1, iy);
-      for (int64_t ix = int64_t(cl[0]); ix <= int64_t(ch[0]); ++ix) {
-        const D sx = weights(0, ix);
+  for (int z = 0; z < count[2]; ++z) {
+    const D sz = w[2][z];
+    for (int y = 0; y < count[1]; ++y) {
+      const D syw = w[1][y];
+      for (int x = 0; x < count[0]; ++x) {
+        const D sxw = w[0][x];
         D c[2][2][2];
         for (int dz = 0; dz < 2; ++dz)
           for (int dy = 0; dy < 2; ++dy)
             for (int dx = 0; dx < 2; ++dx) {
-              const double v = lattice(ix + dx, iy + dy, iz + dz);
+              const double v = corner[((z + dz) * sy + y + dy) * sx + x + dx];
               c[dz][dy][dx] = {v, v};
             }
-        const D a00 = lerpRange(c[0][0][0], c[0][0][1], sx), a10 = lerpRange(c[0][1][0], c[0][1][1], sx);
-        const D a01 = lerpRange(c[1][0][0], c[1][0][1], sx), a11 = lerpRange(c[1][1][0], c[1][1][1], sx);
-        const D r = lerpRange(lerpRange(a00, a10, sy), lerpRange(a01, a11, sy), sz);
+        const D a00 = lerpRange(c[0][0][0], c[0][0][1], sxw), a10 = lerpRange(c[0][1][0], c[0][1][1], sxw);
+        const D a01 = lerpRange(c[1][0][0], c[1][0][1], sxw), a11 = lerpRange(c[1][1][0], c[1][1][1], sxw);
+        const D r = lerpRange(lerpRange(a00, a10, syw), lerpRange(a01, a11, syw), sz);
         rlo = std::min(rlo, r.lo);
         rhi = std::max(rhi, r.hi);
       }

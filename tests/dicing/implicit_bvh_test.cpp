@@ -53,10 +53,12 @@ TEST(ImplicitBvh, MemoryIsAllocatedOnceForTheMaxLevel) {
   for (int maxLevel : {0, 3, 8}) {
     DiceBuffer buffer(maxLevel);
     const size_t verts = size_t((1 << maxLevel) + 1) * ((1 << maxLevel) + 1);
-    // Grid, tree, and the 4 border trees of the crack-free borders (2^(maxLevel+1) - 1 boxes each).
-    const size_t borderBoxes = 4 * ((size_t(2) << maxLevel) - 1);
-    const size_t expected = 2 * verts * sizeof(Vec3) + (sumOfPowersOf4(maxLevel) + borderBoxes) * sizeof(Box3) +
-                            borderBoxes * sizeof(double);  // and a radius per border box
+    // Grid, tree, and per segment of the 4 borders (2^(maxLevel+1) - 1 each) what a static
+    // dicing computes of it on demand: its curve box, two radii (doubles) and three 4-byte
+    // stamps, padded to 8 bytes.
+    const size_t borderSegments = 4 * ((size_t(2) << maxLevel) - 1);
+    const size_t expected = 2 * verts * sizeof(Vec3) + sumOfPowersOf4(maxLevel) * sizeof(Box3) +
+                            borderSegments * (sizeof(Box3) + 2 * sizeof(double) + 16);
     EXPECT_EQ(buffer.bytesAllocated(), expected);
     const auto patches = test::loadTeapot();
     for (int m = maxLevel; m >= 0; m -= 2) {

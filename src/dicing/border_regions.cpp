@@ -1,0 +1,155 @@
+// The border regions of a dicing (see dice_buffer.h): the boxes of the true border curve over
+// border segments, a moving dicing's border trees, and the regions' radii about their chords.
+#include <algorithm>
+#include <cmath>
+#include "dicing/dice_buffer.h"
+#include "dicing/micro_quad.h"
+
+namespace rayes {
+
+namespace {
+
+// Grid indices of the two ends of segment j of border e at level i of a level-m grid.
+void chordEnds(int e, int i, uint32_t j, int m, size_t& v0, size_t& v1) {
+  const size_t res = (size_t(1) << m) + 1;
+  const size_t stride = size_t(1) << (m - i);
+  switch (e) {
+    case 0: v0 = j * stride; v1 = v0 + stride; break;
+    case 1: v0 = j * stride * res + (res - 1); v1 = v0 + stride * res; break;
+    case 2: v0 = (res - 1) * res + j * stride; v1 = v0 + stride; break;
+    default: v0 = j * stride * res; v1 = v0 + stride * res; break;
+  }
+}
+
+// Largest squared distance of a box's corners from the line through a along axis (|axis|^2 =
+// len2 > 0): the distance to a line is convex, so over the box it is largest at a corner.
+double farthestCorner2(const Box3& box, Vec3 a, const double axis[3], double len2) {
+  double worst = 0;
+  for (int c = 0; c < 8; ++c) {
+    const double p[3] = {double((c & 1) ? box.hi.x : box.lo.x) - a.x, double((c & 2) ? box.hi.y : box.lo.y) - a.y,
+                         double((c & 4) ? box.hi.z : box.lo.z) - a.z};
+    // |p x axis|^2 / |axis|^2
+    const double x = p[1] * axis[2] - p[2] * axis[1], y = p[2] * axis[0] - p[0] * axis[2],
+                 z = p[0] * axis[1] - p[1] * axis[0];
+    worst = std::max(worst, (x * x + y * y + z * z) / len2);
+  }
+  return worst;
+}
+
+// Relative slack for the rounding of farthestCorner2 and the square root (double, on float inputs).
+double radiusFrom(double worst2) { return std::sqrt(worst2) * (1.0 + 1e-9); }
+
+}  // namespace
+
+Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
+  BorderSegment* seg = !moving_ && i <= maxLevel_ ? &segments_[borderOffset(e, i, j) / 6] : nullptr;
+  if (seg && seg->boxStamp.load(std::memory_order_acquire) == stamp_) {
+    Box3 b;
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = seg->box[a].load(std::memory_order_relaxed);
+      b.hi[a] = seg->box[3 + a].load(std::memory_order_relaxed);
+    }
+    return b;
+  }
+  const float inv = 1.0f / float(1u << i);  // a power of two: j * inv is exact
+  const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
+  Box3 b;
+  switch (e) {
+    case 0: b = patch_->boundsOverAt(sample, t0, t1, 0.0f, 0.0f); break;
+    case 1: b = patch_->boundsOverAt(sample, 1.0f, 1.0f, t0, t1); break;
+    case 2: b = patch_->boundsOverAt(sample, t0, t1, 1.0f, 1.0f); break;
+    default: b = patch_->boundsOverAt(sample, 0.0f, 0.0f, t0, t1); break;
+  }
+  if (seg) {
+    for (int a = 0; a < 3; ++a) {
+      seg->box[a].store(b.lo[a], std::memory_order_relaxed);
+      seg->box[3 + a].store(b.hi[a], std::memory_order_relaxed);
+    }
+    seg->boxStamp.store(stamp_, std::memory_order_release);
+  }
+  return b;
+}
+
+Box3 DiceBuffer::regionBox(int e, int i, uint32_t j) const {
+  Box3 b = curveBox(e, i, j, 0);
+  size_t v0, v1;
+  chordEnds(e, i, j, level_, v0, v1);
+  b.extend(a_.positions[v0]);
+  b.extend(a_.positions[v1]);
+  return b;
+}
+
+// Border trees of a moving dicing: for each border e and level i, box (e, i, j) is the box of
+// the true border curve over segment j and of the segment's chord (its two grid vertices),
+// united with its two children's boxes so that a node contains every finer level's box below
+// it (the traversal prunes with it). Built finest level first. Levels above level_ are never
+// read.
+void DiceBuffer::buildBorders(const Patch&, int sample, const Sample& s, std::vector<float>& out) const {
+  const int m = level_;
+  for (int e = 0; e < 4; ++e) {
+    for (int i = m; i >= 0; --i) {
+      for (uint32_t j = 0; j < (1u << i); ++j) {
+        Box3 b = curveBox(e, i, j, sample);
+        size_t v0, v1;
+        chordEnds(e, i, j, m, v0, v1);
+        b.extend(s.positions[v0]);
+        b.extend(s.positions[v1]);
+        float* box = out.data() + borderOffset(e, i, j);
+        if (i < m) {
+          const float* c = out.data() + borderOffset(e, i + 1, 2 * j);  // the two children are adjacent
+          for (int a = 0; a < 3; ++a) {
+            b.lo[a] = std::min(b.lo[a], std::min(c[a], c[6 + a]));
+            b.hi[a] = std::max(b.hi[a], std::max(c[3 + a], c[9 + a]));
+          }
+        }
+        for (int a = 0; a < 3; ++a) {
+          box[a] = b.lo[a];
+          box[3 + a] = b.hi[a];
+        }
+      }
+    }
+  }
+}
+
+// The radius about the line through the chord (a, b) of segment j of border e at level k that
+// holds the true border curve: the curve lies in the boxes of its pieces (with `blend`, the
+// blend of both samples' boxes at time weights w0, w1, which holds the blended curve), and its
+// distance from the line is at most their farthest corner's. The radius exceeds the curve's
+// true distance by about a piece's size, so a static dicing's region takes pieces of level
+// k + radiusSplit(k) = max(k + 3, 7) (at most 128): coarse segments, which secondary rays
+// with wide footprints use, would otherwise make curved objects visibly fatter for them (a
+// moving dicing, computed per query: k + 3). Its pieces are curveBox entries, so the coarse
+// levels' radii share their level-7 pieces within a dicing. (Tried: branch and bound,
+// splitting only the piece that reaches farthest; on displaced borders every piece's box
+// reaches about as far, so it split nearly all and made up to twice the boundsOver calls.)
+double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0,
+                                float w1) const {
+  const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
+  const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
+  if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
+  const uint32_t pieces = 1u << split;
+  double worst = 0;
+  for (uint32_t i = 0; i < pieces; ++i) {
+    Box3 box = curveBox(e, k + split, j * pieces + i, sampleA_);
+    if (blend) {
+      const Box3 other = curveBox(e, k + split, j * pieces + i, sampleA_ + 1);
+      box.lo = lerpPoint(box.lo, other.lo, w0, w1);
+      box.hi = lerpPoint(box.hi, other.hi, w0, w1);
+    }
+    worst = std::max(worst, farthestCorner2(box, a, ax, len2));
+  }
+  return radiusFrom(worst);
+}
+
+double DiceBuffer::cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const {
+  BorderSegment& seg = segments_[borderOffset(e, k, j) / 6];
+  const int which = coarse ? 0 : 1;
+  if (seg.radiusStamp[which].load(std::memory_order_acquire) == stamp_)
+    return seg.radius[which].load(std::memory_order_relaxed);
+  const double r = borderRadius(e, k, j, a, b, coarse ? 3 : radiusSplit(k), false, 1.0f, 0.0f);
+  seg.radius[which].store(r, std::memory_order_relaxed);
+  seg.radiusStamp[which].store(stamp_, std::memory_order_release);
+  return r;
+}
+
+}  // namespace rayes
