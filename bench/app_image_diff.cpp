@@ -1,9 +1,14 @@
 // Compares two renders of the same size (bench/peer_render.sh): prints the RMSE over the RGB
 // channels (as rmseAgainst, docs/stats.md's error_vs_time) and the relative difference of the
-// second image's mean from the first's, per channel and overall.
+// second image's mean from the first's, per channel and overall; then the five pixels that
+// differ most (sum over RGB of the squared difference): where a spike or a bias sits.
 //
 // usage: bench_app_image_diff A.exr B.exr
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <utility>
+#include <vector>
 #include <cstdio>
 #include "app/image_io.h"
 #include "app/renderer.h"
@@ -27,9 +32,23 @@ int main(int argc, char** argv) {
       mb[i % 3] += b[i];
     }
     const double n = double(a.size() / 3);
+    std::vector<std::pair<double, size_t>> worst;
+    for (size_t p = 0; p < a.size() / 3; ++p) {
+      double d2 = 0;
+      for (int c = 0; c < 3; ++c) d2 += (double(a[3 * p + c]) - b[3 * p + c]) * (double(a[3 * p + c]) - b[3 * p + c]);
+      worst.push_back({d2, p});
+    }
+    const size_t shown = std::min<size_t>(5, worst.size());
+    std::partial_sort(worst.begin(), worst.begin() + shown, worst.end(), std::greater<>());
     std::printf("rmse %.6g mean_a %.6g %.6g %.6g mean_b %.6g %.6g %.6g relative_mean_diff %+.4f %%\n",
                 a.empty() ? 0.0 : std::sqrt(sq / double(a.size())), ma[0] / n, ma[1] / n, ma[2] / n, mb[0] / n,
                 mb[1] / n, mb[2] / n, 100.0 * ((mb[0] + mb[1] + mb[2]) / (ma[0] + ma[1] + ma[2]) - 1.0));
+    for (size_t k = 0; k < shown; ++k) {
+      const size_t p = worst[k].second;
+      std::printf("pixel %zu,%zu a %.6g %.6g %.6g b %.6g %.6g %.6g (share of the squared error %.1f %%)\n", p % size_t(wa),
+                  p / size_t(wa), a[3 * p], a[3 * p + 1], a[3 * p + 2], b[3 * p], b[3 * p + 1], b[3 * p + 2],
+                  sq > 0 ? 100.0 * worst[k].first / sq : 0.0);
+    }
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.message().c_str());
     return 2;
