@@ -294,10 +294,14 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
   runEntry_.assign(nRuns, nullptr);
   if (cache_.enabled()) {
-    runLevel_.resize(nRuns);
+    // The level of every static run (a moving leaf's levels are per time interval, later),
+    // computed once: for the cache's decision and for the dicing, cached or not.
+    runLevel_.assign(nRuns, -1);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 64), [&](const auto& r) {
-      for (size_t run = r.begin(); run != r.end(); ++run)
-        runLevel_[run] = runLevel(b, runSlots(run), runCount(run), cand_.leaf[runSlots(run)[0]]);
+      for (size_t run = r.begin(); run != r.end(); ++run) {
+        const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
+        if (!leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf);
+      }
     });
     uint64_t hits = 0;
     for (size_t run = 0; run < nRuns; ++run) {
@@ -326,8 +330,12 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
       DiceBuffer& dice = localDiceBuffer();
       // A generated leaf's patch lives only for this run.
       const PatchPtr patch = leaves_.patch(leaf);
-      if (!leafMoving_[leaf]) diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, times, counters);
-      else diceAndIntersectMoving(b, dice, slots, count, leaf, *patch, times, counters);
+      if (leafMoving_[leaf]) {
+        diceAndIntersectMoving(b, dice, slots, count, leaf, *patch, times, counters);
+      } else {
+        const int m = cache_.enabled() ? runLevel_[run] : runLevel(b, slots, count, leaf);
+        diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, times, counters);
+      }
     }
   });
   stats.leavesDiced += counters.dicings.load();
@@ -358,15 +366,17 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
   }
   for (int iv = 0; iv < intervals; ++iv) {
     const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
-    if (k1 > k0) diceAndIntersect(b, dice, sc.slots.data() + k0, k1 - k0, leaf, patch, iv, times, counters);
+    if (k1 > k0) {
+      const uint32_t* part = sc.slots.data() + k0;
+      diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, runLevel(b, part, k1 - k0, leaf), times, counters);
+    }
   }
 }
 
-// Dices `leaf` (its time interval, or static when interval < 0) at the finest level of `count`
-// slots and intersects them all.
+// Dices `leaf` (its time interval, or static when interval < 0) at level m, the finest level of
+// `count` slots (runLevel), and intersects them all.
 void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                              const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters) {
-  const int m = runLevel(b, slots, count, leaf);
+                              const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
   diceRun(b, dice, slots, count, leaf, patch, interval, m, times, counters);
   intersectRun(b, dice, slots, count, leaf, patch, m, times, counters);
 }

@@ -120,7 +120,7 @@ class Tracer : public RayEngine {
   void diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
                               uint32_t leaf, const Patch& patch, TraceTimes& times, DicingCounters& counters);
   void diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                        const Patch& patch, int interval, TraceTimes& times, DicingCounters& counters);
+                        const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters);
   // The finest level the run's rays need on `leaf` (the level the leaf is diced at).
   int runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf) const;
   void diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
@@ -176,7 +176,7 @@ class Tracer : public RayEngine {
   };
   tbb::enumerable_thread_specific<IntervalScratch> intervals_;
   GridCache cache_;
-  std::vector<int> runLevel_;                  // per run of the current iteration
+  std::vector<int> runLevel_;                  // per static run of the current iteration (cache on)
   std::vector<GridCache::Entry*> runEntry_;    // its cache entry, or nullptr (diced per thread)
 };
 
