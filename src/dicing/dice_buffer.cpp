@@ -31,7 +31,7 @@ void DiceBuffer::diceSample(const Patch& patch, int sample, int level, Sample& o
   buildTree(out.positions, out.nodes);
   if (borders_ && moving_) {  // a static dicing computes its border segments on demand
     if (out.borders.empty()) out.borders.resize(borderOffset(4, 0, 0));  // 4 x (2^(maxLevel+1) - 1) boxes
-    buildBorders(patch, sample, out, out.borders);
+    buildBorders(sample, out, out.borders);
   }
 }
 

@@ -150,7 +150,7 @@ class DiceBuffer {
   void newStamp();
   void diceSample(const Patch& patch, int sample, int level, Sample& out);
   void buildTree(const std::vector<Vec3>& positions, std::vector<float>& nodes) const;
-  void buildBorders(const Patch& patch, int sample, const Sample& s, std::vector<float>& borders) const;
+  void buildBorders(int sample, const Sample& s, std::vector<float>& borders) const;  // reads patch_
   template <bool AnyHit, bool Moving>
   bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, unsigned borderMask,
                 GridHit* hit) const;

@@ -495,8 +495,8 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
           radius = cachedRadius(e, k, n.j, a, b, true);
           if (radiusSplit(k) > 3) {
             if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1)) continue;
-            if (!(std::max(t0, roundDown(c0)) <= std::min(t1, roundUp(c1))) || std::max(t0, roundDown(c0)) > best.t)
-              continue;
+            const float entry = std::max(t0, roundDown(c0));
+            if (!(entry <= std::min(t1, roundUp(c1))) || entry > best.t) continue;
             radius = std::min(radius, cachedRadius(e, k, n.j, a, b, false));
           }
         }
