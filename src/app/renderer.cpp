@@ -142,17 +142,7 @@ void Renderer::buildBeams() {
       BeamTraceStats trial;
       std::unique_ptr<BeamStore> store = traceBeamRange(first, first + count, trial);
       if (store->fits()) {
-        bs.trace.cornerRays += trial.cornerRays;
-        bs.trace.generatorTriangles += trial.generatorTriangles;
-        bs.trace.segments += trial.segments;
-        bs.trace.generations = std::max(bs.trace.generations, trial.generations);
-        bs.trace.stoppedMixed += trial.stoppedMixed;
-        bs.trace.stoppedSilhouette += trial.stoppedSilhouette;
-        bs.trace.stoppedTir += trial.stoppedTir;
-        bs.trace.stoppedDivergent += trial.stoppedDivergent;
-        bs.trace.splits += trial.splits;
-        bs.trace.reflectedBranches += trial.reflectedBranches;
-        bs.trace.droppedFlux += trial.droppedFlux;
+        bs.trace.add(trial);  // a trial that did not fit is not counted
         bs.binEntries += store->binEntries();
         bs.bytes = std::max(bs.bytes, store->bytes());
         segments += store->segmentCount();

@@ -21,6 +21,7 @@
 // whatever the thread count or how many rays each trace() call holds, and the segments of
 // seeds.range(a, b) traced alone are the same run of that order (batches, BeamBatches).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -44,6 +45,21 @@ struct BeamTraceStats {
   uint64_t splits = 0;              // beams split into four instead of stopping
   uint64_t reflectedBranches = 0;   // Fresnel-reflected beams spawned at dielectrics
   double droppedFlux = 0;           // W (mean over RGB) of beams stopped after splitDepth splits
+
+  // Another run's counts added in (generations: the deepest of the two), as for beam batches.
+  void add(const BeamTraceStats& o) {
+    cornerRays += o.cornerRays;
+    generatorTriangles += o.generatorTriangles;
+    segments += o.segments;
+    generations = std::max(generations, o.generations);
+    stoppedMixed += o.stoppedMixed;
+    stoppedSilhouette += o.stoppedSilhouette;
+    stoppedTir += o.stoppedTir;
+    stoppedDivergent += o.stoppedDivergent;
+    splits += o.splits;
+    reflectedBranches += o.reflectedBranches;
+    droppedFlux += o.droppedFlux;
+  }
 };
 
 struct BeamTraceOptions {
