@@ -232,8 +232,8 @@ int render(const RenderArgs& a) {
 }
 
 // "x0,y0,x1,y1": a pixel box inside the image, x0 < x1, y0 < y1.
-ConvergeRegion parseRegion(const std::string& text, const Scene& scene) {
-  ConvergeRegion r;
+PixelRegion parseRegion(const std::string& text, const Scene& scene) {
+  PixelRegion r;
   int v[4];
   size_t at = 0;
   for (int k = 0; k < 4; ++k) {
@@ -266,8 +266,8 @@ int runConverge(const RenderArgs& a) {
     if (reference.empty()) reference.assign(part.size(), 0.0f);
     for (size_t i = 0; i < part.size(); ++i) reference[i] += part[i];
   }
-  const ConvergeRegion wholeImage{0, 0, scene.width, scene.height, {}};
-  ConvergeRegion region = wholeImage, errorPixels = wholeImage;
+  const PixelRegion wholeImage{0, 0, scene.width, scene.height, {}};
+  PixelRegion region = wholeImage, errorPixels = wholeImage;
   if (!a.mask.empty()) region.mask = imageOfSceneSize(a.mask, scene, "mask");
   else if (!a.region.empty()) region = parseRegion(a.region, scene);
   if (!a.errorMask.empty()) errorPixels.mask = imageOfSceneSize(a.errorMask, scene, "error mask");

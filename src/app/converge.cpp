@@ -7,25 +7,6 @@
 
 namespace rayes {
 
-ImageError errorAgainst(const std::vector<float>& rgba, const std::vector<float>& ref, const ConvergeRegion& pixels,
-                        int width, int height) {
-  double squares = 0, relative = 0;
-  size_t count = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      if (!pixels.contains(x, y, width)) continue;
-      const size_t p = size_t(y) * size_t(width) + size_t(x);
-      for (int c = 0; c < 3; ++c) {
-        const double r = ref[3 * p + c], d = double(rgba[4 * p + c]) - r;
-        squares += d * d;
-        relative += d * d / (r * r + 0.01);
-      }
-      count += 3;
-    }
-  if (count == 0) return {};
-  return {std::sqrt(squares / double(count)), relative / double(count)};
-}
-
 int ConvergeSchedule::beamResolution(int first, int step) const {
   const double r = std::round(double(first) * std::pow(beamGrowth, step));
   return int(std::clamp(r, 1.0, double(std::max(first, maxBeamResolution))));
@@ -33,8 +14,8 @@ int ConvergeSchedule::beamResolution(int first, int step) const {
 
 namespace {
 // Over the pixels in both `region` and `errorPixels` (where the reference is complete).
-double regionBias(const std::vector<float>& rgba, const std::vector<float>& ref, const ConvergeRegion& region,
-                  const ConvergeRegion& errorPixels, int width, int height) {
+double regionBias(const std::vector<float>& rgba, const std::vector<float>& ref, const PixelRegion& region,
+                  const PixelRegion& errorPixels, int width, int height) {
   double sum = 0;
   size_t count = 0;
   for (int y = 0; y < height; ++y)
@@ -49,7 +30,7 @@ double regionBias(const std::vector<float>& rgba, const std::vector<float>& ref,
 }  // namespace
 
 std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& options, const std::vector<float>& reference,
-                                  const ConvergeRegion& errorPixels, const ConvergeRegion& region, double budgetSeconds,
+                                  const PixelRegion& errorPixels, const PixelRegion& region, double budgetSeconds,
                                   const ConvergeSchedule& schedule,
                                   const std::function<void(const ConvergeRow&)>& report) {
   std::vector<ConvergeRow> rows;

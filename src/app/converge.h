@@ -11,6 +11,7 @@
 #pragma once
 #include <string>
 #include <vector>
+#include "app/image_error.h"
 #include "app/renderer.h"
 
 namespace rayes {
@@ -32,31 +33,14 @@ struct ConvergeSchedule {
   int beamResolution(int first, int step) const;
 };
 
-// Pixels [x0, x1) x [y0, y1), or a mask (non-zero red) when `mask` is not empty. The whole
-// image as {0, 0, width, height}.
-struct ConvergeRegion {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-  std::vector<float> mask;  // RGB per pixel
-  bool contains(int x, int y, int width) const {
-    if (!mask.empty()) return mask[3 * (size_t(y) * size_t(width) + size_t(x))] != 0;
-    return x >= x0 && x < x1 && y >= y0 && y < y1;
-  }
-};
-
 // Renders until the next doubling is not expected to fit in `budgetSeconds` (at least once).
 // RMSE and relMSE count the pixels of `errorPixels`, the bias those of `region` among them.
 // `row` is called after every render (progress).
 std::vector<ConvergeRow> converge(const Scene& scene, const RenderOptions& options, const std::vector<float>& reference,
-                                  const ConvergeRegion& errorPixels, const ConvergeRegion& region, double budgetSeconds,
+                                  const PixelRegion& errorPixels, const PixelRegion& region, double budgetSeconds,
                                   const ConvergeSchedule& schedule = {},
                                   const std::function<void(const ConvergeRow&)>& row = {});
 
-// Over the pixels of `pixels` (every pixel when it is the whole image) and the RGB channels:
-// the root-mean-square error, and the mean of (x - r)² / (r² + 0.01) (the 0.01 keeps black
-// pixels finite). An empty set gives 0.
-struct ImageError { double rmse = 0, relMse = 0; };
-ImageError errorAgainst(const std::vector<float>& rgba, const std::vector<float>& referenceRgb,
-                        const ConvergeRegion& pixels, int width, int height);
 std::string convergeCsv(const std::vector<ConvergeRow>& rows);
 std::string convergeSvg(const std::vector<ConvergeRow>& rows, const std::string& title);
 

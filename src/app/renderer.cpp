@@ -1,4 +1,5 @@
 #include "app/renderer.h"
+#include "app/image_error.h"
 #include <algorithm>
 #include <cmath>
 #include "core/error.h"
@@ -269,15 +270,8 @@ Film Renderer::render(const Progress& progress) {
 }
 
 double rmseAgainst(const Film& film, const std::vector<float>& ref) {
-  const std::vector<float> rgba = film.beautyRgba();
-  const size_t n = rgba.size() / 4;
-  double sum = 0;
-  for (size_t p = 0; p < n; ++p)
-    for (int c = 0; c < 3; ++c) {
-      const double d = double(rgba[4 * p + c]) - double(ref[3 * p + c]);
-      sum += d * d;
-    }
-  return n ? std::sqrt(sum / double(3 * n)) : 0.0;
+  const PixelRegion whole{0, 0, film.width(), film.height(), {}};
+  return errorAgainst(film.beautyRgba(), ref, whole, film.width(), film.height()).rmse;
 }
 
 }  // namespace rayes

@@ -97,12 +97,12 @@ TEST(ConvergeSchedule, BeamsDoubleWithSppUpToTheCap) {
 // Two pixels, errors (1, 1, 1) and (3, 3, 3): over both RMSE = sqrt(5); the mask keeps the second.
 TEST(ConvergeError, CountsOnlyTheErrorMasksPixels) {
   const std::vector<float> rgba{1, 1, 1, 1, 3, 3, 3, 1}, ref(6, 0.0f);
-  const ConvergeRegion all{0, 0, 2, 1, {}};
+  const PixelRegion all{0, 0, 2, 1, {}};
   EXPECT_DOUBLE_EQ(errorAgainst(rgba, ref, all, 2, 1).rmse, std::sqrt(5.0));
   EXPECT_DOUBLE_EQ(errorAgainst(rgba, ref, all, 2, 1).relMse, (1 + 9) / 2 / 0.01);
-  const ConvergeRegion second{0, 0, 0, 0, {0, 0, 0, 1, 0, 0}};
+  const PixelRegion second{0, 0, 0, 0, {0, 0, 0, 1, 0, 0}};
   EXPECT_DOUBLE_EQ(errorAgainst(rgba, ref, second, 2, 1).rmse, 3.0);
-  EXPECT_DOUBLE_EQ(errorAgainst(rgba, ref, ConvergeRegion{0, 0, 0, 0, {0, 0, 0, 0, 0, 0}}, 2, 1).rmse, 0.0);
+  EXPECT_DOUBLE_EQ(errorAgainst(rgba, ref, PixelRegion{0, 0, 0, 0, {0, 0, 0, 0, 0, 0}}, 2, 1).rmse, 0.0);
 }
 
 }  // namespace
