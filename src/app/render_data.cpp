@@ -42,7 +42,6 @@ std::vector<PatchLight> patchLightsOf(const Scene& scene) {
   return lights;
 }
 
-
 RenderData::RenderData(const Scene& scene) {
   const size_t n = scene.leaves.size();
   leafBoxes.resize(n);

@@ -100,5 +100,4 @@ class BeamStore final : public CausticRadiance {
   int maxDepth_;
 };
 
-
 }  // namespace rayes
