@@ -24,11 +24,24 @@ float searchLimit(const RayBatch& b, uint32_t i, float best) {
   return std::min(b.tmax[i], std::nextafter(best, kInf));
 }
 
-// A hit as the RayHit keeps it: normals through the octahedral encoding (the quantisation
-// every mode and both engines' callers see, so the sorted and alone modes agree bit for bit).
-RayHit hitRecord(const GridHit& h, uint32_t leaf, int level) {
+// The distance a hit on a leaf is ordered and kept by: its t, but never less than the ray's
+// entry into the leaf's box as the top level computed it (`entry`, Tracer::leafEntry). A hit
+// can be reported a few roundings before that entry (on the box's face, where the rounded slab
+// distance and the watertight test's t err in opposite directions, or in a crack-closing
+// region that bulges past the box), and a ray is finished when its hit is nearer than its next
+// candidate's entry: without the clamp such a hit could beat the one found first or not,
+// depending on whether its leaf came in the same iteration, so the image depended on the
+// candidates per ray and the ray budget. Clamped, every hit on a leaf not yet visited is at
+// least its entry, and the kept hit is the minimum of one total order in every mode. The
+// shift is at most the intersection's own error (or a region's radius).
+float keptDistance(float t, float entry) { return std::max(t, entry); }
+
+// A hit as the RayHit keeps it: the distance clamped as above, normals through the octahedral
+// encoding (the quantisation every mode and both engines' callers see, so the sorted and alone
+// modes agree bit for bit).
+RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
   RayHit r;
-  r.t = h.t; r.u = h.u; r.v = h.v; r.leaf = leaf; r.quad = h.quad;
+  r.t = keptDistance(h.t, entry); r.u = h.u; r.v = h.v; r.leaf = leaf; r.quad = h.quad;
   r.level = static_cast<uint8_t>(level);
   r.ng = decodeOctahedral(encodeOctahedral(h.ng));
   r.ns = decodeOctahedral(encodeOctahedral(h.ns));
@@ -109,12 +122,16 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
   return out;
 }
 
-int Tracer::levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
   const RayBoxQuery q(b.org[ray], b.dir[ray]);
   float t0, t1;
   const Box3& box = leafBox_[leaf];
   if (!intersectBox(q, box.lo, box.hi, b.tmin[ray], kInf, t0, t1)) t0 = b.tmin[ray];
-  return levelFor(b, ray, leaf, t0);
+  return t0;
+}
+
+int Tracer::levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+  return levelFor(b, ray, leaf, leafEntry(b, ray, leaf));
 }
 
 uint8_t Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level) const {
@@ -209,7 +226,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
   }
   GridHit h;
   if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
-    offerHit(b, i, hitRecord(h, leaf, level));
+    offerHit(b, i, hitRecord(h, leaf, level, leafEntry(b, i, leaf)));
     return h.border;
   }
   return false;
@@ -509,8 +526,10 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) && nearerHit(h.t, leaf, h.quad, best))
-        best = hitRecord(h, leaf, level);
+      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
+        const float entry = leafEntry(b, i, leaf);
+        if (nearerHit(keptDistance(h.t, entry), leaf, h.quad, best)) best = hitRecord(h, leaf, level, entry);
+      }
     }
     if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
     const bool exhausted = !(next < kInf);

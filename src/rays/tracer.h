@@ -11,7 +11,8 @@
 //                 finer; rays/grid_cache.h, --grid-cache), and
 //   4. bottom     intersects every ray at its own level, searching up to the ray's best hit of
 //                 the previous iterations, and offers each hit to the ray's RayHit: kept when
-//                 nearer under nearerHit's total order (t, leaf, micro-quad), under a per-ray
+//                 nearer under nearerHit's total order (t, leaf, micro-quad; t clamped to at
+//                 least the ray's entry into the leaf's box, see keptDistance), under a per-ray
 //                 lock because two leaves of a ray may finish at once on two threads.
 //   5. finish     a ray is finished once its hit is nearer than its next candidate's entry
 //                 distance; the others stay active with more candidates each.
@@ -134,6 +135,9 @@ class Tracer : public RayEngine {
   uint32_t rayOfSlot(uint32_t slot) const { return active_[slot / slotsPerRay_]; }
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
+  // The ray's entry into the leaf's box (tmin when the slab test misses): the same operations on
+  // the same box as the top level's candidate entry, so the two agree bit for bit.
+  float leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
   // The ray's level on `leaf`: levelFor at the ray's entry into the leaf's own box (tmin when
   // the slab test misses), one function of (ray, leaf) whichever leaf asks, so two neighbours
   // agree on each other's level (see bordersClosedByNeighbours).
