@@ -73,6 +73,7 @@ struct RenderArgs {
   float photonRadius = 0, photonAlpha = 2.0f / 3.0f;
   std::optional<int64_t> seed, diceCache;
   int lodBias = 0;
+  int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
   // converge
@@ -115,6 +116,9 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.sortByLeaf = a.traceMode == "sorted";
   if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
   if (!a.gridCache.empty()) options.gridCacheBytes = a.gridCache == "0" ? 0 : parseBytes(a.gridCache, "--grid-cache");
+  if (a.candidatesPerRay < 1 || a.candidatesPerRay > 1000)
+    throw InputError("--candidates-per-ray", "", "must be a whole number in [1, 1000]");
+  options.candidatesPerRay = a.candidatesPerRay;
   options.progressive = a.progressive;
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
@@ -310,6 +314,10 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--grid-cache", a.gridCache,
                 "memory for diced grids kept across iterations and generations of a batch, e.g. 256M (default "
                 "512M; 0: off); a smaller cache means more dicings, never a different image");
+  c->add_option("--candidates-per-ray", a.candidatesPerRay,
+                "candidate leaves a ray gets per iteration of the sorted pipeline, at most (1..1000, default " +
+                    std::to_string(TraceSettings::kDefaultCandidatesPerRay) +
+                    "); more means fewer iterations but more leaves diced past the hit, never a different image");
   c->add_option("--lod", a.lod, "level-of-detail rule: per-ray (default; footprint of each ray, order independent) "
                                 "density (the thesis's 4^m >= R/spp; the image then depends on batching) or fixed "
                                 "(every ray at --max-lod: one geometry for every ray, for references)")

@@ -73,6 +73,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.candidateCapacity = stats_.candidateCapacity;
     ts.sortByLeaf = options.sortByLeaf;
     ts.gridCacheBytes = options.gridCacheBytes;
+    ts.maxCandidatesPerRay = options.candidatesPerRay;
     if (caching) engine_ = std::make_unique<CachingEngine>(data_.top, scene.leaves, ts, options.diceCacheEntries);
     else engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
   }

@@ -17,6 +17,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"lod_bias", options.lodBias},
+                   {"candidates_per_ray", options.candidatesPerRay},
                    {"dice_cache_entries", options.diceCacheEntries},
                    {"grid_cache_bytes", options.gridCacheBytes},
                    {"progressive", s.progressive},

@@ -52,5 +52,24 @@ TEST(GridCacheRender, ImageIsTheSameWithAnyBudgetAndDicingsFallByTheHits) {
   EXPECT_EQ(bigOneThread.hits, big.hits);
 }
 
+// --candidates-per-ray: how many leaves a ray gets per iteration changes the iterations and the
+// dicings, never the image (the kept hit is the minimum of one total order, tracer.h).
+TEST(GridCacheRender, ImageIsTheSameForAnyCandidatesPerRay) {
+  const Scene scene = smallTeapot(24, 18, 2);
+  std::vector<float> images[3];
+  size_t iterations[3] = {};
+  const int perRay[3] = {1, 4, 100};
+  for (int k = 0; k < 3; ++k) {
+    RenderOptions o;
+    o.candidatesPerRay = perRay[k];
+    RenderStats stats;
+    images[k] = testing::renderBeauty(scene, o, 2, &stats);
+    for (const auto& g : stats.generations) iterations[k] += g.stats.iterations.size();
+  }
+  EXPECT_EQ(images[0], images[2]);
+  EXPECT_EQ(images[1], images[2]);
+  EXPECT_GT(iterations[0], iterations[2]);  // the clip did act
+}
+
 }  // namespace
 }  // namespace rayes
