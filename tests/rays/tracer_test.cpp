@@ -41,7 +41,7 @@ RayBatch randomRays(int n, bool shadow) {
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
     const Vec3 d = normalize(target - o);
-    b.set(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, 0.0f, shadow ? 8.0f : kInf, 0.0f, 0.0f, i);
+    b.set(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, 0.0f, shadow ? 8.0f : kInf, 0.0f, 0.0f);
   }
   return b;
 }
@@ -171,7 +171,7 @@ TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   RayBatch b;
   b.resize(2);
   const uint32_t wall = uint32_t(w.leaves.size() - 1);
-  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, 0, kInf, 0, 0, 0, wall);  // above the teapot, at the wall
+  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, 0, kInf, 0, 0, wall);  // above the teapot, at the wall
   b.kind[1] = RayKind::Inactive;
   GenerationStats stats;
   TraceTimes times;
