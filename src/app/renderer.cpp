@@ -45,7 +45,8 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   const size_t engineBytesPerRay = embree    ? EmbreeEngine::bytesPerRaySlot()
                                    : caching ? CachingEngine::bytesPerRaySlot()
                                              : Tracer::bytesPerRaySlot();
-  stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay() + engineBytesPerRay);
+  stats_.bytesPerPath =
+      integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay(raysTimed()) + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
   uint64_t perBatch = options.rayMemoryBytes / stats_.bytesPerPath;
@@ -87,7 +88,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
 MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   MemoryByOwner m;
   const uint64_t slots = stats_.pathsPerBatch * raysPerPath;
-  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * RayBatch::bytesPerRay());
+  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * RayBatch::bytesPerRay(raysTimed()));
   m.candidatesAndSort = size_t(slots * engine_->bytesPerRay());
   m.topLevel = data_.top.bytes();
   m.leaves = scene_.leaves.size();
@@ -187,6 +188,7 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
   const Integrator::IdRange ids = integrator_->lightPaths(s0, s1);
   if (ids.first == ids.end) return;
   RayBatch rays;
+  rays.timed = raysTimed();
   for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
     integrator_->startLight(first, count, rays);
@@ -217,6 +219,7 @@ Film Renderer::render(const Progress& progress) {
   const auto t0 = Clock::now();
   Film film(scene_.width, scene_.height);
   RayBatch rays;
+  rays.timed = raysTimed();
   const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
   const int spp = scene_.samplesPerPixel;
   const uint64_t total = pixels * uint64_t(spp);

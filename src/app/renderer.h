@@ -144,6 +144,8 @@ class Renderer {
 
  private:
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
+  // Whether the ray batches keep a shutter time per ray: only when something moves.
+  bool raysTimed() const { return stats_.features.movingLeaves > 0; }
   void traceLightPass(int s0, int s1, int pass, int& batch);
 
   const Scene& scene_;

@@ -135,7 +135,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"low_precision_leaves", f.lowPrecisionLeaves},
   };
   json skipped = json::object();
-  if (f.movingLeaves == 0) skipped["motion_blur"] = "no moving shapes: one time sample stored and diced";
+  if (f.movingLeaves == 0) skipped["motion_blur"] = "no moving shapes: one time sample stored and diced, no time per ray";
   else if (!f.shutterOpen) skipped["motion_blur"] = "the shutter has no interval: moving shapes seen at the opening time";
   if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
   if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";

@@ -1,6 +1,7 @@
-// Unit vectors packed into 32 bits (octahedral mapping, 2 x 16-bit snorm). Used where a
-// normal is stored per candidate slot, to keep the candidate buffer at 32 bytes per entry.
-// Worst-case angular error about 3e-5 rad. decode() always returns a unit vector.
+// Unit vectors packed into 32 bits (octahedral mapping, 2 x 16-bit snorm). Used for the two
+// normals of a ray's hit record (core/ray_batch.h, RayHit), which keeps it at 32 bytes per ray
+// slot. Worst-case angular error about 3e-5 rad. decode() always returns a unit vector, for
+// every code; a zero, infinite or NaN input encodes to +z.
 #pragma once
 #include <cmath>
 #include <cstdint>

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <vector>
+#include "core/octahedral.h"
 #include "core/vec.h"
 
 namespace rayes {
@@ -22,15 +23,24 @@ enum class RayKind : uint8_t {
   Shadow = 2,    // any hit wanted (next-event rays)
 };
 
+// 32 bytes: the normals are kept octahedral-encoded (core/octahedral.h, 2 x 16-bit snorm, at most
+// 1e-4 rad from the exact unit normal; decoding never gives NaN). The Rayes tracer always
+// quantised its normals this way, so storing the code changes none of its images; the Embree
+// engine's normals are quantised too since the record became compact.
 struct RayHit {
   float t = std::numeric_limits<float>::infinity();
   float u = 0, v = 0;       // patch parameters
   uint32_t leaf = kNoLeaf;  // kNoLeaf: no hit (for a shadow ray: not occluded)
   uint32_t quad = 0;        // micro-quad index at the ray's level
+  uint32_t ngCode = 0, nsCode = 0;  // encodeOctahedral of the two normals (0 is +z)
   uint8_t level = 0;        // level of detail the ray was intersected at
-  Vec3 ng;                  // unit geometric normal of the micro-triangle hit
-  Vec3 ns;                  // unit shading normal
   bool valid() const { return leaf != kNoLeaf; }
+  Vec3 ng() const { return decodeOctahedral(ngCode); }  // unit geometric normal of the micro-triangle hit
+  Vec3 ns() const { return decodeOctahedral(nsCode); }  // unit shading normal
+  void setNormals(Vec3 geometric, Vec3 shading) {
+    ngCode = encodeOctahedral(geometric);
+    nsCode = encodeOctahedral(shading);
+  }
 };
 
 struct RayBatch {
@@ -39,14 +49,16 @@ struct RayBatch {
   std::vector<float> tmin, tmax;
   std::vector<float> coneWidth;       // footprint width at the origin
   std::vector<float> coneSpread;      // footprint growth per unit t (2 tan(half angle) * |dir|)
-  std::vector<float> time;            // shutter time in [0, 1]
+  // Shutter time in [0, 1], per ray only when `timed`: a scene where nothing moves sees the same
+  // geometry at every time, so its batches leave the array empty and every ray is at time 0.
+  std::vector<float> time;
+  bool timed = true;                  // set before resize()
   std::vector<uint32_t> ignoreLeaf;   // a leaf this ray must not hit (a shadow ray's light)
   // The leaf the ray leaves from and the level it was hit at: the ray sees that leaf at exactly
   // that level, the same micro-grid it left, so a coarser footprint cannot make it hit its own
   // patch again (kNoLeaf for camera rays).
   std::vector<uint32_t> originLeaf;
   std::vector<uint8_t> originLevel;
-  std::vector<uint32_t> payload;      // opaque to the tracer: the path the ray belongs to
   std::vector<RayKind> kind;
   // What was found.
   std::vector<RayHit> hit;
@@ -54,20 +66,22 @@ struct RayBatch {
   size_t size() const { return kind.size(); }
   void resize(size_t n) {
     org.resize(n); dir.resize(n); tmin.resize(n); tmax.resize(n); coneWidth.resize(n);
-    coneSpread.resize(n); time.resize(n); ignoreLeaf.resize(n); originLeaf.resize(n); originLevel.resize(n);
-    payload.resize(n); kind.resize(n);
+    coneSpread.resize(n); time.resize(timed ? n : 0); ignoreLeaf.resize(n); originLeaf.resize(n); originLevel.resize(n);
+    kind.resize(n);
     hit.resize(n);
   }
+  float timeOf(size_t i) const { return timed ? time[i] : 0.0f; }
   void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t0, float t1, float width, float spread,
-           uint32_t path, uint32_t ignore = kNoLeaf, uint32_t fromLeaf = kNoLeaf, uint8_t fromLevel = 0,
+           uint32_t ignore = kNoLeaf, uint32_t fromLeaf = kNoLeaf, uint8_t fromLevel = 0,
            float shutterTime = 0.0f) {
     kind[i] = k; org[i] = o; dir[i] = d; tmin[i] = t0; tmax[i] = t1; coneWidth[i] = width;
-    coneSpread[i] = spread; payload[i] = path; ignoreLeaf[i] = ignore; time[i] = shutterTime;
+    coneSpread[i] = spread; ignoreLeaf[i] = ignore;
+    if (timed) time[i] = shutterTime;
     originLeaf[i] = fromLeaf; originLevel[i] = fromLevel;
     hit[i] = RayHit{};
   }
-  static constexpr size_t bytesPerRay() {
-    return 2 * sizeof(Vec3) + 5 * sizeof(float) + 3 * sizeof(uint32_t) + sizeof(uint8_t) +
+  static constexpr size_t bytesPerRay(bool timed) {
+    return 2 * sizeof(Vec3) + (timed ? 5 : 4) * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint8_t) +
            sizeof(RayKind) + sizeof(RayHit);
   }
 };

@@ -42,29 +42,30 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   s.t = h.valid() ? h.t : far;
   if (!h.valid()) return s;
   const Vec3 p = c.org + c.dir * h.t;
+  const Vec3 ng = h.ng(), ns = h.ns();
   s.material = scene.leafMaterial[h.leaf];
-  s.front = dot(h.ng, c.dir) < 0;
+  s.front = dot(ng, c.dir) < 0;
   const Material& m = scene.materials[s.material];
-  if (!isCausticScatterer(m) || !isFinite(p) || !isFinite(h.ns)) return s;
+  if (!isCausticScatterer(m) || !isFinite(p)) return s;
   const Vec3 w = -c.dir;  // toward where the light came from
   Vec3 next;
   if (m.type == MaterialType::Dielectric) {
     s.dielectric = true;
     float etaRel;
-    const float cosI = dot(w, h.ns);
+    const float cosI = dot(w, ns);
     const float f = fresnelDielectric(cosI, m.eta.x);
     const bool reflectBranch = generation < 32 && ((c.reflectAt >> generation) & 1u);
-    if (!reflectBranch && refract(w, h.ns, m.eta.x, next, etaRel)) {
+    if (!reflectBranch && refract(w, ns, m.eta.x, next, etaRel)) {
       s.event = Event::Refract;
       s.rho = Rgb{1, 1, 1} * (1 - f);
     } else {
       // The reflected branch (weight F), or total internal reflection (F = 1).
       s.event = Event::Reflect;
-      next = reflect(w, cosI >= 0 ? h.ns : -h.ns);
+      next = reflect(w, cosI >= 0 ? ns : -ns);
       s.rho = Rgb{1, 1, 1} * f;
     }
   } else {
-    const Vec3 n = dot(h.ns, w) >= 0 ? h.ns : -h.ns;
+    const Vec3 n = dot(ns, w) >= 0 ? ns : -ns;
     next = reflect(w, n);
     s.event = Event::Reflect;
     if (m.type == MaterialType::Conductor) {
@@ -77,13 +78,13 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   next = normalize(next);
   // The new direction must leave the true surface on the side the event claims: a shading
   // normal past a silhouette would send it through the surface.
-  const float side = dot(h.ng, next) * dot(h.ng, w);
+  const float side = dot(ng, next) * dot(ng, w);
   if (!isFinite(next) || next == Vec3{} || (s.event == Event::Reflect ? !(side > 0) : !(side < 0))) {
     s.event = Event::Stop;
     return s;
   }
   const float offset = PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
-  const SurfaceHit at{p, h.ng, offset};
+  const SurfaceHit at{p, ng, offset};
   s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, c.reflectAt};
   return s;
 }
@@ -214,8 +215,7 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
       rays.resize(count);
       for (size_t k = 0; k < count; ++k) {
         const Corner& c = corners[live[first + k]];
-        rays.set(k, RayKind::Closest, c.org, c.dir, 0.0f, std::numeric_limits<float>::infinity(), c.width, c.spread,
-                 uint32_t(k), kNoLeaf, c.fromLeaf, c.fromLevel);
+        rays.set(k, RayKind::Closest, c.org, c.dir, 0.0f, std::numeric_limits<float>::infinity(), c.width, c.spread, kNoLeaf, c.fromLeaf, c.fromLevel);
       }
       trace(rays);
       stats.cornerRays += count;

@@ -67,7 +67,7 @@ void setRay(const RayBatch& b, uint32_t i, RTCRay& r) {
   r.dir_x = b.dir[i].x; r.dir_y = b.dir[i].y; r.dir_z = b.dir[i].z;
   r.tnear = std::max(b.tmin[i], 0.0f);
   r.tfar = b.tmax[i];
-  r.time = std::clamp(b.time[i], 0.0f, 1.0f);
+  r.time = std::clamp(b.timeOf(i), 0.0f, 1.0f);
   r.mask = 0xffffffffu;
   r.id = i;
   r.flags = 0;
@@ -233,7 +233,7 @@ void EmbreeEngine::closestHit(const RayBatch& b, uint32_t i, uint32_t leafId, fl
   size_t step = 0;
   float w1 = 0;
   if (leaf.steps > 1) {
-    const float f = std::clamp(b.time[i], 0.0f, 1.0f) * float(leaf.steps - 1);
+    const float f = std::clamp(b.timeOf(i), 0.0f, 1.0f) * float(leaf.steps - 1);
     step = std::min(size_t(leaf.steps - 2), size_t(f));
     w1 = std::clamp(f - float(step), 0.0f, 1.0f);
   }
@@ -262,8 +262,7 @@ void EmbreeEngine::closestHit(const RayBatch& b, uint32_t i, uint32_t leafId, fl
   hit.leaf = leafId;
   hit.quad = (y << k) | x;
   hit.level = uint8_t(k);
-  hit.ng = ng;
-  hit.ns = ns;
+  hit.setNormals(ng, ns);
 }
 
 void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times) {

@@ -9,7 +9,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include "core/octahedral.h"
 #include "geometry/moving_patch.h"
 
 namespace rayes {
@@ -36,15 +35,13 @@ float searchLimit(const RayBatch& b, uint32_t i, float best) {
 // shift is at most the intersection's own error (or a region's radius).
 float keptDistance(float t, float entry) { return std::max(t, entry); }
 
-// A hit as the RayHit keeps it: the distance clamped as above, normals through the octahedral
-// encoding (the quantisation every mode and both engines' callers see, so the sorted and alone
-// modes agree bit for bit).
+// A hit as the RayHit keeps it: the distance clamped as above, normals octahedral-encoded (the
+// same record in every mode, so the sorted and alone modes agree bit for bit).
 RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
   RayHit r;
   r.t = keptDistance(h.t, entry); r.u = h.u; r.v = h.v; r.leaf = leaf; r.quad = h.quad;
   r.level = static_cast<uint8_t>(level);
-  r.ng = decodeOctahedral(encodeOctahedral(h.ng));
-  r.ns = decodeOctahedral(encodeOctahedral(h.ns));
+  r.setNormals(h.ng, h.ns);
   return r;
 }
 }  // namespace
@@ -213,7 +210,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
   const int level = settings_.lod == LodRule::Density ? m : levelOn(b, i, leaf);
   const float limit = searchLimit(b, i, bestT_[i]);
   BottomQuery query;
-  query.alpha = dice.moving() ? timeInterval(patch, b.time[i]).alpha : 0.0f;
+  query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
   if (b.kind[i] == RayKind::Shadow) {
@@ -372,7 +369,7 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
   sc.interval.resize(count);
   sc.start.assign(size_t(intervals) + 1, 0);
   for (size_t k = 0; k < count; ++k) {
-    sc.interval[k] = uint32_t(timeInterval(patch, b.time[rayOfSlot(slots[k])]).interval);
+    sc.interval[k] = uint32_t(timeInterval(patch, b.timeOf(rayOfSlot(slots[k]))).interval);
     ++sc.start[sc.interval[k] + 1];
   }
   for (int iv = 0; iv < intervals; ++iv) sc.start[size_t(iv) + 1] += sc.start[size_t(iv)];
@@ -511,7 +508,7 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
       if (leaf == b.ignoreLeaf[i]) continue;
       const int level = levelOn(b, i, leaf);
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
-      const TimeInterval when = timeInterval(*made, b.time[i]);
+      const TimeInterval when = timeInterval(*made, b.timeOf(i));
       const DiceBuffer& dice = gridFor(leaf, made, when.interval, level);
       const float limit = searchLimit(b, i, best.t);
       BottomQuery query;

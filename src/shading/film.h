@@ -15,14 +15,18 @@
 
 namespace rayes {
 
-struct PixelSample {
-  Rgb radiance;
+// What a camera path's first hit gives the AOVs (kept per path while the path is traced).
+struct FirstHit {
   bool hitSurface = false;  // the camera ray hit something (alpha)
   float depth = 0;          // camera-ray hit distance
   Vec3 normal;              // shading normal at the first hit, facing the camera
   float lod = 0;            // level of detail at the first hit
   Rgb albedo;               // the first hit's BSDF reflectance (Bsdf::reflectance)
   int32_t materialId = -1;  // the first hit's material index
+};
+
+struct PixelSample : FirstHit {
+  Rgb radiance;
 };
 
 class Film {

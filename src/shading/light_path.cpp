@@ -27,7 +27,7 @@ bool sampleLightPathStart(const ShadingScene& scene, const RngKey& key, LightPat
 }
 
 void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayBatch& rays) {
-  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread, path,
+  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread,
            s.e.leaf, kNoLeaf, 0, s.time);
 }
 
@@ -36,17 +36,19 @@ bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, Sh
   if (!h.valid()) return false;  // left the scene
   const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
   const Vec3 wi = -normalize(rays.dir[cs]);
-  if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wi)) {
+  if (!isFinite(p) || !isFinite(wi)) {  // the normals are finite: decoded from their codes
     stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
   stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
-  const float wiNg = dot(h.ng, wi);
+  const Vec3 ng = h.ng();
+  const float wiNg = dot(ng, wi);
   if (wiNg == 0) return false;
   out.h = h;
   out.wi = wi;
-  out.at = {p, h.ng, PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.org[cs])};
-  out.arrival = std::fabs(dot(h.ns, wi)) / std::fabs(wiNg);
+  out.ns = h.ns();
+  out.at = {p, ng, PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.org[cs])};
+  out.arrival = std::fabs(dot(out.ns, wi)) / std::fabs(wiNg);
   out.mat = &scene.materials[scene.leafMaterial[h.leaf]];
   return true;
 }
@@ -55,7 +57,7 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
                        const RngKey& key, uint32_t path, size_t cs, Rgb& T, RayBatch& rays, ShadeStats& stats) {
   if (int(vertex) >= scene.integrator.maxDepth) return false;
   const RayHit& h = hit.h;
-  const ShadingFrame frame(bsdf.transmits() || dot(h.ns, hit.wi) > 0 ? h.ns : -h.ns);
+  const ShadingFrame frame(bsdf.transmits() || dot(hit.ns, hit.wi) > 0 ? hit.ns : -hit.ns);
   const Vec3 wiL = frame.toLocal(hit.wi);
   BsdfSample bs;
   const Sample2D bu = sample2D(key, kBsdf);
@@ -63,13 +65,13 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
   const Vec3 wo = normalize(frame.toWorld(bs.wi));
   const float woNs = std::fabs(bs.wi.z);
   if (!hit.at.consistent(hit.wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) return false;
-  T *= bs.weight * (bs.etaRel * bs.etaRel * hit.arrival * std::fabs(dot(h.ng, wo)) / woNs);
+  T *= bs.weight * (bs.etaRel * bs.etaRel * hit.arrival * std::fabs(dot(hit.at.ng, wo)) / woNs);
   if (!throughputSurvives(T, int(vertex) >= scene.integrator.rouletteDepth, 1.0f, key, kRoulette, stats))
     return false;
   const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
   rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, 0.0f, kInf, width,
-           PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), path, kNoLeaf, h.leaf, h.level,
-           rays.time[cs]);
+           PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
+           rays.timeOf(cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;
 }

@@ -40,6 +40,7 @@ void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayB
 struct LightPathHit {
   RayHit h;
   Vec3 wi;          // unit, toward the light
+  Vec3 ns;          // h's shading normal, decoded once (at.ng is its geometric normal)
   SurfaceHit at;
   float arrival;    // Veach's shading-normal correction on the light's side, |ns·wi| / |ng·wi|
   const Material* mat;

@@ -47,7 +47,7 @@ bool LightTracer::writeConnection(uint32_t k, uint32_t vertex, const CameraConne
   pending_[k] = {pixelOf(c, scene_.width), value};
   pendingVertex_[k] = uint8_t(vertex);
   rays.set(kRaysPerPath * size_t(k) + 1, RayKind::Shadow, origin, d * (1.0f / dist), 0.0f, dist * (1.0f - 1e-4f),
-           c.coneWidth, c.coneSpread, k, ignoreLeaf, fromLeaf, fromLevel, time);
+           c.coneWidth, c.coneSpread, ignoreLeaf, fromLeaf, fromLevel, time);
   return true;
 }
 
@@ -110,7 +110,7 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
       const RayHit& h = hit.h;
       const Vec3 p = hit.at.p, wi = hit.wi;
       const SurfaceHit& at = hit.at;
-      auto frameFacing = [&](Vec3 w) { return ShadingFrame(bsdf.transmits() || dot(h.ns, w) > 0 ? h.ns : -h.ns); };
+      auto frameFacing = [&](Vec3 w) { return ShadingFrame(bsdf.transmits() || dot(hit.ns, w) > 0 ? hit.ns : -hit.ns); };
       Rgb& T = throughput_[k];
       const RngKey key = keyOf(first_ + k, pixels, vertex, scene_.integrator.seed);
       const LightRun run = run_[k] = nextRun(run_[k], isCausticScatterer(mat));
@@ -128,10 +128,10 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
         const Vec3 wcL = frame.toLocal(wc), wiL = frame.toLocal(wi);
         const Rgb f = bsdf.eval(wcL, wiL);
         if (!isBlack(f) && at.consistent(wi, wiL, wc, wcL)) {
-          const Rgb value = T * f * (hit.arrival * std::fabs(dot(h.ng, wc)) * c.importance);
+          const Rgb value = T * f * (hit.arrival * std::fabs(dot(at.ng, wc)) * c.importance);
           if (!isFinite(value)) {
             stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-          } else if (writeConnection(k, vertex, c, value, at.originToward(wc), kNoLeaf, h.leaf, h.level, rays.time[cs],
+          } else if (writeConnection(k, vertex, c, value, at.originToward(wc), kNoLeaf, h.leaf, h.level, rays.timeOf(cs),
                                      rays)) {
             ++localEmitted;
             stats.shadowRays.fetch_add(1, std::memory_order_relaxed);

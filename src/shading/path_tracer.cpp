@@ -70,12 +70,12 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
       paths.alive[k] = 1;
-      paths.aov[k] = PixelSample{};
+      paths.aov[k] = FirstHit{};
       paths.bsdfPdf[k] = 0;
       paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
       paths.causticRun[k] = kNoDiffuseYet;
-      rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, k, kNoLeaf,
+      rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, kNoLeaf,
                kNoLeaf, 0, cr.time);
       rays.kind[kRaysPerPath * size_t(k) + 1] = RayKind::Inactive;
     }
@@ -129,10 +129,10 @@ void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch&
 
 // Step 3's first-hit AOVs (camera rays only).
 void recordFirstHit(const Vertex& v, PathBatch& paths) {
-  PixelSample& aov = paths.aov[v.k];
+  FirstHit& aov = paths.aov[v.k];
   aov.hitSurface = true;
   aov.depth = v.h.t;
-  aov.normal = v.front ? v.h.ns : -v.h.ns;
+  aov.normal = v.front ? v.h.ns() : -v.h.ns();
   aov.lod = v.h.level;
   aov.albedo = v.reflects ? v.bsdf.reflectance() : Rgb{};
   aov.materialId = int32_t(v.matId);
@@ -177,8 +177,8 @@ bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFra
   // A light point within the offsets of the receiver leaves no segment to test.
   if (!(tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0)) return false;
   paths.shadowContribution[v.k] = c;
-  rays.set(v.ss, RayKind::Shadow, origin, dir, 0.0f, tmax, v.width, PathTracer::kDiffuseSpread, v.k, ls.leaf, v.h.leaf, v.h.level,
-           rays.time[v.cs]);
+  rays.set(v.ss, RayKind::Shadow, origin, dir, 0.0f, tmax, v.width, PathTracer::kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
+           rays.timeOf(v.cs));
   stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
   return true;
 }
@@ -207,8 +207,8 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
                           stats))
     return false;
   rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, 0.0f, kInf, v.width,
-           PathTracer::spreadAfterBounce(rays.coneSpread[v.cs], bs.pdf, bs.delta), k, kNoLeaf, v.h.leaf, v.h.level,
-           rays.time[v.cs]);
+           PathTracer::spreadAfterBounce(rays.coneSpread[v.cs], bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
+           rays.timeOf(v.cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;
 }
@@ -235,15 +235,16 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     return 0;
   }
   const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
-  // A broken hit (non-finite point or normals) ends the path here, before it can reach
-  // the film or the AOVs (docs/design.md, invariant 5).
-  if (!isFinite(p) || !isFinite(h.ns) || !isFinite(h.ng) || !isFinite(wo)) {
+  // A broken hit (non-finite point) ends the path here, before it can reach the film or the
+  // AOVs (docs/design.md, invariant 5). The normals are finite: decoded from their codes.
+  if (!isFinite(p) || !isFinite(wo)) {
     stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
     paths.alive[k] = 0;
     return 0;
   }
   stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
-  Vertex v{k, cs, ss, h, wo, dot(h.ns, wo) > 0, {p, h.ng, 0.0f}, 0.0f, nullptr, 0, false, Bsdf{}};
+  const Vec3 ng = h.ng(), ns = h.ns();
+  Vertex v{k, cs, ss, h, wo, dot(ns, wo) > 0, {p, ng, 0.0f}, 0.0f, nullptr, 0, false, Bsdf{}};
   v.matId = scene_.leafMaterial[h.leaf];
   v.mat = &scene_.materials[v.matId];
   if (!causticLight) gatherEmission(scene_.lights, v, rays, paths, stats);
@@ -263,7 +264,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   v.width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
   // Reflection-only models see the side the viewer is on; a transmitting one keeps the
   // patch normal as "outside".
-  const ShadingFrame frame(v.bsdf.transmits() ? h.ns : (v.front ? h.ns : -h.ns));
+  const ShadingFrame frame(v.bsdf.transmits() ? ns : (v.front ? ns : -ns));
   const Vec3 woL = frame.toLocal(wo);
 
   // 4. Caustic paths: where this vertex puts the path, and the caustic estimate at a diffuse one.
@@ -271,7 +272,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   if (!isCausticScatterer(*v.mat)) {
     run = kAfterDiffuse;
     if (options_.causticRadiance) {
-      const DiffuseVertex dv{p, h.ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce, uint32_t(k)};
+      const DiffuseVertex dv{p, ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce, uint32_t(k)};
       addFinite(paths.radiance[k], paths.throughput[k] * options_.causticRadiance->radiance(dv), stats);
     }
   } else if (run != kNoDiffuseYet) {
@@ -328,8 +329,7 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
       for (uint64_t s = s0; s <= s1; ++s) {
         const uint64_t id = s * pixels + p;
         if (id < first || id >= end) continue;
-        PixelSample sample = paths.aov[id - first];
-        sample.radiance = paths.radiance[id - first];
+        PixelSample sample{paths.aov[id - first], paths.radiance[id - first]};
         if (!isFinite(sample.radiance)) {
           sample.radiance = {0, 0, 0};
           stats.nonFinite.fetch_add(1, std::memory_order_relaxed);

@@ -44,13 +44,13 @@ struct PathBatch {
   std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
   std::vector<uint8_t> alive;
   std::vector<uint8_t> causticRun;  // CausticRun: where the path stands in a diffuse -> caustic chain
-  std::vector<PixelSample> aov;
+  std::vector<FirstHit> aov;  // the sample's radiance joins it at finish()
   size_t size() const { return alive.size(); }
   void resize(size_t n) {
     throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
     bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n); causticRun.resize(n);
   }
-  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(PixelSample); }
+  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(FirstHit); }
 };
 
 // Read from the camera: no diffuse vertex yet; the last vertex was diffuse; a diffuse vertex

@@ -38,6 +38,15 @@ TEST(StatsFeatures, MovingSceneDicesTwoTimeSamplesAndSaysSo) {
   EXPECT_TRUE(j["skipped"].contains("border_closure"));  // cubes of flat quads
 }
 
+// A ray's shutter time is stored only where a leaf moves: both scenes use the path tracer's two
+// ray slots per path, so a moving scene's path costs exactly two floats more.
+TEST(StatsFeatures, RayTimesAreKeptOnlyWhenSomethingMoves) {
+  const auto still = statsOf("scenes/teapot.json"), moving = statsOf("scenes/motion-cubes.json");
+  EXPECT_NE(still["skipped"]["motion_blur"].get<std::string>().find("no time per ray"), std::string::npos);
+  EXPECT_EQ(moving["memory"]["bytes_per_path"].get<uint64_t>() - still["memory"]["bytes_per_path"].get<uint64_t>(),
+            2 * sizeof(float));
+}
+
 TEST(StatsFeatures, DisplacedSceneSaysDisplacementWasActive) {
   const auto j = statsOf("scenes/displaced-teapot.json");
   EXPECT_TRUE(j["features"]["displacement"].get<bool>());

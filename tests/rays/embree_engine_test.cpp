@@ -57,7 +57,7 @@ RayBatch randomRays(int n, RayKind kind, uint32_t seed, Box3 target = {{-3, -3, 
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 e = target.extent();
     const Vec3 to = target.lo + Vec3{e.x * sampleUniform(k, 2), e.y * sampleUniform(k, 3), e.z * sampleUniform(k, 4)};
-    b.set(i, kind, o, normalize(to - o), 0.0f, kind == RayKind::Shadow ? 8.0f : kInf, 0.0f, 0.0f, i, kNoLeaf,
+    b.set(i, kind, o, normalize(to - o), 0.0f, kind == RayKind::Shadow ? 8.0f : kInf, 0.0f, 0.0f, kNoLeaf,
           kNoLeaf, 0, sampleUniform(k, 5));
   }
   return b;
@@ -91,7 +91,7 @@ GenerationStats traceEmbree(const World& w, RayBatch& b) {
 // 1 / |cos| of the angle between the ray and the triangle's normal. Two tests: 16 eps / |cos|.
 float tBound(const RayBatch& b, int i, const RayHit& h) {
   const Vec3 p = b.org[i] + b.dir[i] * h.t;
-  const float cosine = std::fabs(dot(h.ng, b.dir[i])) / length(b.dir[i]);
+  const float cosine = std::fabs(dot(h.ng(), b.dir[i])) / length(b.dir[i]);
   return 16 * FLT_EPSILON * (length(b.org[i]) + length(p)) / length(b.dir[i]) / std::max(cosine, 1e-6f);
 }
 
@@ -102,7 +102,7 @@ void expectSameClosestHits(bool moving) {
   if (moving) {
     const RayBatch at = randomRays(10000, RayKind::Closest, 3, w.leaves.back()->bounds());
     for (int i = 0; i < 10000; ++i)
-      rayes.set(i, RayKind::Closest, at.org[i], at.dir[i], 0.0f, kInf, 0.0f, 0.0f, i, kNoLeaf, kNoLeaf, 0, at.time[i]);
+      rayes.set(i, RayKind::Closest, at.org[i], at.dir[i], 0.0f, kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
     embree = rayes;
   }
   traceRayes(w, rayes);
@@ -123,8 +123,8 @@ void expectSameClosestHits(bool moving) {
     // The same triangle, the same way round. The shading normals blend the same corner
     // normals at (s, r) that differ by the rounding of two triangle tests: within the angle
     // the corners span, under 8 degrees (cos 0.99) on these patches at level 4.
-    EXPECT_GT(dot(r.ng, e.ng), 1 - 1e-4f) << "ray " << i;
-    EXPECT_GT(dot(r.ns, e.ns), 0.99f) << "ray " << i;
+    EXPECT_GT(dot(r.ng(), e.ng()), 1 - 1e-4f) << "ray " << i;
+    EXPECT_GT(dot(r.ns(), e.ns()), 0.99f) << "ray " << i;
   }
   EXPECT_GT(hits, 10000);
   if (moving) {
@@ -154,9 +154,9 @@ TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   RayBatch b;
   b.resize(4);
   const uint32_t floor = uint32_t(w.leaves.size() - 1);  // the quad at x, y in [0, 5]
-  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, 0, floor);
-  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, 1, floor);
-  b.set(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, 2);
+  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, floor);
+  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, floor);
+  b.set(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0);
   b.kind[3] = RayKind::Inactive;
   const GenerationStats stats = traceEmbree(w, b);
   EXPECT_FALSE(b.hit[0].valid());
@@ -174,7 +174,7 @@ TEST(EmbreeEngine, BatchesOfAnySizeAreTracedWhole) {
   RayBatch b;
   const int n = 300001;
   b.resize(n);
-  for (int i = 0; i < n; ++i) b.set(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, i);
+  for (int i = 0; i < n; ++i) b.set(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);
   traceEmbree(w, b);
   int hits = 0;
   for (int i = 0; i < n; ++i) hits += b.hit[i].valid() && b.hit[i].t == 5.0f;
@@ -185,9 +185,9 @@ TEST(EmbreeEngine, RaysItCannotTraceHitNothing) {
   const World w(false);
   RayBatch b;
   b.resize(3);
-  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, 0, kInf, 0, 0, 0);                 // zero direction
-  b.set(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, 1);             // infinite origin
-  b.set(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 3, 3, 0, 0, 2);                   // empty interval
+  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, 0, kInf, 0, 0);                 // zero direction
+  b.set(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);             // infinite origin
+  b.set(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 3, 3, 0, 0);                   // empty interval
   traceEmbree(w, b);
   for (int i = 0; i < 3; ++i) EXPECT_FALSE(b.hit[i].valid()) << i;
 }

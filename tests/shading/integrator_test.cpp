@@ -91,7 +91,7 @@ struct TestScene {
       }
       nrm = s.n;  // (u, v) unused for planes; for the disk the light density is independent of them
     }
-    h.t = t; h.u = u; h.v = v; h.leaf = leaf; h.quad = 0; h.level = 0; h.ng = nrm; h.ns = nrm;
+    h.t = t; h.u = u; h.v = v; h.leaf = leaf; h.quad = 0; h.level = 0; h.setNormals(nrm, nrm);
     return true;
   }
 

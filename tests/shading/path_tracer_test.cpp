@@ -85,10 +85,11 @@ TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
     RayHit& h = rays.hit[2 * k];
     h.leaf = 0;
     h.t = 5;
-    h.ng = {0, 0, 1};
-    h.ns = {0, 0, 1};
+    h.setNormals({0, 0, 1}, {0, 0, 1});
   }
-  rays.hit[0].ns = {NAN, 0, 1};  // a broken shading normal
+  // A broken shading normal cannot reach shading: the hit record stores it as +z.
+  rays.hit[0].setNormals({0, 0, 1}, {NAN, 0, 1});
+  EXPECT_TRUE(isFinite(rays.hit[0].ns()));
   rays.hit[2].t = kInf;          // hit at infinity: p is not finite
   ShadeStats stats;
   tracer.shade(0, paths, rays, stats);
@@ -136,7 +137,7 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
     h.leaf = 0;
     h.level = 0;
     h.t = 5 / length(rays.dir[2 * k]);  // 5 from the camera: below the light
-    h.ng = h.ns = {0, 0, 1};
+    h.setNormals({0, 0, 1}, {0, 0, 1});
   }
   ShadeStats stats;
   tracer.shade(0, paths, rays, stats);
