@@ -343,6 +343,65 @@ TEST(Beams, MaxDepthBoundsCameraBouncesAndBeamScatteringsTogether) {
   EXPECT_NE(renderBeauty(scene, lbtOptions(8), 2), renderBeauty(scene, without, 2));
 }
 
+// The gathers run as leaf queries of the next trace() (core/leaf_queries.h) add, bit for bit,
+// what the direct call in the shading step added: the same sums, in the same order into each
+// path's radiance. On glossy and specular beams, with the Rayes and Embree engines, a ray budget
+// of a few paths per batch, and beams in batches under --beam-memory.
+TEST(Beams, GathersAsLeafQueriesEqualGathersInTheShadingStepBitForBit) {
+  for (const char* file : {"scenes/lbt-ring-glossy.json", "scenes/lbt-discoball.json"}) {
+    Scene scene = loadScene(sourcePath(file));
+    scene.width = 20;
+    scene.height = 15;
+    scene.samplesPerPixel = 1;
+    const RenderOptions base = lbtOptions(12);
+    RenderOptions embree = base, fewPaths = base, beamBatches = base;
+    embree.engine = EngineKind::Embree;
+    embree.maxLod = 4;
+    fewPaths.rayMemoryBytes = 29 * bytesPerPath(scene, base);
+    beamBatches.beams.memoryBytes = Renderer(scene, base).stats().beams.bytes / 2;
+    for (const RenderOptions& leafQueries : {base, embree, fewPaths, beamBatches}) {
+      RenderOptions inShading = leafQueries;
+      inShading.beamGathersInShading = true;
+      EXPECT_EQ(renderBeauty(scene, leafQueries, 2), renderBeauty(scene, inShading, 2)) << file;
+    }
+    RenderOptions without;
+    without.integrator.causticPaths = CausticPaths::Without;
+    EXPECT_NE(renderBeauty(scene, base, 2), renderBeauty(scene, without, 2)) << file << ": no caustic in view";
+  }
+}
+
+// The camera-side share of max_depth (camera bounce + light-path vertex ≤ max_depth) beyond the
+// first bounce, for lbt and pm: the camera sees only a floor below lbt-mirror's mirror, which
+// no beam or photon reaches (the mirror reflects upward); the ceiling's caustic reaches the
+// camera after one diffuse bounce, a path of three vertices (floor, ceiling, mirror). It is in
+// the image at max_depth 3 and not at 2.
+TEST(Beams, MaxDepthCountsTheCameraBouncesBeforeTheGather) {
+  const Scene floorScene = parseScene(R"({
+      "camera": {"position": [3, 0, 1.5], "look_at": [3, 0, -0.5], "up": [0, 1, 0], "fov": 30},
+      "film": {"resolution": [12, 9], "spp": 2},
+      "integrator": {"max_depth": 3, "seed": 0},
+      "materials": {"mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.001},
+        "white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+      "shapes": [
+        {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
+        {"type": "bilinear", "material": "white", "quads": [[[-4, -4, 2], [4, -4, 2], [-4, 4, 2], [4, 4, 2]]]},
+        {"type": "bilinear", "material": "white", "quads": [[[-4, -4, -0.5], [4, -4, -0.5], [-4, 4, -0.5], [4, 4, -0.5]]]}],
+      "lights": [{"type": "point", "position": [0, 0, 1], "intensity": [10, 10, 10]}]})",
+                                      "floor.json");
+  RenderOptions pm;
+  pm.method = IntegratorMethod::PhotonMapping;
+  pm.integrator.photonsPerSample = 2000;
+  RenderOptions without;
+  without.integrator.causticPaths = CausticPaths::Without;
+  for (const RenderOptions& method : {lbtOptions(8), pm}) {
+    Scene s = floorScene;
+    s.integrator.maxDepth = 2;
+    EXPECT_EQ(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << integratorMethodName(method.method);
+    s.integrator.maxDepth = 3;
+    EXPECT_NE(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << integratorMethodName(method.method);
+  }
+}
+
 TEST(Beams, ImagesAreOrderIndependentAndBudgetIndependent) {
   Scene scene = loadScene(sourcePath("scenes/lbt-mirror-glossy.json"));
   scene.width = 24;
