@@ -7,10 +7,12 @@
 // Contract: slot q holds one query, on leaf[q] (kNoLeaf: empty). The poster gives each slot's
 // meaning to its runner (the path tracer: slot k is path k's gather, one per path per
 // generation, so the slots are bounded by the paths of a batch). During trace() the engine
-// calls runner->run(leaf, ids) exactly once per leaf that has queries, with ids the filled
-// slots of that leaf in increasing order, whether or not any ray visits that leaf; runs of
-// distinct leaves may be concurrent. A run writes only its own slots' results (held by the
-// runner), so results do not depend on thread count or on the order leaves are processed in.
+// passes every filled slot exactly once to runner->run(leaf, ids), ids being slots of that leaf
+// in increasing order, whether or not any ray visits that leaf: one call per leaf, or, for a
+// leaf with many queries, consecutive chunks of its slots (so one large receiver does not
+// serialise the stage on one thread). Calls may be concurrent, within a leaf too. A run writes
+// only its own slots' results (held by the runner), so results do not depend on thread count,
+// chunking or the order leaves are processed in.
 // The engine never changes `leaf`: the poster reads the results after trace() and empties the
 // slots.
 #pragma once

@@ -1,6 +1,7 @@
 #include "rays/leaf_query_runs.h"
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace rayes {
 
@@ -17,8 +18,19 @@ size_t LeafQueryRuns::group(const LeafQueries& queries) {
 }
 
 void LeafQueryRuns::run(size_t r, TimeAccumulator& time) const {
-  ScopedTimer timer(time);
-  runner_->run(leafOf(r), ids(r));
+  const std::span<const uint32_t> all = ids(r);
+  auto runChunk = [&](size_t k0, size_t k1) {
+    ScopedTimer timer(time);
+    runner_->run(leafOf(r), all.subspan(k0, k1 - k0));
+  };
+  if (all.size() <= 2 * kChunk) {
+    runChunk(0, all.size());
+    return;
+  }
+  tbb::this_task_arena::isolate([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, all.size(), kChunk),
+                      [&](const auto& c) { runChunk(c.begin(), c.end()); });
+  });
 }
 
 void LeafQueryRuns::runAll(TimeAccumulator& time) {

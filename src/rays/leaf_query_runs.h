@@ -24,8 +24,11 @@ class LeafQueryRuns {
   std::span<const uint32_t> ids(size_t run) const {
     return {sort_.order.data() + sort_.runs[run], size_t(sort_.runs[run + 1] - sort_.runs[run])};
   }
-  // Calls the runner for run `run` (timed into `time`, summed over threads).
+  // Calls the runner for run `run` (timed into `time`, summed over threads): a run of more than
+  // 2 kChunk queries in chunks of kChunk that other threads may take, isolated so this thread
+  // does not pick up another leaf's task meanwhile (as Tracer::intersectRun does for rays).
   void run(size_t run, TimeAccumulator& time) const;
+  static constexpr size_t kChunk = 256;
   // Every run, in parallel; then forgets them.
   void runAll(TimeAccumulator& time);
   void clear();
