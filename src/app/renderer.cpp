@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include "core/error.h"
+#include "core/leaf_queries.h"
 #include "core/memory.h"
 #include "core/timer.h"
 #include "lbt/photon_mapper.h"
@@ -177,7 +178,8 @@ void Renderer::buildBeams() {
     caustics = beamBatches_.get();
     bs.bytes += beamBatches_->bytes();
   }
-  integrator_ = std::make_unique<PathTracer>(data_.shading, PathTracer::Options{CausticPaths::Without, caustics});
+  integrator_ = std::make_unique<PathTracer>(
+      data_.shading, PathTracer::Options{CausticPaths::Without, caustics, !options_.beamGathersInShading});
   bs.built = true;
 }
 
@@ -206,7 +208,8 @@ void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPat
     stats_.generations.push_back(std::move(rec));
     const size_t next = lightPaths ? integrator_->shadeLight(uint32_t(depth), rays, stats_.shade)
                                    : integrator_->shade(uint32_t(depth), rays, stats_.shade);
-    if (next == 0) break;
+    // Gathers posted at the last vertices still run: one more trace, with queries only.
+    if (next == 0 && !(rays.queries && rays.queries->pending())) break;
   }
 }
 

@@ -80,6 +80,9 @@ struct RenderOptions {
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   IntegratorMethod method = IntegratorMethod::PathTracing;
   BeamOptions beams;
+  // lbt: the beam gathers in the shading step, as pm's (not leaf queries of the next trace):
+  // the reference the leaf queries are checked against, bit for bit (tests/app/beams_test.cpp).
+  bool beamGathersInShading = false;
   IntegratorOptions integrator;  // --caustic-paths, the photon options
   std::vector<float> reference;  // RGB per pixel; empty: no error curve; else one point per pass
 };

@@ -63,6 +63,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
         {"sort", s.trace.sort.seconds()},
         {"dice", s.trace.dice.seconds()},
         {"bottom", s.trace.bottom.seconds()},
+        {"leaf_queries", s.trace.leafQueries.seconds()},
         {"shade", s.shade.shade.seconds()},
         {"shade_sort", s.shade.sort.seconds()},
         {"film", s.timeFilm},

@@ -16,6 +16,7 @@
 namespace rayes {
 
 constexpr uint32_t kNoLeaf = 0xffffffffu;
+struct LeafQueries;  // core/leaf_queries.h
 
 enum class RayKind : uint8_t {
   Inactive = 0,  // an empty slot: not traced
@@ -62,6 +63,9 @@ struct RayBatch {
   std::vector<RayKind> kind;
   // What was found.
   std::vector<RayHit> hit;
+  // Queries the engine runs per leaf during trace(), besides the rays (core/leaf_queries.h):
+  // the poster's (not owned), or none.
+  LeafQueries* queries = nullptr;
 
   size_t size() const { return kind.size(); }
   void resize(size_t n) {

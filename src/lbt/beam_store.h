@@ -9,10 +9,12 @@
 // receiver patch under many beams does not make every gather visit all of them; a gather at a
 // point of leaf L visits the segments of the cell of L's grid that holds the point.
 //
-// What is and is not in the reorder pipeline: corner rays are traced as RayBatch generations by
+// All of it runs through the reorder pipeline: corner rays are traced as RayBatch generations by
 // the ray engine (sorted by leaf, diced on demand); the binning uses the top level; the gathers
-// run in the path tracer's shading step, whose paths are sorted by (material, leaf), so a
-// leaf's gathers run together -- but not inside the Tracer's per-leaf stage.
+// are leaf queries (core/leaf_queries.h): the path tracer posts one at a diffuse vertex, the
+// engine sorts them by leaf with the candidates' sort and runs each leaf's gathers in that
+// leaf's task of its per-leaf stage during the next trace() (rays/tracer.cpp), and the path
+// adds the result after that trace, where the direct call used to add it (same bits).
 //
 // Memory: bytes() = segments + bin entries + cell offsets + leaf grids. The constructor refuses
 // (InputError naming --beam-memory) a budget below minimumBytes (one beam); a store that needs
@@ -57,7 +59,7 @@ class BeamStore final : public CausticRadiance {
       else add(psi, irradiance);
     }
   }
-  // The caustic radiance at a diffuse vertex: sum + f(wo, -psi)·E over the gathered segments,
+    // The caustic radiance at a diffuse vertex: sum + f(wo, -psi)·E over the gathered segments,
   // added one by one in segment order (a batch continues the previous batch's sum). As the path
   // tracer it complements counts them, only paths within maxDepth: camera bounce + light-path
   // vertex (scatterings + 1) ≤ maxDepth.

@@ -24,9 +24,13 @@ void CachingEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& t
     return gridFor(leaf, patch, interval, level, stats, times);
   };
   // times.bottom includes the dicing; times.dice holds the dicing alone.
-  ScopedTimer timer(times.bottom);
-  for (uint32_t i : active_) tracer_.traceRayAlone(batch, i, source, scratch_);
+  {
+    ScopedTimer timer(times.bottom);
+    for (uint32_t i : active_) tracer_.traceRayAlone(batch, i, source, scratch_);
+  }
   stats.iterations.push_back({active_.size(), 0.0, 0});
+  // No per-leaf stage: the leaf queries grouped by leaf, in a plain loop.
+  if (batch.queries && queries_.group(*batch.queries)) queries_.runAll(times.leafQueries);
 }
 
 const DiceBuffer& CachingEngine::gridFor(uint32_t leaf, const PatchPtr& patch, int interval, int level, GenerationStats& stats,

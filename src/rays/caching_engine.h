@@ -55,6 +55,7 @@ class CachingEngine : public RayEngine {
   std::unordered_map<uint64_t, std::list<Entry>::iterator> index_;
   std::vector<uint32_t> active_;
   TraversalScratch scratch_;
+  LeafQueryRuns queries_;
   uint64_t hits_ = 0, misses_ = 0;
   size_t bytes_ = 0, peakBytes_ = 0;
 };

@@ -319,6 +319,8 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
   stats.rays += rays.load();
   stats.shadowRays += shadow.load();
   stats.iterations.push_back({rays.load(), 0.0, 0});
+  // No per-leaf stage: the leaf queries grouped by leaf, in a plain loop.
+  if (b.queries && queries_.group(*b.queries)) queries_.runAll(times.leafQueries);
 }
 
 }  // namespace rayes

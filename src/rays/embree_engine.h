@@ -38,6 +38,7 @@
 #include <vector>
 #include "core/box.h"
 #include "geometry/leaf_source.h"
+#include "rays/leaf_query_runs.h"
 #include "rays/ray_engine.h"
 
 namespace rayes {
@@ -102,6 +103,7 @@ class EmbreeEngine : public RayEngine {
   std::vector<Vec3> normals_;    // same slices, not mirrored, unnormalised blends between keyframes
   std::unique_ptr<Device> device_;
   EngineStats stats_;
+  LeafQueryRuns queries_;
 };
 
 }  // namespace rayes

@@ -11,9 +11,10 @@
 // any hit (leaf != kNoLeaf: occluded); a ray never hits batch.ignoreLeaf[i]; (u, v) are the
 // patch's parameters, level the dicing level the hit was found at, ng the micro-triangle's unit
 // normal, ns the unit normal blended from the diced vertex normals. Shading reads nothing else,
-// so the same scene shades the same way whichever engine found the hits. Images are a pure
-// function of (scene, settings, seed) for every engine: none depends on thread count or
-// batching.
+// so the same scene shades the same way whichever engine found the hits. When batch.queries is
+// set, trace() also runs its leaf queries, once per leaf (core/leaf_queries.h): the Tracer in
+// its per-leaf stage, the others in a loop by leaf. Images are a pure function of (scene,
+// settings, seed) for every engine: none depends on thread count or batching.
 //
 // Memory (docs/design.md, invariant 3): bytesPerRay() is what the engine keeps per ray slot of the
 // largest batch beyond the RayBatch itself (the renderer divides its ray budget by it);

@@ -68,9 +68,10 @@ struct GenerationStats {
 };
 
 // Times of the tracing stages. toplevel and sort are wall clock; dice and bottom are summed
-// over threads (as in the thesis's Table 6.1).
+// over threads (as in the thesis's Table 6.1), and so is leafQueries (the runners' per-leaf
+// queries: caustic gathers, core/leaf_queries.h).
 struct TraceTimes {
-  TimeAccumulator toplevel, sort, dice, bottom;
+  TimeAccumulator toplevel, sort, dice, bottom, leafQueries;
 };
 
 }  // namespace rayes

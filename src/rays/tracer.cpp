@@ -197,8 +197,14 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   count_.assign(n, 0);
   if (hitLock_.size() < n) hitLock_ = std::vector<std::atomic_flag>(n);  // all clear
   activeRays(batch, stats, active_);
+  {
+    ScopedTimer timer(times.sort);
+    if (batch.queries) queries_.group(*batch.queries);
+  }
   if (settings_.sortByLeaf) traceSorted(batch, stats, times);
   else traceAlone(batch, stats, times);
+  // No iteration ran them: no rays to trace, or rays traced alone.
+  if (queries_.runs()) queries_.runAll(times.leafQueries);
 }
 
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
@@ -300,7 +306,8 @@ size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
 }
 
 // 3+4. One task per leaf: dice once (or take the cached grid), intersect all of its rays; a
-// moving leaf once per time interval its rays fall in. The cache is asked serially, in run
+// moving leaf once per time interval its rays fall in; and, in the first iteration, run the
+// leaf's queries. The cache is asked serially, in run
 // order, so its history does not depend on the thread count (rays/grid_cache.h).
 void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
@@ -327,9 +334,23 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
     cache_.nextIteration();
     stats.gridCacheHits += hits;
   }
+  // The per-leaf tasks: the ray runs merged by leaf with the query runs (both in increasing leaf
+  // order), which only the first iteration of a trace has.
+  tasks_.clear();
+  const size_t nQueryRuns = queries_.runs();
+  for (size_t run = 0, q = 0; run < nRuns || q < nQueryRuns;) {
+    const uint32_t rayLeaf = run < nRuns ? cand_.leaf[runSlots(run)[0]] : kNoLeaf;
+    const uint32_t queryLeaf = q < nQueryRuns ? queries_.leafOf(q) : kNoLeaf;
+    const bool rays = rayLeaf <= queryLeaf, queries = queryLeaf <= rayLeaf;
+    tasks_.push_back({rays ? uint32_t(run++) : kNoRun, queries ? uint32_t(q++) : kNoRun});
+  }
   DicingCounters counters;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 1), [&](const auto& r) {
-    for (size_t run = r.begin(); run != r.end(); ++run) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tasks_.size(), 1), [&](const auto& r) {
+    for (size_t task = r.begin(); task != r.end(); ++task) {
+      const LeafTask t = tasks_[task];
+      if (t.queries != kNoRun) queries_.run(t.queries, times.leafQueries);
+      if (t.rays == kNoRun) continue;
+      const size_t run = t.rays;
       const uint32_t* slots = runSlots(run);
       const size_t count = runCount(run);
       const uint32_t leaf = cand_.leaf[slots[0]];
@@ -352,6 +373,7 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
       }
     }
   });
+  queries_.clear();
   stats.leavesDiced += counters.dicings.load();
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();

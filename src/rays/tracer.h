@@ -17,6 +17,11 @@
 //   5. finish     a ray is finished once its hit is nearer than its next candidate's entry
 //                 distance; the others stay active with more candidates each.
 //
+// Leaf queries (core/leaf_queries.h, the caustic gathers of light beams) are grouped by leaf
+// with the same sort and run in the first iteration's per-leaf stage, in the task of their
+// leaf next to its rays, or in a task of their own on a leaf no ray reaches; with no rays to
+// trace (the last gathers of a batch) or rays traced alone they run in a plain parallel loop.
+//
 // The Rayes implementation of RayEngine (rays/ray_engine.h).
 //
 // Guarantees: the hit of every ray is a pure function of (ray, scene, maxLod) under the
@@ -46,6 +51,7 @@
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
 #include "rays/grid_cache.h"
+#include "rays/leaf_query_runs.h"
 #include "rays/ray_engine.h"
 #include "rays/trace_settings.h"
 #include "toplevel/toplevel_bvh.h"
@@ -183,6 +189,12 @@ class Tracer : public RayEngine {
   GridCache cache_;
   std::vector<int> runLevel_;                  // per static run of the current iteration (cache on)
   std::vector<GridCache::Entry*> runEntry_;    // its cache entry, or nullptr (diced per thread)
+  // The batch's leaf queries grouped by leaf, run in the first iteration's per-leaf tasks; and
+  // those tasks: a run of rays, of queries or both on one leaf (kNoRun: none).
+  LeafQueryRuns queries_;
+  static constexpr uint32_t kNoRun = 0xffffffffu;
+  struct LeafTask { uint32_t rays, queries; };
+  std::vector<LeafTask> tasks_;
 };
 
 // True when hit (t, leaf, quad) is nearer than `best` under the total order used everywhere:

@@ -36,7 +36,10 @@ const char* causticPathsName(CausticPaths which) {
 std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene,
                                            const IntegratorOptions& options) {
   if (method == IntegratorMethod::LightTracing) return std::make_unique<LightTracer>(scene, options.causticPaths);
-  return std::make_unique<PathTracer>(scene, PathTracer::Options{options.causticPaths, nullptr});
+  // lbt's path tracer, until beams are built (and for good when none are): its bytes per path
+  // hold the gathers the beams will post.
+  return std::make_unique<PathTracer>(
+      scene, PathTracer::Options{options.causticPaths, nullptr, method == IntegratorMethod::LightBeams});
 }
 
 }  // namespace rayes

@@ -6,7 +6,9 @@
 //                              rays are written into `rays`;
 //   shade(bounce, rays, stats) after the rays were traced: consume their hits, write the next
 //                              generation in place; returns how many rays were written (0: the
-//                              batch is done);
+//                              batch is done, unless leaf queries are still pending in
+//                              rays.queries: then one more trace runs them, and one more shade
+//                              adds them);
 //   finish(film, stats)        add the batch's results to the film in a fixed order.
 //
 // Slots: path k of a batch owns ray slots [k * raysPerPath(), (k + 1) * raysPerPath()) and

@@ -58,6 +58,11 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
   paths.first = first;
   paths.resize(count);
   rays.resize(kRaysPerPath * size_t(count));
+  rays.queries = nullptr;  // shade() posts gathers
+  if (options_.gathersAsLeafQueries) {
+    paths.gatherQueries.leaf.assign(count, kNoLeaf);
+    paths.gathers.resize(count);
+  }
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const PathIds ids = idsOf(first + k, pixels);
@@ -271,7 +276,10 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   uint8_t& run = paths.causticRun[k];
   if (!isCausticScatterer(*v.mat)) {
     run = kAfterDiffuse;
-    if (options_.causticRadiance) {
+    if (options_.causticRadiance && options_.gathersAsLeafQueries) {
+      paths.gatherQueries.leaf[k] = h.leaf;
+      paths.gathers[k] = {p, ng, wo, woL, frame.n, v.bsdf, ids.sample, bounce, paths.throughput[k], Rgb{}};
+    } else if (options_.causticRadiance) {
       const DiffuseVertex dv{p, ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce, uint32_t(k)};
       addFinite(paths.radiance[k], paths.throughput[k] * options_.causticRadiance->radiance(dv), stats);
     }
@@ -289,6 +297,13 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
 
 size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
   ScopedTimer shadeTimer(stats.shade);
+  if (options_.gathersAsLeafQueries) {
+    addRunGathers(paths, stats);
+    gatherRunner_.caustics = options_.causticRadiance;
+    gatherRunner_.paths = &paths;
+    paths.gatherQueries.runner = &gatherRunner_;
+    rays.queries = options_.causticRadiance ? &paths.gatherQueries : nullptr;
+  }
   sortByMaterial(paths, rays, stats);
   std::atomic<size_t> emitted{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, order_.size(), 256), [&](const auto& r) {
@@ -297,6 +312,29 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
     emitted.fetch_add(localEmitted, std::memory_order_relaxed);
   });
   return emitted.load();
+}
+
+// The gathers the last trace() ran, each added to its path's radiance where the direct call
+// would have added it: after that vertex's emission, before the next vertex's shadow ray.
+void PathTracer::addRunGathers(PathBatch& paths, ShadeStats& stats) const {
+  std::vector<uint32_t>& posted = paths.gatherQueries.leaf;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, posted.size(), 4096), [&](const auto& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      if (posted[k] == kNoLeaf) continue;
+      const PostedGather& g = paths.gathers[k];
+      addFinite(paths.radiance[k], g.throughput * g.radiance, stats);
+      posted[k] = kNoLeaf;
+    }
+  });
+}
+
+void PathTracer::GatherRunner::run(uint32_t leaf, std::span<const uint32_t> ids) {
+  for (const uint32_t k : ids) {
+    PostedGather& g = paths->gathers[k];
+    const ShadingFrame frame(g.frameNormal);
+    const DiffuseVertex v{g.p, g.ng, g.wo, g.woL, &frame, &g.bsdf, g.sample, leaf, g.bounce, k};
+    g.radiance = caustics->radiance(v);
+  }
 }
 
 // The second sorting step: live paths by (material, leaf) of their hit; misses last.

@@ -29,10 +29,24 @@
 // through Options::causticRadiance at every diffuse vertex, so nothing is counted twice.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <vector>
+#include "core/leaf_queries.h"
+#include "shading/bsdf.h"
 #include "shading/integrator.h"
 
 namespace rayes {
+
+// A caustic gather posted at a diffuse vertex and run as a leaf query during the next trace()
+// (Options::gathersAsLeafQueries): what the estimator's DiffuseVertex needs, by value (the
+// shading frame as its normal: ShadingFrame is a pure function of it), the path's throughput
+// there, and the radiance the run writes.
+struct PostedGather {
+  Vec3 p, ng, wo, woL, frameNormal;
+  Bsdf bsdf;
+  uint32_t sample = 0, bounce = 0;
+  Rgb throughput, radiance;
+};
 
 // The state of a batch of paths, structure of arrays; path k has global id first + k, which is
 // sample * pixels + pixel (sample-major: a batch covers whole samples of the image).
@@ -44,13 +58,18 @@ struct PathBatch {
   std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
   std::vector<uint8_t> alive;
   std::vector<uint8_t> causticRun;  // CausticRun: where the path stands in a diffuse -> caustic chain
-  std::vector<FirstHit> aov;  // the sample's radiance joins it at finish()
+  std::vector<FirstHit> aov;
+  // Caustic gathers as leaf queries: slot k is path k's, at most one per generation, posted
+  // by shade() and added to the radiance by the next shade(), after trace() ran it.
+  LeafQueries gatherQueries;
+  std::vector<PostedGather> gathers;
   size_t size() const { return alive.size(); }
   void resize(size_t n) {
     throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
     bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n); causticRun.resize(n);
   }
   static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(FirstHit); }
+  static constexpr size_t bytesPerGather() { return sizeof(PostedGather) + LeafQueries::bytesPerSlot(); }
 };
 
 // Read from the camera: no diffuse vertex yet; the last vertex was diffuse; a diffuse vertex
@@ -72,6 +91,7 @@ struct DiffuseVertex {
 };
 
 // Reflected radiance along wo carried by caustic paths (light -> caustic scatterers -> here).
+// radiance() may be called concurrently for distinct (path, bounce).
 class CausticRadiance {
  public:
   virtual ~CausticRadiance() = default;
@@ -83,6 +103,11 @@ class PathTracer final : public Integrator {
   struct Options {
     CausticPaths causticPaths = CausticPaths::All;
     const CausticRadiance* causticRadiance = nullptr;  // added at every diffuse vertex (not owned)
+    // Whether causticRadiance runs as a leaf query of the next trace() (an estimator binned by
+    // top-level leaf: light beams) rather than in the shading step (photon maps). Either way the
+    // path adds throughput x radiance right after the vertex's emission and before anything of
+    // the next vertex, so the image is the same bit for bit.
+    bool gathersAsLeafQueries = false;
   };
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
   PathTracer(const ShadingScene& scene, Options options) : scene_(scene), options_(options) {}
@@ -91,7 +116,9 @@ class PathTracer final : public Integrator {
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
   static constexpr uint32_t kRaysPerPath = 2;  // slot 2k: closest hit, 2k+1: shadow ray
   uint32_t raysPerPath() const override { return kRaysPerPath; }
-  size_t bytesPerPath() const override { return PathBatch::bytesPerPath() + sizeof(SortItem); }
+  size_t bytesPerPath() const override {
+    return PathBatch::bytesPerPath() + sizeof(SortItem) + (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0);
+  }
   void start(uint64_t first, uint32_t count, RayBatch& rays) override { start(first, count, paths_, rays); }
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override {
     return shade(bounce, paths_, rays, stats);
@@ -103,7 +130,9 @@ class PathTracer final : public Integrator {
   // Starts paths [first, first + count): resets their state, writes camera rays.
   void start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const;
   // Shades generation `bounce` (0 = camera rays) and writes the next generation in place.
-  // Returns the number of rays written.
+  // Returns the number of rays written. With gathers as leaf queries, it first adds the
+  // gathers the last trace() ran, and leaves rays.queries pointing at the new ones (the caller
+  // traces once more, with no rays, while rays.queries->pending()).
   size_t shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats);
   // Adds the batch's samples to the film, pixel by pixel in sample order. A sample whose
   // radiance overflowed to a non-finite value is dropped (added as black, AOVs kept) and
@@ -129,12 +158,21 @@ class PathTracer final : public Integrator {
  private:
   // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).
   void sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats);
+  void addRunGathers(PathBatch& paths, ShadeStats& stats) const;
+  // Runs a leaf's posted gathers (the batch being shaded) through causticRadiance.
+  class GatherRunner final : public LeafQueryRunner {
+   public:
+    void run(uint32_t leaf, std::span<const uint32_t> ids) override;
+    const CausticRadiance* caustics = nullptr;
+    PathBatch* paths = nullptr;
+  };
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
 
   const ShadingScene& scene_;
   Options options_;
   struct SortItem { uint64_t key; uint32_t path; };
   std::vector<SortItem> order_;
+  GatherRunner gatherRunner_;
   PathBatch paths_;
 };
 

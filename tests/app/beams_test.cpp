@@ -21,6 +21,15 @@ RenderOptions lbtOptions(int resolution = 64) {
   return o;
 }
 
+// A shipped scene at a small resolution and sample count.
+Scene shippedScene(const std::string& file, int width, int height, int spp) {
+  Scene scene = loadScene(sourcePath(file));
+  scene.width = width;
+  scene.height = height;
+  scene.samplesPerPixel = spp;
+  return scene;
+}
+
 double gatherAt(const BeamStore& beams, uint32_t leaf, Vec3 x, Vec3 n) {
   double e = 0;
   beams.gather(leaf, x, n, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
@@ -245,10 +254,7 @@ TEST(Beams, BeamsStraddlingTotalInternalReflectionSplitAndKeepTheirFlux) {
 // A budget that holds a third of the beams: they are processed in batches (the camera paths
 // once per batch), and the image is the unbatched one bit for bit.
 TEST(Beams, BatchesUnderTheBeamMemoryBudgetGiveTheSameImage) {
-  Scene scene = loadScene(sourcePath("scenes/lbt-mirror-glossy.json"));
-  scene.width = 20;
-  scene.height = 15;
-  scene.samplesPerPixel = 1;
+  Scene scene = shippedScene("scenes/lbt-mirror-glossy.json", 20, 15, 1);
   const RenderOptions whole = lbtOptions(12);
   Renderer one(scene, whole);
   ASSERT_NE(one.beams(), nullptr);
@@ -315,10 +321,7 @@ TEST(Beams, AreaLightsSendBeamsFromSamplePointsAndMatchTheLightTracer) {
 
 // glass-caustic.json's light is a rect: lbt now traces beams through its glass.
 TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
-  Scene scene = loadScene(sourcePath("scenes/glass-caustic.json"));
-  scene.width = 8;
-  scene.height = 6;
-  scene.samplesPerPixel = 1;
+  Scene scene = shippedScene("scenes/glass-caustic.json", 8, 6, 1);
   RenderOptions o = lbtOptions(8);
   o.beams.areaSamples = 1;
   Renderer r(scene, o);
@@ -331,10 +334,7 @@ TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
 // scatterings together. At max_depth 1 the mirror caustic (ceiling, mirror, light: 2 bounces)
 // is no path of the render; at 2 it is.
 TEST(Beams, MaxDepthBoundsCameraBouncesAndBeamScatteringsTogether) {
-  Scene scene = loadScene(sourcePath("scenes/lbt-mirror.json"));
-  scene.width = 12;
-  scene.height = 9;
-  scene.samplesPerPixel = 2;
+  Scene scene = shippedScene("scenes/lbt-mirror.json", 12, 9, 2);
   RenderOptions without;
   without.integrator.causticPaths = CausticPaths::Without;
   scene.integrator.maxDepth = 1;
@@ -343,11 +343,64 @@ TEST(Beams, MaxDepthBoundsCameraBouncesAndBeamScatteringsTogether) {
   EXPECT_NE(renderBeauty(scene, lbtOptions(8), 2), renderBeauty(scene, without, 2));
 }
 
+// The gathers run as leaf queries of the next trace() (core/leaf_queries.h) add, bit for bit,
+// what the direct call in the shading step added: the same sums, in the same order into each
+// path's radiance. On glossy and specular beams, with the Rayes and Embree engines, a ray budget
+// of a few paths per batch, and beams in batches under --beam-memory.
+TEST(Beams, GathersAsLeafQueriesEqualGathersInTheShadingStepBitForBit) {
+  for (const char* file : {"scenes/lbt-ring-glossy.json", "scenes/lbt-discoball.json"}) {
+    Scene scene = shippedScene(file, 20, 15, 1);
+    const RenderOptions base = lbtOptions(12);
+    RenderOptions embree = base, fewPaths = base, beamBatches = base;
+    embree.engine = EngineKind::Embree;
+    embree.maxLod = 4;
+    fewPaths.rayMemoryBytes = 29 * bytesPerPath(scene, base);
+    beamBatches.beams.memoryBytes = Renderer(scene, base).stats().beams.bytes / 2;
+    for (const RenderOptions& leafQueries : {base, embree, fewPaths, beamBatches}) {
+      RenderOptions inShading = leafQueries;
+      inShading.beamGathersInShading = true;
+      EXPECT_EQ(renderBeauty(scene, leafQueries, 2), renderBeauty(scene, inShading, 2)) << file;
+    }
+    RenderOptions without;
+    without.integrator.causticPaths = CausticPaths::Without;
+    EXPECT_NE(renderBeauty(scene, base, 2), renderBeauty(scene, without, 2)) << file << ": no caustic in view";
+  }
+}
+
+// The camera-side share of max_depth (camera bounce + light-path vertex ≤ max_depth) beyond the
+// first bounce, for lbt and pm: the camera sees only a floor below lbt-mirror's mirror, which
+// no beam or photon reaches (the mirror reflects upward); the ceiling's caustic reaches the
+// camera after one diffuse bounce, a path of three vertices (floor, ceiling, mirror). It is in
+// the image at max_depth 3 and not at 2.
+TEST(Beams, MaxDepthCountsTheCameraBouncesBeforeTheGather) {
+  const Scene floorScene = parseScene(R"({
+      "camera": {"position": [3, 0, 1.5], "look_at": [3, 0, -0.5], "up": [0, 1, 0], "fov": 30},
+      "film": {"resolution": [12, 9], "spp": 2},
+      "integrator": {"max_depth": 3, "seed": 0},
+      "materials": {"mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.001},
+        "white": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+      "shapes": [
+        {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
+        {"type": "bilinear", "material": "white", "quads": [[[-4, -4, 2], [4, -4, 2], [-4, 4, 2], [4, 4, 2]]]},
+        {"type": "bilinear", "material": "white", "quads": [[[-4, -4, -0.5], [4, -4, -0.5], [-4, 4, -0.5], [4, 4, -0.5]]]}],
+      "lights": [{"type": "point", "position": [0, 0, 1], "intensity": [10, 10, 10]}]})",
+                                      "floor.json");
+  RenderOptions pm;
+  pm.method = IntegratorMethod::PhotonMapping;
+  pm.integrator.photonsPerSample = 2000;
+  RenderOptions without;
+  without.integrator.causticPaths = CausticPaths::Without;
+  for (const RenderOptions& method : {lbtOptions(8), pm}) {
+    Scene s = floorScene;
+    s.integrator.maxDepth = 2;
+    EXPECT_EQ(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << integratorMethodName(method.method);
+    s.integrator.maxDepth = 3;
+    EXPECT_NE(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << integratorMethodName(method.method);
+  }
+}
+
 TEST(Beams, ImagesAreOrderIndependentAndBudgetIndependent) {
-  Scene scene = loadScene(sourcePath("scenes/lbt-mirror-glossy.json"));
-  scene.width = 24;
-  scene.height = 18;
-  scene.samplesPerPixel = 2;
+  Scene scene = shippedScene("scenes/lbt-mirror-glossy.json", 24, 18, 2);
   expectOrderIndependent(scene, 37, lbtOptions(16));
 }
 
@@ -355,10 +408,7 @@ TEST(Beams, ImagesAreOrderIndependentAndBudgetIndependent) {
 // no beams, the stats say why, and the image is the path tracer's bit for bit.
 TEST(Beams, ScenesWithoutLitScatterersAreThePathTracerBitForBit) {
   for (const char* file : {"scenes/cornell-box.json", "scenes/materials.json"}) {
-    Scene scene = loadScene(sourcePath(file));
-    scene.width = 16;
-    scene.height = 12;
-    scene.samplesPerPixel = 2;
+    Scene scene = shippedScene(file, 16, 12, 2);
     Renderer r(scene, lbtOptions());
     EXPECT_EQ(r.beams(), nullptr) << file;
     EXPECT_FALSE(r.stats().beams.skipped.empty()) << file;
