@@ -27,10 +27,13 @@
 // next-event estimation at a glossy vertex, after a diffuse vertex and only caustic scatterers
 // since (Only keeps exactly those). A caustic method (photons, beams) estimates them instead,
 // through Options::causticRadiance at every diffuse vertex, so nothing is counted twice.
+// Options::causticLights narrows both to the caustic paths of the lights the method covers
+// (beams: not the environment light): the others stay with the path tracer, MIS unchanged.
 #pragma once
 #include <cstdint>
 #include <vector>
 #include "shading/integrator.h"
+#include "shading/light.h"
 
 namespace rayes {
 
@@ -83,6 +86,7 @@ class PathTracer final : public Integrator {
   struct Options {
     CausticPaths causticPaths = CausticPaths::All;
     const CausticRadiance* causticRadiance = nullptr;  // added at every diffuse vertex (not owned)
+    uint8_t causticLights = kAllLights;  // LightKind bits: whose caustic paths causticPaths selects
   };
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
   PathTracer(const ShadingScene& scene, Options options) : scene_(scene), options_(options) {}
@@ -130,6 +134,16 @@ class PathTracer final : public Integrator {
   // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).
   void sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats);
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
+  // The kinds of light whose paths count for light arriving now (inChain: along a caustic path).
+  uint8_t countedLights(bool inChain) const {
+    if (!inChain) return counts(options_.causticPaths, false) ? kAllLights : 0;
+    switch (options_.causticPaths) {
+      case CausticPaths::All: return kAllLights;
+      case CausticPaths::Without: return uint8_t(kAllLights & ~options_.causticLights);
+      case CausticPaths::Only: return options_.causticLights;
+    }
+    return kAllLights;
+  }
 
   const ShadingScene& scene_;
   Options options_;
