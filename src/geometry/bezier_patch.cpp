@@ -1,5 +1,6 @@
 #include "geometry/bezier_patch.h"
 #include <algorithm>
+#include "geometry/bezier_restriction.h"
 #include "geometry/patch_math.h"
 
 namespace rayes {
@@ -104,35 +105,11 @@ void BezierPatch::dice(int level, Vec3* positions, Vec3* normals) const {
   }
 }
 
-namespace {
-// Control points of the cubic's restriction to [a, b]: two de Casteljau splits.
-void restrictCubic(const Vec3 in[4], float a, float b, Vec3 out[4]) {
-  auto split = [](const Vec3 p[4], float t, Vec3 left[4], Vec3 right[4]) {
-    const Vec3 p01 = p[0] + (p[1] - p[0]) * t, p12 = p[1] + (p[2] - p[1]) * t, p23 = p[2] + (p[3] - p[2]) * t;
-    const Vec3 p012 = p01 + (p12 - p01) * t, p123 = p12 + (p23 - p12) * t;
-    const Vec3 m = p012 + (p123 - p012) * t;
-    left[0] = p[0]; left[1] = p01; left[2] = p012; left[3] = m;
-    right[0] = m; right[1] = p123; right[2] = p23; right[3] = p[3];
-  };
-  Vec3 l[4], r[4], l2[4], r2[4];
-  split(in, a, l, r);                                        // r covers [a, 1]
-  const float t = a < 1 ? (b - a) / (1 - a) : 0.0f;
-  split(r, std::clamp(t, 0.0f, 1.0f), l2, r2);               // l2 covers [a, b]
-  for (int i = 0; i < 4; ++i) out[i] = l2[i];
-}
-}  // namespace
 
 Box3 BezierPatch::boundsOver(float u0, float u1, float v0, float v1) const {
-  Vec3 rows[16], sub[16];
-  for (int j = 0; j < 4; ++j) restrictCubic(&local_[size_t(j) * 4], u0, u1, &rows[j * 4]);
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 col[4] = {rows[i], rows[4 + i], rows[8 + i], rows[12 + i]};
-    Vec3 out[4];
-    restrictCubic(col, v0, v1, out);
-    for (int j = 0; j < 4; ++j) sub[j * 4 + i] = out[j];
-  }
-  Box3 box;
-  for (const Vec3& p : sub) box.extend(anchor_ + p);
+  // Rounding is monotonic, so the anchored box translated is the box of the translated points.
+  const Box3 local = detail::restrictedHull<4, 4>(local_.data(), u0, u1, v0, v1);
+  const Box3 box{anchor_ + local.lo, anchor_ + local.hi};
   // Each restriction is two de Casteljau splits of 3 levels, 3 roundings per level on values
   // within the anchored hull, plus the rounded split parameter (b - a) / (1 - a): at most 24
   // roundings of the anchored magnitude per direction, 48 for both; the diced vertices this

@@ -5,6 +5,7 @@
 #include "core/interval.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
+#include "geometry/bezier_restriction.h"
 #include "geometry/patch_math.h"
 
 namespace rayes {
@@ -63,41 +64,6 @@ Box3 unitRange(const IVec3& nb, double degenerate) {
   return r;
 }
 
-// Control points of the degree-(n-1) Bézier curve in[0..n-1] restricted to [a, b] (a <= b):
-// two de Casteljau splits. Exact intervals of zero width give n copies of the point at a.
-template <int n>
-void restrictCurve(const Vec3 in[n], float a, float b, Vec3 out[n]) {
-  auto split = [](const Vec3 p[n], float t, Vec3 left[n], Vec3 right[n]) {
-    Vec3 w[n];
-    for (int i = 0; i < n; ++i) w[i] = p[i];
-    for (int r = 0; r < n; ++r) {
-      left[r] = w[0];
-      right[n - 1 - r] = w[n - 1 - r];
-      for (int i = 0; i + 1 < n - r; ++i) w[i] = w[i] + (w[i + 1] - w[i]) * t;
-    }
-  };
-  Vec3 l[n], r[n], r2[n];
-  split(in, a, l, r);                                        // r covers [a, 1]
-  const float t = a < 1 ? (b - a) / (1 - a) : 0.0f;
-  split(r, std::clamp(t, 0.0f, 1.0f), out, r2);              // out covers [a, b]
-}
-
-// The box of a Bézier patch with (nu x nv) control points c[j * nu + i], restricted to the
-// parameter rectangle: by the convex hull property it contains the patch over the rectangle.
-template <int nu, int nv>
-Box3 restrictedHull(const Vec3* c, float u0, float u1, float v0, float v1) {
-  Vec3 rows[nu * nv];
-  for (int j = 0; j < nv; ++j) restrictCurve<nu>(&c[j * nu], u0, u1, &rows[j * nu]);
-  Box3 box;
-  for (int i = 0; i < nu; ++i) {
-    Vec3 col[nv], out[nv];
-    for (int j = 0; j < nv; ++j) col[j] = rows[j * nu + i];
-    restrictCurve<nv>(col, v0, v1, out);
-    for (int j = 0; j < nv; ++j) box.extend(out[j]);
-  }
-  return box;
-}
-
 }  // namespace
 
 DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, PatchPtr reference)
@@ -147,7 +113,7 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
       for (int i = 0; i < 3; ++i) hu[j * 3 + i] = (cp[size_t(j) * 4 + i + 1] - cp[size_t(j) * 4 + i]) * 3.0f;
     for (int j = 0; j < 3; ++j)
       for (int i = 0; i < 4; ++i) hv[j * 4 + i] = (cp[size_t(j + 1) * 4 + i] - cp[size_t(j) * 4 + i]) * 3.0f;
-    Box3 du = restrictedHull<3, 4>(hu, u0, u1, v0, v1), dv = restrictedHull<4, 3>(hv, u0, u1, v0, v1);
+    Box3 du = detail::restrictedHull<3, 4>(hu, u0, u1, v0, v1), dv = detail::restrictedHull<4, 3>(hv, u0, u1, v0, v1);
     // evaluate()'s derivatives are differences of float blends of the control points taken
     // relative to the patch's anchor (bezier_patch.cpp): off by a few ulps of the anchored
     // control points' magnitude, at most the control box's extent (not of the derivative's,
