@@ -7,7 +7,9 @@
 # Effort per step (docs/design.md, "Caustic paths"): spp doubles; pm and ppm trace PHOTONS per
 # sample (so their photons double); lbt starts at BEAM_RES cells per side and grows by sqrt 2 per
 # step (twice the beams), BEAM_GROWTH overriding it.
-# Usage: bench/converge_lbt.sh OUT RES BUDGET SCENE=REGION... (env: PHOTONS, BEAM_RES, BEAM_GROWTH, METHODS;
+# Usage: bench/converge_lbt.sh OUT RES BUDGET SCENE=REGION... (env: PHOTONS, BEAM_RES, BEAM_GROWTH, METHODS,
+#   LOBE_CELLS (lbt's --beam-lobe-cells, default 2), CAUSTIC_PATHS=only (the caustic estimate alone,
+#   against the reference's caustic part NAME-ref-lt.exr alone; CSVs named NAME-M-only.csv);
 #   TAG is appended to lbt's CSV name: another lbt schedule, compared as its own row by equal_rmse.py)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,13 +25,16 @@ for arg in "$@"; do
   name=$(basename "$scene" .json)
   names+=("$name")
   for m in "${methods[@]}"; do
-    file="$out/$name-$m.csv"
-    [ "$m" = lbt ] && file="$out/$name-lbt${TAG:-}.csv"
+    only=${CAUSTIC_PATHS:+-$CAUSTIC_PATHS}
+    file="$out/$name-$m$only.csv"
+    [ "$m" = lbt ] && file="$out/$name-lbt${TAG:-}$only.csv"
+    refs=(--reference "$out/$name-ref-pt.exr" --reference "$out/$name-ref-lt.exr")
+    [ -n "$only" ] && refs=(--reference "$out/$name-ref-lt.exr")
     uptime
-    nice -n 5 build/bin/rayes converge "$scene" --reference "$out/$name-ref-pt.exr" --reference "$out/$name-ref-lt.exr" \
+    nice -n 5 build/bin/rayes converge "$scene" "${refs[@]}" \
       --error-mask "$out/$name-mask.exr" --region "$region" --res "$res" --lod fixed --max-lod 6 --method "$m" \
       --budget "$budget" --seed 1 --photons "$photons" --beam-resolution "$beamres" --beam-growth "$growth" \
-      -o "$file" -q
+      --beam-lobe-cells "${LOBE_CELLS:-2}" ${CAUSTIC_PATHS:+--caustic-paths "$CAUSTIC_PATHS"} -o "$file" -q
     echo "== $file"; cat "$file"
   done
 done

@@ -77,6 +77,7 @@ struct RenderArgs {
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
   // converge
+  double beamLobeCells = 2;
   double budget = 0, beamGrowth = 1.4142135623730951;
   std::string region, mask, errorMask, svg;
   std::vector<std::string> references;
@@ -91,6 +92,12 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   RenderOptions options;
   options.method = integratorMethodFromName(a.method, "--method");
   options.integrator.causticPaths = causticPathsFromName(a.causticPaths, "--caustic-paths");
+  const bool causticMethod = options.method == IntegratorMethod::LightBeams ||
+                             options.method == IntegratorMethod::PhotonMapping ||
+                             options.method == IntegratorMethod::ProgressivePhotonMapping;
+  if (causticMethod && options.integrator.causticPaths == CausticPaths::Without)
+    throw InputError("--caustic-paths", "", "lbt, pm and ppm take all or only: without their caustic estimate they "
+                                            "are pt --caustic-paths without");
   if (a.photons < 1 || a.photons > (int64_t(1) << 32)) throw InputError("--photons", "", "must be in [1, 2^32]");
   if (a.photonK < 1 || a.photonK > 4096) throw InputError("--photon-k", "", "must be in [1, 4096]");
   if (!(a.photonRadius >= 0) || !std::isfinite(a.photonRadius))
@@ -112,6 +119,9 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   if (a.beamAreaSamples < 0 || a.beamAreaSamples > 64) throw InputError("--beam-area-samples", "", "must be in [0, 64]");
   options.beams.areaSamples = a.beamAreaSamples;
   options.beams.memoryBytes = parseBytes(a.beamMemory, "--beam-memory");
+  if (!(a.beamLobeCells >= 0 && a.beamLobeCells <= 64))
+    throw InputError("--beam-lobe-cells", "", "must lie in [0, 64] (a glossy beam's width in lobe widths sigma; 0: keep --beam-resolution)");
+  options.beams.lobeCells = a.beamLobeCells;
   options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
   options.sortByLeaf = a.traceMode == "sorted";
   if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
@@ -348,6 +358,10 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                                                "(default 1G); beams that do not fit are processed in batches "
                                                "(the camera paths traced once per batch); a budget too small "
                                                "for one beam is refused");
+  c->add_option("--beam-lobe-cells", a.beamLobeCells, "lbt: glossy beams are made about this many lobe widths "
+                                                      "sigma wide after their first glossy bounce, the light's grid "
+                                                      "coarsened from --beam-resolution to match (never refined), "
+                                                      "0..64 (default 2; 0: keep --beam-resolution)");
   c->add_option("--photons", a.photons, "pm, ppm: photons per sample per pixel of the render (default 20000): pm "
                                         "traces photons x spp into one map, ppm photons x the pass's samples per pass");
   c->add_option("--photon-k", a.photonK, "pm: neighbours of the k-nearest estimate, 1..4096 (default 32)");
@@ -356,7 +370,9 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 2/3)");
   c->add_option("--caustic-paths", a.causticPaths, "pt and lt: all (default), without (leave out light -> "
                                                    "(mirror, glass or glossy)+ -> diffuse paths, which pm, ppm "
-                                                   "and lbt estimate) or only (those paths alone)");
+                                                   "and lbt estimate) or only (those paths alone); lbt, pm and "
+                                                   "ppm: all or only (the caustic estimate alone, plus the path "
+                                                   "tracer's caustic paths of lights it does not cover)");
   c->add_option("--engine", a.engine, "ray engine: rayes (default; sorted rays, patches diced on demand) or embree "
                                       "(the peer: every patch diced up front into Embree grids)")
       ->check(CLI::IsMember({"rayes", "embree"}));

@@ -54,7 +54,7 @@ std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& option
                           cpuSeconds,
                           spp,
                           renderer.stats().shade.photonsTraced.load(),
-                          beams ? o.beams.resolution : 0,
+                          beams ? renderer.stats().beams.resolution : 0,  // the glossy rule's, if coarser
                           renderer.stats().beams.trace.segments,
                           error.rmse,
                           error.relMse,

@@ -6,6 +6,7 @@
 #include "core/leaf_queries.h"
 #include "core/memory.h"
 #include "core/timer.h"
+#include "lbt/beam_resolution.h"
 #include "lbt/photon_mapper.h"
 #include "shading/path_tracer.h"
 
@@ -98,24 +99,50 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   return m;
 }
 
-std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, BeamTraceStats& stats) {
-  const ShadingScene& shading = data_.shading;
+BeamTraceOptions Renderer::beamTraceOptions() const {
   const Box3 bounds = data_.top.bounds();
   BeamTraceOptions to;
   to.maxDepth = options_.beams.maxDepth;
   to.splitDepth = options_.beams.splitDepth;
   to.far = 4 * (length(bounds.extent()) + bounds.magnitude()) + 1;
   to.raysPerTrace = std::max<size_t>(1, stats_.pathsPerBatch * integrator_->raysPerPath());
+  return to;
+}
+
+std::vector<BeamSegment> Renderer::traceBeamSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to,
+                                                  BeamTraceStats& stats) {
   auto trace = [&](RayBatch& rays) {
     GenerationStats gs;
     engine_->trace(rays, gs, stats_.trace);
   };
-  std::vector<BeamSegment> segments = traceBeams(shading, beamSeeds_.range(first, last), to, trace, stats);
+  return traceBeams(data_.shading, seeds, to, trace, stats);
+}
+
+std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, BeamTraceStats& stats) {
+  const ShadingScene& shading = data_.shading;
+  std::vector<BeamSegment> segments = traceBeamSeeds(beamSeeds_.range(first, last), beamTraceOptions(), stats);
   std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
   for (size_t l = 0; l < leafReceives.size(); ++l)
     leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
   return std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
                                      leafReceives, scene_.integrator.maxDepth);
+}
+
+// --beam-resolution, or the glossy rule's coarser grid (lbt/beam_resolution.h) from a probe of
+// one bounce without splits at a resolution of at most kProbe.
+int Renderer::beamResolution(const BeamLights& lights, std::span<const Box3> scatterers) {
+  constexpr int kProbe = 16;
+  const int requested = options_.beams.resolution;
+  if (!(options_.beams.lobeCells > 0)) return requested;
+  const int probeResolution = std::min(requested, kProbe);
+  BeamTraceOptions to = beamTraceOptions();
+  to.maxDepth = 1;
+  to.splitDepth = 0;
+  BeamTraceStats probeStats;  // not the render's beams: not counted
+  const std::vector<BeamSegment> probe =
+      traceBeamSeeds(seedBeams(lights, scatterers, data_.top.bounds(), probeResolution), to, probeStats);
+  const int lobe = lobeResolution(probe, probeResolution, options_.beams.lobeCells, to.far);
+  return lobe > 0 ? std::min(requested, lobe) : requested;
 }
 
 void Renderer::buildBeams() {
@@ -135,7 +162,8 @@ void Renderer::buildBeams() {
                                       "traced, lbt is the path tracer";
     return;
   }
-  beamSeeds_ = seedBeams(lights, scatterers, data_.top.bounds(), options_.beams.resolution);
+  bs.resolution = beamResolution(lights, scatterers);
+  beamSeeds_ = seedBeams(lights, scatterers, data_.top.bounds(), bs.resolution);
   // The ranges of seed triangles whose beams fit the budget: all of them if they do, else
   // halves, quarters, ... (a tried range's segments are held once before they are binned).
   const size_t roots = beamSeeds_.triangles.size();
@@ -178,8 +206,14 @@ void Renderer::buildBeams() {
     caustics = beamBatches_.get();
     bs.bytes += beamBatches_->bytes();
   }
-  integrator_ = std::make_unique<PathTracer>(
-      data_.shading, PathTracer::Options{CausticPaths::Without, caustics, !options_.beamGathersInShading});
+  // Environment lights get no beams: their caustic paths stay with the path tracer (with
+  // --caustic-paths only, those paths alone besides the beams).
+  const uint8_t covered = kPointLight | kSpotLight | kDistantLight | (lights.patches.empty() ? 0 : kPatchLight);
+  const bool gathersAsQueries = !options_.beamGathersInShading;
+  const PathTracer::Options pto = options_.integrator.causticPaths == CausticPaths::Only
+                                      ? PathTracer::Options{.causticPaths = CausticPaths::Only, .causticRadiance = caustics, .causticLights = uint8_t(kAllLights & ~covered), .gathersAsLeafQueries = gathersAsQueries}
+                                      : PathTracer::Options{.causticPaths = CausticPaths::Without, .causticRadiance = caustics, .causticLights = covered, .gathersAsLeafQueries = gathersAsQueries};
+  integrator_ = std::make_unique<PathTracer>(data_.shading, pto);
   bs.built = true;
 }
 

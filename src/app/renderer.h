@@ -21,6 +21,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 #include "app/render_data.h"
@@ -44,6 +45,9 @@ struct BeamOptions {
   int splitDepth = 4;             // times an incoherent beam is split before it is dropped
   int areaSamples = 2;            // k: an area light is k×k point sources (0: no beams from area lights)
   size_t memoryBytes = size_t(1) << 30;
+  // Glossy beams: the grid is coarsened to about this many lobe widths σ per beam
+  // (lbt/beam_resolution.h); 0 keeps `resolution`.
+  double lobeCells = 2;
 };
 
 // What the light phase of `--method lbt` did (the stats file's "beams" section), or why
@@ -55,6 +59,7 @@ struct BeamRenderStats {
   uint64_t binEntries = 0;
   size_t bytes = 0;               // the largest batch's segments and bins
   size_t batches = 0;             // ranges of seed triangles processed one after another
+  int resolution = 0;             // the grid used: --beam-resolution, or the glossy rule's if coarser
   double seconds = 0;
 };
 
@@ -162,6 +167,9 @@ class Renderer {
   // --beam-memory, the ranges of seed triangles that do, each traced again per camera batch.
   void buildBeams();
   std::unique_ptr<BeamStore> traceBeamRange(size_t first, size_t last, BeamTraceStats& stats);
+  BeamTraceOptions beamTraceOptions() const;
+  std::vector<BeamSegment> traceBeamSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to, BeamTraceStats& stats);
+  int beamResolution(const BeamLights& lights, std::span<const Box3> scatterers);
   BeamSeeds beamSeeds_;
   std::vector<std::pair<size_t, size_t>> beamRanges_;
   std::unique_ptr<BeamBatches> beamBatches_;

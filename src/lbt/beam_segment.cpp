@@ -22,7 +22,6 @@ D3 mul(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
 double dotD(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 D3 crossD(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 double lengthD(D3 a) { return std::sqrt(dotD(a, a)); }
-double angleD(D3 a, D3 b) { return std::atan2(lengthD(crossD(a, b)), dotD(a, b)); }
 double cross2(FlatPoint a, FlatPoint b) { return a.x * b.y - a.y * b.x; }
 }  // namespace
 
@@ -35,7 +34,7 @@ Box3 beamBounds(const BeamSegment& s) {
     far = std::max(far, s.t[i]);
   }
   if (s.sigma > 0) {
-    const float pad = far * std::tan(std::min(5.0f * s.sigma, 1.3f));
+    const float pad = far * std::tan(std::min(float(kLobeReach) * s.sigma, 1.3f));
     box.lo -= Vec3{pad, pad, pad};
     box.hi += Vec3{pad, pad, pad};
   }
@@ -118,10 +117,16 @@ Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
     perArea = 1 / areaPerp;
   } else {
     const double sigma = s.sigma;
+    // The flux triangle seen from the scatterer at x's distance r along the beam: a corner at
+    // distance ρ from x in the flux plane lies at the angle atan(ρ / r). One r for all three
+    // corners keeps the angular triangle similar to the flux triangle near a focus (angular
+    // area → A⊥/r²), so P/A⊥ stays below the lobe's peak density over r². (Each corner's own
+    // distance would shear it: where corner origins lie at different distances, as on a curved
+    // reflector, the angular area shrinks only linearly as A⊥ → 0 and P/A⊥ spikes.)
     FlatPoint phi[3];
     for (int i = 0; i < 3; ++i) {
-      const double angle = angleD(d[i], sub(x, o[i]));
-      const double dist = std::hypot(a[i].x, a[i].y);
+      const double dist = std::sqrt(a[i].x * a[i].x + a[i].y * a[i].y);
+      const double angle = std::atan2(dist, r);
       phi[i] = dist > 0 ? FlatPoint{angle * a[i].x / dist, angle * a[i].y / dist} : FlatPoint{0, 0};
     }
     const double areaAngle =
@@ -135,7 +140,7 @@ Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
       const double density = std::exp(-q / 2) / (2 * std::numbers::pi * sigma * sigma);
       perArea = density * (focus ? 1 / (r * r) : areaAngle / areaPerp);
     } else {
-      perArea = gaussianTriangleMass(phi[0], phi[1], phi[2], sigma) / areaPerp;
+      perArea = gaussianTriangleMass(phi[0], phi[1], phi[2], sigma, kLobeReach) / areaPerp;
     }
   }
   const double scale = perArea * cosN;

@@ -35,8 +35,13 @@ inline constexpr float kCoaxialCos = 0.5f;
 // out of that plane.
 inline constexpr float kCapSlack = 0.02f;
 
+// How far a glossy lobe reaches, in σ: the mass beyond one edge's line is Q(5) = 2.9e-7. The
+// bins hold a segment only this far out (beamBounds), and the gather takes P = 0 or 1 without
+// the edge integrals for a point this far from every edge of the angular triangle.
+inline constexpr double kLobeReach = 5;
+
 // The box a segment's gathers can lie in: its corner rays up to t_i, grown by its lobe
-// (5σ of angle at the far end: the lobe's mass beyond is below 4e-6).
+// (kLobeReach·σ of angle at the far end).
 Box3 beamBounds(const BeamSegment& s);
 
 // The gather; psi receives the light's direction at x (Ψ̄ when nothing arrives).

@@ -123,6 +123,10 @@ double owenT(double h, double a) {
 }
 
 double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c) {
+  return gaussianTriangleMassWithin(a, b, c, kNegligibleOwenH);
+}
+
+double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double reach) {
   if (!finite(a) || !finite(b) || !finite(c)) return 0;
   FlatPoint v[3];
   if (!counterClockwise(a, b, c, v)) return 0;
@@ -135,8 +139,8 @@ double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c) {
     const FlatPoint p = v[e], q = v[(e + 1) % 3];
     const double length = std::sqrt((q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y));
     const double d = (p.x * q.y - p.y * q.x) / length;  // > 0 on the inner side
-    if (d <= -kNegligibleOwenH) return 0;
-    inside = inside && d >= kNegligibleOwenH;
+    if (d <= -reach) return 0;
+    inside = inside && d >= reach;
   }
   if (inside) return 1;
   // s/h may overflow to ±inf for an edge passing within 1e-300 of the centre: G(h, ±inf) is
@@ -145,14 +149,14 @@ double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c) {
   return std::clamp(p, 0.0, 1.0);
 }
 
-double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c, double sigma) {
+double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c, double sigma, double reach) {
   if (!finite(a) || !finite(b) || !finite(c)) return 0;
   if (!(sigma > 0)) return specularMass(a, b, c);
   const double k = 1 / sigma;
   const FlatPoint as{a.x * k, a.y * k}, bs{b.x * k, b.y * k}, cs{c.x * k, c.y * k};
   // A lobe so narrow that the scaled corners overflow is the specular limit.
   if (!finite(as) || !finite(bs) || !finite(cs)) return specularMass(a, b, c);
-  return gaussianTriangleMass(as, bs, cs);
+  return gaussianTriangleMassWithin(as, bs, cs, std::min(reach, kNegligibleOwenH));
 }
 
 }  // namespace rayes

@@ -21,7 +21,10 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
  public:
   PhotonMapper(bool progressive, const ShadingScene& scene, const IntegratorOptions& options)
       : scene_(scene), options_(options), progressive_(progressive),
-        pt_(scene, PathTracer::Options{CausticPaths::Without, this}) {}
+        pt_(scene, options.causticPaths == CausticPaths::Only
+                       // The photon estimate alone: photons leave every kind of light.
+                       ? PathTracer::Options{.causticPaths = CausticPaths::Only, .causticRadiance = this, .causticLights = 0}
+                       : PathTracer::Options{.causticPaths = CausticPaths::Without, .causticRadiance = this, .causticLights = kAllLights}) {}
 
   uint32_t raysPerPath() const override { return PathTracer::kRaysPerPath; }
   size_t bytesPerPath() const override {

@@ -39,7 +39,8 @@ std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const Shadin
   // lbt's path tracer, until beams are built (and for good when none are): its bytes per path
   // hold the gathers the beams will post.
   return std::make_unique<PathTracer>(
-      scene, PathTracer::Options{options.causticPaths, nullptr, method == IntegratorMethod::LightBeams});
+      scene, PathTracer::Options{.causticPaths = options.causticPaths,
+                                  .gathersAsLeafQueries = method == IntegratorMethod::LightBeams});
 }
 
 }  // namespace rayes

@@ -181,9 +181,11 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
     out.radiance = intensity * float(1.0 / d2);
     out.pdf = pk;
     out.delta = true;
+    out.kind = spot ? kSpotLight : kPointLight;
     return true;
   }
   if (k < distant0_) {
+    out.kind = kPatchLight;
     const PatchLight& l = patches_[k - patch0_];
     Vec3 p, n;
     l.evaluate(u1, u2, p, n);
@@ -206,6 +208,7 @@ bool LightSampler::sample(Vec3 ref, float u0, float u1, float u2, LightSample& o
     return std::isfinite(out.pdf) && out.pdf > 0;
   }
   out.distance = kInfF;
+  out.kind = k < env_ ? kDistantLight : kEnvironmentLight;
   if (k < env_) {
     const DistantLight& l = more_.distants[k - distant0_];
     if (!(l.oneMinusCos > 0)) {
@@ -239,9 +242,9 @@ float LightSampler::patchPdf(int i, float u, float v, Vec3 wi, float dist) const
   return std::isfinite(pdf) ? pdf : 0.0f;
 }
 
-Rgb LightSampler::escaped(Vec3 dir, float bsdfPdf, bool bsdfDelta) const {
+Rgb LightSampler::escaped(Vec3 dir, float bsdfPdf, bool bsdfDelta, uint8_t kinds) const {
   Rgb sum{};
-  for (size_t i = 0; i < more_.distants.size(); ++i) {
+  for (size_t i = 0; i < more_.distants.size() && (kinds & kDistantLight); ++i) {
     const DistantLight& l = more_.distants[i];
     if (!(l.oneMinusCos > 0)) continue;
     const Vec3 e = dir - l.direction;
@@ -249,7 +252,7 @@ Rgb LightSampler::escaped(Vec3 dir, float bsdfPdf, bool bsdfDelta) const {
     const float pdf = pick(distant0_ + i) * float(1.0 / (2.0 * std::numbers::pi * l.oneMinusCos));
     sum += l.radiance() * (bsdfDelta ? 1.0f : powerHeuristic(bsdfPdf, pdf));
   }
-  if (more_.environment) {
+  if (more_.environment && (kinds & kEnvironmentLight)) {
     const Rgb le = more_.environment->eval(dir);
     if (!isBlack(le)) {
       const float pdf = pick(env_) * more_.environment->pdf(dir);

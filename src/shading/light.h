@@ -81,6 +81,12 @@ struct SceneLights {
   std::shared_ptr<const Environment> environment;
 };
 
+// Kinds of light as bits of a set: which lights a caustic estimator covers (PathTracer::Options).
+enum LightKind : uint8_t {
+  kPointLight = 1, kSpotLight = 2, kPatchLight = 4, kDistantLight = 8, kEnvironmentLight = 16,
+  kAllLights = 31,
+};
+
 struct LightSample {
   Vec3 wi;              // unit, from the receiver toward the light
   float distance = 0;   // to the sampled point; +inf for lights at infinity
@@ -91,6 +97,7 @@ struct LightSample {
                         // light, the pick probability alone
   bool delta = false;
   uint32_t leaf = 0xffffffffu;  // the emitter's leaf (a shadow ray must not hit it), or none
+  LightKind kind = kPointLight;
 };
 
 // A ray leaving a light, for light tracing (LightSampler::sampleEmission).
@@ -138,8 +145,8 @@ class LightSampler {
   // hit at (u, v) on the emissive leaf, reached along unit direction wi at distance dist.
   float patchPdf(int patchLight, float u, float v, Vec3 wi, float dist) const;
   // Radiance from the lights at infinity along unit dir, each weighted by the power heuristic
-  // against a BSDF sample of density bsdfPdf (bsdfDelta: weight 1).
-  Rgb escaped(Vec3 dir, float bsdfPdf, bool bsdfDelta) const;
+  // against a BSDF sample of density bsdfPdf (bsdfDelta: weight 1); only the kinds in `kinds`.
+  Rgb escaped(Vec3 dir, float bsdfPdf, bool bsdfDelta, uint8_t kinds = kAllLights) const;
   // Something a BSDF-sampled ray can find: an emissive patch or a non-delta light at infinity.
   bool hasHittable() const { return hittable_; }
   bool hasInfinite() const { return !more_.distants.empty() || more_.environment; }

@@ -111,10 +111,11 @@ struct Vertex {
 };
 
 // Step 2, escaped: the lights at infinity (only if the scene has any).
-void gatherEscaped(const LightSampler& lights, uint32_t k, Vec3 wo, PathBatch& paths, ShadeStats& stats) {
+void gatherEscaped(const LightSampler& lights, uint32_t k, Vec3 wo, uint8_t kinds, PathBatch& paths,
+                   ShadeStats& stats) {
   if (!lights.hasInfinite()) return;
-  addFinite(paths.radiance[k], paths.throughput[k] * lights.escaped(-wo, paths.bsdfPdf[k], paths.bsdfDelta[k] != 0),
-            stats);
+  addFinite(paths.radiance[k],
+            paths.throughput[k] * lights.escaped(-wo, paths.bsdfPdf[k], paths.bsdfDelta[k] != 0, kinds), stats);
 }
 
 // Step 2, emission found by this ray: MIS-weighted against light sampling unless the ray came
@@ -146,11 +147,12 @@ void recordFirstHit(const Vertex& v, PathBatch& paths) {
 // Step 4, next-event estimation: one light sampled, its MIS-weighted contribution stored and a
 // shadow ray written into slot 2k+1. Returns whether a ray was written.
 bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFrame& frame, Vec3 woL, const RngKey& key,
-                    PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
+                    uint8_t kinds, PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
   const LightSampler& lights = scene.lights;
   LightSample ls;
   const Sample2D lu = sample2D(key, kLight);
   if (v.bsdf.isDelta() || !lights.sample(v.at.p, sample1D(key, kLightPick), lu.u, lu.v, ls)) return false;
+  if (!(ls.kind & kinds)) return false;  // a light whose paths here are not counted
   const Vec3 wiL = frame.toLocal(ls.wi);
   const Rgb f = v.bsdf.eval(woL, wiL);
   if (isBlack(f) || isBlack(ls.radiance) || !v.at.consistent(ls.wi, wiL, v.wo, woL)) return false;
@@ -233,9 +235,9 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const RayHit h = rays.hit[cs];
   const Vec3 wo = -normalize(rays.dir[cs]);
   // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
-  const bool causticLight = !counts(options_.causticPaths, paths.causticRun[k] == kInCausticChain);
+  const uint8_t countedNow = countedLights(paths.causticRun[k] == kInCausticChain);
   if (!h.valid()) {
-    if (!causticLight) gatherEscaped(scene_.lights, k, wo, paths, stats);
+    if (countedNow) gatherEscaped(scene_.lights, k, wo, countedNow, paths, stats);
     paths.alive[k] = 0;
     return 0;
   }
@@ -252,7 +254,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   Vertex v{k, cs, ss, h, wo, dot(ns, wo) > 0, {p, ng, 0.0f}, 0.0f, nullptr, 0, false, Bsdf{}};
   v.matId = scene_.leafMaterial[h.leaf];
   v.mat = &scene_.materials[v.matId];
-  if (!causticLight) gatherEmission(scene_.lights, v, rays, paths, stats);
+  if (countedNow & kPatchLight) gatherEmission(scene_.lights, v, rays, paths, stats);
 
   // 3. The material at the hit becomes one BSDF.
   v.reflects = !v.mat->reflectsNothing();
@@ -286,10 +288,11 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   } else if (run != kNoDiffuseYet) {
     run = kInCausticChain;
   }
-  const bool causticNext = !counts(options_.causticPaths, run == kInCausticChain);
+  const uint8_t countedNext = countedLights(run == kInCausticChain);
 
-  // 5. Next-event estimation (not where the light would arrive along a caustic path); 6. the continuation.
-  const size_t shadow = !causticNext && writeShadowRay(scene_, v, frame, woL, key, paths, rays, stats) ? 1 : 0;
+  // 5. Next-event estimation (not from lights whose paths are not counted here); 6. the continuation.
+  const size_t shadow =
+      countedNext && writeShadowRay(scene_, v, frame, woL, key, countedNext, paths, rays, stats) ? 1 : 0;
   if (writeContinuation(scene_, bounce, v, frame, woL, key, paths, rays, stats)) return shadow + 1;
   paths.alive[k] = 0;
   return shadow;

@@ -27,6 +27,8 @@
 // next-event estimation at a glossy vertex, after a diffuse vertex and only caustic scatterers
 // since (Only keeps exactly those). A caustic method (photons, beams) estimates them instead,
 // through Options::causticRadiance at every diffuse vertex, so nothing is counted twice.
+// Options::causticLights narrows both to the caustic paths of the lights the method covers
+// (beams: not the environment light): the others stay with the path tracer, MIS unchanged.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -34,6 +36,7 @@
 #include "core/leaf_queries.h"
 #include "shading/bsdf.h"
 #include "shading/integrator.h"
+#include "shading/light.h"
 
 namespace rayes {
 
@@ -103,6 +106,7 @@ class PathTracer final : public Integrator {
   struct Options {
     CausticPaths causticPaths = CausticPaths::All;
     const CausticRadiance* causticRadiance = nullptr;  // added at every diffuse vertex (not owned)
+    uint8_t causticLights = kAllLights;  // LightKind bits: whose caustic paths causticPaths selects
     // Whether causticRadiance runs as a leaf query of the next trace() (an estimator binned by
     // top-level leaf: light beams) rather than in the shading step (photon maps). Either way the
     // path adds throughput x radiance right after the vertex's emission and before anything of
@@ -167,6 +171,16 @@ class PathTracer final : public Integrator {
     PathBatch* paths = nullptr;
   };
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
+  // The kinds of light whose paths count for light arriving now (inChain: along a caustic path).
+  uint8_t countedLights(bool inChain) const {
+    if (!inChain) return counts(options_.causticPaths, false) ? kAllLights : 0;
+    switch (options_.causticPaths) {
+      case CausticPaths::All: return kAllLights;
+      case CausticPaths::Without: return uint8_t(kAllLights & ~options_.causticLights);
+      case CausticPaths::Only: return options_.causticLights;
+    }
+    return kAllLights;
+  }
 
   const ShadingScene& scene_;
   Options options_;

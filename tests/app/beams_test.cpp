@@ -7,6 +7,7 @@
 #include <fstream>
 #include <numbers>
 #include <nlohmann/json.hpp>
+#include "mirror_caustic_scene.h"
 #include "render_fixtures.h"
 #include "support/temp_folder.h"
 #include "shading/fresnel.h"
@@ -319,6 +320,54 @@ TEST(Beams, AreaLightsSendBeamsFromSamplePointsAndMatchTheLightTracer) {
   EXPECT_NEAR(mLbt, mLt, 4 * std::sqrt(seLt * seLt + seLbt * seLbt)) << "lt " << mLt << " ± " << seLt;
 }
 
+// An environment light gets no beams, so its caustic paths stay with the path tracer: a glossy
+// mirror (σ = 0.05: the path tracer finds every caustic path through it) stands on a diffuse
+// floor under a uniform sky and a point light. lbt (beams for the point light, the path tracer
+// for the sky's caustic) must agree with the full path tracer; block means within 4 standard
+// errors over independent seeds (13 comparisons; Student-t with 31 degrees of freedom: a false
+// alarm in about 0.5 % of runs). The sky's caustic alone (pt --caustic-paths only without the
+// point light) stands well above that tolerance, so leaving it out would fail.
+TEST(Beams, EnvironmentLightCausticsStayWithThePathTracer) {
+  TempFolder tmp;
+  auto sceneWith = [&](const char* lights) {
+    const std::string path = tmp.path("env.json");
+    std::ofstream(path) << R"({
+      "camera": {"position": [0.6, 0, 6], "look_at": [0.6, 0, 0], "up": [0, 1, 0], "fov": 40},
+      "film": {"resolution": [16, 12], "spp": 4},
+      "integrator": {"max_depth": 4},
+      "materials": {"floor": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]},
+        "mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.05}},
+      "shapes": [
+        {"type": "bilinear", "material": "floor", "quads": [[[-4, -4, 0], [4, -4, 0], [-4, 4, 0], [4, 4, 0]]]},
+        {"type": "bilinear", "material": "mirror", "quads": [[[1, -1, 0.05], [1, 1, 0.05], [1, -1, 1.6], [1, 1, 1.6]]]}],
+      "lights": )" << lights << "}";
+    return loadScene(path);
+  };
+  const Scene both = sceneWith(R"([{"type": "environment", "radiance": [2, 2, 2]},
+                                   {"type": "point", "position": [-0.5, 0, 1.0], "intensity": [2, 2, 2]}])");
+  {
+    Renderer r(both, lbtOptions(16));
+    ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+  }
+  constexpr int kSeeds = 32;
+  RenderOptions pt, ptOnly;
+  pt.lod = ptOnly.lod = LodRule::Fixed;
+  pt.maxLod = ptOnly.maxLod = 3;
+  ptOnly.integrator.causticPaths = CausticPaths::Only;
+  RenderOptions lbt = lbtOptions(16);
+  lbt.lod = LodRule::Fixed;
+  lbt.maxLod = 3;
+  const BlockEstimate all = blockEstimate(both, pt, kSeeds), beams = blockEstimate(both, lbt, kSeeds);
+  const BlockEstimate sky = blockEstimate(sceneWith(R"([{"type": "environment", "radiance": [2, 2, 2]}])"),
+                                          ptOnly, kSeeds);
+  const double seImage = std::hypot(all.se.back(), beams.se.back());
+  EXPECT_GT(sky.mean.back(), 4 * seImage + 4 * sky.se.back()) << "the sky's caustic is too faint to test";
+  for (size_t b = 0; b < all.mean.size(); ++b)
+    EXPECT_LE(std::fabs(beams.mean[b] - all.mean[b]), 4 * std::hypot(all.se[b], beams.se[b]))
+        << "block " << b << ": pt " << all.mean[b] << " ± " << all.se[b] << ", lbt " << beams.mean[b] << " ± "
+        << beams.se[b];
+}
+
 // glass-caustic.json's light is a rect: lbt now traces beams through its glass.
 TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
   Scene scene = shippedScene("scenes/glass-caustic.json", 8, 6, 1);
@@ -426,12 +475,17 @@ TEST(Beams, BadOptionsAreRefusedWithExitCode2AndNoOutput) {
   EXPECT_NE(r.err.find("--beam-memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("one beam"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
-  for (const char* option : {"--beam-resolution", "--beam-split-depth", "--beam-area-samples"}) {
+  for (const char* option : {"--beam-resolution", "--beam-split-depth", "--beam-area-samples", "--beam-lobe-cells"}) {
     r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", option, "-1"});
     EXPECT_EQ(r.code, 2) << option;
     EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(out));
   }
+  // Without their caustic estimate the caustic methods would be the path tracer without caustic paths.
+  r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", "--caustic-paths", "without"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--caustic-paths"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 TEST(Beams, StatsCountTheBeams) {

@@ -42,6 +42,29 @@ TEST(CausticPaths, OnlyAndWithoutPartitionThePathTracer) {
   EXPECT_GT(caustic, 0) << "the scene has no caustic the path tracer finds";
 }
 
+// --caustic-paths only for the caustic methods keeps their estimate alone (and, for lbt, the path
+// tracer's caustic paths of lights without beams: none here), so with pt --caustic-paths without
+// of the same seed it sums to the method's own image, per pixel up to float rounding.
+TEST(CausticPaths, CausticMethodsOnlyPlusThePathTracerWithoutIsTheMethod) {
+  const Scene scene = testing::mirrorCausticScene(16, 12, 4);
+  const auto without =
+      testing::renderBeauty(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Without), 2);
+  for (IntegratorMethod m : {IntegratorMethod::LightBeams, IntegratorMethod::PhotonMapping}) {
+    RenderOptions all = methodWith(m, CausticPaths::All), only = methodWith(m, CausticPaths::Only);
+    all.beams.resolution = only.beams.resolution = 16;
+    all.integrator.photonsPerSample = only.integrator.photonsPerSample = 200;
+    const auto full = testing::renderBeauty(scene, all, 2), caustic = testing::renderBeauty(scene, only, 2);
+    double sum = 0;
+    for (size_t i = 0; i < full.size(); i += 4)
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(caustic[i + c] + without[i + c], full[i + c], 1e-5 * (std::fabs(full[i + c]) + 1e-3))
+            << int(m) << ": pixel " << i / 4;
+        sum += caustic[i + c];
+      }
+    EXPECT_GT(sum, 0) << int(m) << ": no caustic estimate";
+  }
+}
+
 TEST(CausticPaths, PathTracerWithoutThemPlusLightTracedCausticsIsThePathTracer) {
   const Scene scene = testing::mirrorCausticScene(16, 12, 4);
   constexpr int kSeeds = 64;

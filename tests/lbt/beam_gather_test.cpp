@@ -174,6 +174,40 @@ TEST(BeamGather, FocusIsFiniteAndGlossyTendsToItsLimit) {
   EXPECT_NEAR(near.x, limit, 2e-3 * limit);
 }
 
+// The spike of lbt-ring-glossy (bench/RESULTS.md): a curved reflector's beam nearly focuses,
+// its corner rays leaving the reflector at different distances from the focus. Off the focus
+// by about the lobe's width, the flux triangle is tiny (A⊥ ~ ε²) while x sees it at a large
+// angle: P/A⊥ must still stay below the lobe's peak density over r² (E ≤ Φ|cos|/(2πσ²r²), r
+// the nearest corner's distance), as it did not when each corner's angle was measured from its
+// own origin (the angular triangle then shrinks only like δ·ε: E was 2-800x the bound here).
+TEST(BeamGather, NearAGlossyFocusOfACurvedReflectorEStaysBelowThePeakBound) {
+  Vec3 psi;
+  const Vec3 up{0, 0, 1}, focus{0, 0, 2};
+  const float sigma = 0.05f;
+  const float heights[3] = {0.0f, 0.3f, -0.2f};
+  for (double eps : {1e-3, 1e-4, 1e-5}) {
+    BeamSegment s;
+    for (int k = 0; k < 3; ++k) {
+      const double a = 2 * kPi * k / 3;
+      s.o[k] = {float(0.1 * std::cos(a)), float(0.1 * std::sin(a)), heights[k]};
+      const Vec3 aim = focus + Vec3{float(eps * std::cos(a + 1)), float(eps * std::sin(a + 1)), 0};
+      s.d[k] = normalize(aim - s.o[k]);
+      s.t[k] = 10;
+    }
+    s.power = {1, 1, 1};
+    s.sigma = sigma;
+    for (double delta : {0.0, 0.3 * sigma, 1.0 * sigma, 2.0 * sigma, 3.0 * sigma}) {
+      const Vec3 x = focus + Vec3{float(delta), 0, 0};
+      double rMin = 1e30;
+      for (int k = 0; k < 3; ++k) rMin = std::min(rMin, double(length(x - s.o[k])));
+      const double bound = 1.0 / (2 * kPi * sigma * sigma * rMin * rMin);
+      const Rgb e = beamIrradiance(s, x, up, psi);
+      EXPECT_TRUE(isFinite(e));
+      EXPECT_LE(e.x, bound * (1 + 1e-3)) << "eps " << eps << ", delta " << delta;
+    }
+  }
+}
+
 TEST(BeamGather, PastTheFocusTheInvertedTriangleGathersLikeItsMirrorImage) {
   Vec3 psi;
   const Vec3 up{0, 0, 1};
