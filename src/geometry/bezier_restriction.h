@@ -29,19 +29,22 @@ Vec3 deCasteljauPoint(const Vec3 p[n], float t) {
   return w[0];
 }
 
+// One de Casteljau split of the degree-(n-1) curve p at t: left covers [0, t], right [t, 1].
+template <int n>
+void splitCurve(const Vec3 p[n], float t, Vec3 left[n], Vec3 right[n]) {
+  Vec3 w[n];
+  for (int i = 0; i < n; ++i) w[i] = p[i];
+  for (int r = 0; r < n; ++r) {
+    left[r] = w[0];
+    right[n - 1 - r] = w[n - 1 - r];
+    for (int i = 0; i + 1 < n - r; ++i) w[i] = w[i] + (w[i + 1] - w[i]) * t;
+  }
+}
+
 // Control points of the degree-(n-1) Bézier curve in[0..n-1] restricted to [a, b] (a <= b):
 // two de Casteljau splits. Exact intervals of zero width give n copies of the point at a.
 template <int n>
 void restrictCurve(const Vec3 in[n], float a, float b, Vec3 out[n]) {
-  auto split = [](const Vec3 p[n], float t, Vec3 left[n], Vec3 right[n]) {
-    Vec3 w[n];
-    for (int i = 0; i < n; ++i) w[i] = p[i];
-    for (int r = 0; r < n; ++r) {
-      left[r] = w[0];
-      right[n - 1 - r] = w[n - 1 - r];
-      for (int i = 0; i + 1 < n - r; ++i) w[i] = w[i] + (w[i + 1] - w[i]) * t;
-    }
-  };
   if (a == b) {  // the second split is at t = 0: n copies of the first split's point at a
     const Vec3 p = a == 0.0f ? in[0] : deCasteljauPoint<n>(in, a);
     for (int i = 0; i < n; ++i) out[i] = p;
@@ -50,11 +53,11 @@ void restrictCurve(const Vec3 in[n], float a, float b, Vec3 out[n]) {
   Vec3 l[n], r[n], r2[n];
   const Vec3* from = in;  // a split at 0 gives the curve itself as its right part
   if (a != 0.0f) {
-    split(in, a, l, r);  // r covers [a, 1]
+    splitCurve<n>(in, a, l, r);  // r covers [a, 1]
     from = r;
   }
   const float t = a < 1 ? (b - a) / (1 - a) : 0.0f;
-  split(from, std::clamp(t, 0.0f, 1.0f), out, r2);  // out covers [a, b]
+  splitCurve<n>(from, std::clamp(t, 0.0f, 1.0f), out, r2);  // out covers [a, b]
 }
 
 // The box of the Bézier patch with (nu x nv) control points c[j * nu + i] restricted to the

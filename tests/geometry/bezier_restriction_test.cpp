@@ -12,22 +12,13 @@ namespace {
 
 using test::Random;
 
-// The restriction as two full splits, without shortcuts: the definition the shortcuts must match.
+// The restriction as two full splits (always both), without shortcuts: the definition the shortcuts must match.
 template <int n>
 void fullRestriction(const Vec3 in[n], float a, float b, Vec3 out[n]) {
-  auto split = [](const Vec3 p[n], float t, Vec3 left[n], Vec3 right[n]) {
-    Vec3 w[n];
-    for (int i = 0; i < n; ++i) w[i] = p[i];
-    for (int r = 0; r < n; ++r) {
-      left[r] = w[0];
-      right[n - 1 - r] = w[n - 1 - r];
-      for (int i = 0; i + 1 < n - r; ++i) w[i] = w[i] + (w[i + 1] - w[i]) * t;
-    }
-  };
   Vec3 l[n], r[n], r2[n];
-  split(in, a, l, r);
+  detail::splitCurve<n>(in, a, l, r);
   const float t = a < 1 ? (b - a) / (1 - a) : 0.0f;
-  split(r, std::clamp(t, 0.0f, 1.0f), out, r2);
+  detail::splitCurve<n>(r, std::clamp(t, 0.0f, 1.0f), out, r2);
 }
 
 template <int nu, int nv>
