@@ -254,8 +254,8 @@ TEST(BeamGather, CollinearCornersOnCornerRaysAndGrazingReceiversStayFinite) {
   EXPECT_NEAR(graze.x, 0.0f, 1e-3f * beamIrradiance(tri, {0, 0, 1}, {0, 0, 1}, psi).x);
 }
 
-// The gather tests a segment's reach (eight boxes) before its irradiance, and a caller's filter
-// (the path tracer's depth rule) before both: it must sum exactly what the full gather sums, the
+// The gather asks a caller's filter (the path tracer's depth rule) before any work on a segment,
+// and bins the segments by their reach: it must sum exactly what the full gather sums, the
 // irradiance of every segment in segment order where x lies in the segment's reach. Checked
 // against that sum over all segments (no bins) at random points, on the footprint's edges, on
 // corner rays' ends and at the focus of a converging beam, specular and glossy.
