@@ -155,15 +155,18 @@ std::pair<uint64_t, uint64_t> BeamStore::cellRange(uint32_t leaf, Vec3 x) const 
 }
 
 Rgb BeamStore::radiance(const DiffuseVertex& v, Rgb sum) const {
-  gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance, const BeamSegment& segment) {
-    if (int64_t(v.bounce) + segment.scatterings + 1 > maxDepth_) return;
+  // Segments whose paths are longer than maxDepth are left out before their gather is computed.
+  const auto withinDepth = [&](const BeamSegment& segment) {
+    return int64_t(v.bounce) + segment.scatterings + 1 <= maxDepth_;
+  };
+  gather(v.leaf, v.p, v.ng, [&](Vec3 psi, Rgb irradiance) {
     const Vec3 wi = -psi;
     const Vec3 wiL = v.frame->toLocal(wi);
     // Both directions on the sides of the true surface the shading frame claims.
     const float s = dot(v.ng, wi) * dot(v.ng, v.wo);
     if (wiL.z * v.woL.z > 0 ? !(s > 0) : !(s < 0)) return;
     sum += v.bsdf->eval(v.woL, wiL) * irradiance;
-  });
+  }, withinDepth);
   return sum;
 }
 

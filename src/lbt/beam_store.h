@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <span>
 #include <type_traits>
+#include <utility>
 #include <vector>
 #include "lbt/beam_segment.h"
 #include "shading/path_tracer.h"
@@ -46,13 +47,21 @@ class BeamStore final : public CausticRadiance {
   // included), in segment order.
   template <class Add>
   void gather(uint32_t leaf, Vec3 x, Vec3 normal, Add&& add) const {
+    gather(leaf, x, normal, std::forward<Add>(add), [](const BeamSegment&) { return true; });
+  }
+  // The same over the segments `counts` accepts, asked before any work on a segment.
+  template <class Add, class Counts>
+  void gather(uint32_t leaf, Vec3 x, Vec3 normal, Add&& add, Counts&& counts) const {
     const auto [first, last] = cellRange(leaf, x);
     if (first == last) return;
     const Box3& box = grids_[leaf].box;
     const Vec3 inside = vmin(vmax(x, box.lo), box.hi);
     for (uint64_t e = first; e != last; ++e) {
-      Vec3 psi;
       const BeamSegment& s = segments_[entries_[e]];
+      if (!counts(s)) continue;
+      // The reach test after the irradiance: its eight boxes (a tan each) cost about as much as
+      // the irradiance's early outs, and most points in a segment's cell are in its reach.
+      Vec3 psi;
       const Rgb irradiance = beamIrradiance(s, x, normal, psi);
       if (!(maxComponent(irradiance) > 0 && reaches(s, inside))) continue;
       if constexpr (std::is_invocable_v<Add, Vec3, Rgb, const BeamSegment&>) add(psi, irradiance, s);
