@@ -29,9 +29,12 @@ struct TraceSettings {
   // (--candidates-per-ray). The thesis clips at 100 (Table 6.3), so rays left active after the
   // first iteration -- through a canopy, past leaves whose boxes they cross without a hit --
   // got dozens of leaves at once, and every one was diced although the nearest few usually
-  // held the hit: on forest-100 (480x192, 1 spp) 136 k dicings at 100, 79 k at 4, 76 k at 2,
-  // and 30 % less CPU at 4 (bench/RESULTS.md). Hits do not depend on it (tests/rays/tracer_test.cpp).
-  static constexpr int kDefaultCandidatesPerRay = 4;
+  // held the hit. A small clip costs the other way once the grid cache cannot hold a leaf
+  // from one iteration to the next: forest-100 dicings at N = 4 / 8 / 16 / 100 were 79 k /
+  // 84 k / 91 k / 136 k at 480x192 1 spp, but 768 k / 664 k / 635 k / 679 k at 1920x768.
+  // 8 is within 7 % of the fewest at both sizes (bench/RESULTS.md). Hits do not depend on it
+  // (tests/rays/tracer_test.cpp).
+  static constexpr int kDefaultCandidatesPerRay = 8;
   int maxCandidatesPerRay = kDefaultCandidatesPerRay;
   // Bytes of diced grids the sorted pipeline keeps across iterations and generations
   // (rays/grid_cache.h); 0: every iteration dices every leaf it has rays for.

@@ -102,8 +102,8 @@ class Tracer : public RayEngine {
   }
   // The candidate buffer should hold this many slots per ray slot of a full batch: the first
   // iteration of the camera generation then gets N = 4 candidates per ray (2 ray slots per
-  // path), the default clip (TraceSettings::maxCandidatesPerRay), so more slots would sit
-  // unused. 2 instead of 4 saves 32 bytes per ray slot; the hits do not depend on N.
+  // path; later iterations up to the clip, TraceSettings::maxCandidatesPerRay, as rays
+  // finish). 2 instead of 4 saves 32 bytes per ray slot; the hits do not depend on N.
   static constexpr size_t kCandidatesPerRay = 2;
   // Per ray slot: the trace state, the active lists and kCandidatesPerRay candidate slots.
   // (bytesPerRay() of a Tracer; static so the budget can be set before the Tracer exists.)
