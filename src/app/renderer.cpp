@@ -304,7 +304,8 @@ Film Renderer::render(const Progress& progress) {
   stats_.engine = engine_->engineStats();
   stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
   stats_.memory.diceCache = stats_.engine.cachePeakBytes;
-  stats_.memory.diceBuffers = engine_->fixedBytes() - stats_.engine.cachePeakBytes;
+  stats_.memory.borderBounds = stats_.engine.borderBoundBytes;
+  stats_.memory.diceBuffers = engine_->fixedBytes() - stats_.engine.cachePeakBytes - stats_.engine.borderBoundBytes;
   stats_.memory.film = film.bytes();
   stats_.timeTotal = secondsSince(t0);
   return film;

@@ -85,6 +85,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"top_level", m.topLevel},
       {"dice_buffers", m.diceBuffers},
       {"dice_cache", m.diceCache},
+      {"border_bounds", m.borderBounds},
       {"film", m.film},
       {"scene_description", m.sceneDescription},
   };

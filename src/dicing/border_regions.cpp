@@ -41,7 +41,7 @@ double radiusFrom(double worst2) { return std::sqrt(worst2) * (1.0 + 1e-9); }
 
 }  // namespace
 
-Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
+Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample, bool share) const {
   BorderSegment* seg = !moving_ && i <= maxLevel_ ? &segments_[borderOffset(e, i, j) / 6] : nullptr;
   if (seg && seg->boxStamp.load(std::memory_order_acquire) == stamp_) {
     Box3 b;
@@ -51,14 +51,19 @@ Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
     }
     return b;
   }
-  const float inv = 1.0f / float(1u << i);  // a power of two: j * inv is exact
-  const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
+  const BorderBoundCache::Key key{shared_.leaf, BorderBoundCache::Kind::CurveBox, e, i, j};
+  share = share && seg && shared_.cache;
   Box3 b;
-  switch (e) {
-    case 0: b = patch_->boundsOverAt(sample, t0, t1, 0.0f, 0.0f); break;
-    case 1: b = patch_->boundsOverAt(sample, 1.0f, 1.0f, t0, t1); break;
-    case 2: b = patch_->boundsOverAt(sample, t0, t1, 1.0f, 1.0f); break;
-    default: b = patch_->boundsOverAt(sample, 0.0f, 0.0f, t0, t1); break;
+  if (!share || !shared_.cache->find(key, b)) {
+    const float inv = 1.0f / float(1u << i);  // a power of two: j * inv is exact
+    const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
+    switch (e) {
+      case 0: b = patch_->boundsOverAt(sample, t0, t1, 0.0f, 0.0f); break;
+      case 1: b = patch_->boundsOverAt(sample, 1.0f, 1.0f, t0, t1); break;
+      case 2: b = patch_->boundsOverAt(sample, t0, t1, 1.0f, 1.0f); break;
+      default: b = patch_->boundsOverAt(sample, 0.0f, 0.0f, t0, t1); break;
+    }
+    if (share) shared_.cache->insert(key, b);
   }
   if (seg) {
     for (int a = 0; a < 3; ++a) {
@@ -71,7 +76,7 @@ Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
 }
 
 Box3 DiceBuffer::regionBox(int e, int i, uint32_t j) const {
-  Box3 b = curveBox(e, i, j, 0);
+  Box3 b = curveBox(e, i, j, 0, true);
   size_t v0, v1;
   chordEnds(e, i, j, level_, v0, v1);
   b.extend(a_.positions[v0]);
@@ -146,7 +151,14 @@ double DiceBuffer::cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool c
   const int which = coarse ? 0 : 1;
   if (seg.radiusStamp[which].load(std::memory_order_acquire) == stamp_)
     return seg.radius[which].load(std::memory_order_relaxed);
-  const double r = borderRadius(e, k, j, a, b, coarse ? 3 : radiusSplit(k), false, 1.0f, 0.0f);
+  const BorderBoundCache::Key key{shared_.leaf,
+                                  coarse ? BorderBoundCache::Kind::CoarseRadius : BorderBoundCache::Kind::FineRadius,
+                                  e, k, j};
+  double r;
+  if (!shared_.cache || !shared_.cache->find(key, r)) {
+    r = borderRadius(e, k, j, a, b, coarse ? 3 : radiusSplit(k), false, 1.0f, 0.0f);
+    if (shared_.cache) shared_.cache->insert(key, r);
+  }
   seg.radius[which].store(r, std::memory_order_relaxed);
   seg.radiusStamp[which].store(stamp_, std::memory_order_release);
   return r;

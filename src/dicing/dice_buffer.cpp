@@ -47,20 +47,21 @@ void DiceBuffer::newStamp() {
   }
 }
 
-void DiceBuffer::dice(const Patch& patch, int level) {
+void DiceBuffer::dice(const Patch& patch, int level, SharedBorderBounds shared) {
   if (level < 0 || level > maxLevel_) throw std::invalid_argument("DiceBuffer::dice: level > maxLevel");
   level_ = level;
   moving_ = false;
   patch_ = &patch;
   sampleA_ = 0;
+  shared_ = shared;
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();
   newStamp();
   diceSample(patch, 0, level, a_);
 }
 
-void DiceBuffer::diceInterval(const Patch& patch, int interval, int level) {
-  if (patch.timeSamples() < 2) return dice(patch, level);
+void DiceBuffer::diceInterval(const Patch& patch, int interval, int level, SharedBorderBounds shared) {
+  if (patch.timeSamples() < 2) return dice(patch, level, shared);
   if (level < 0 || level > maxLevel_) throw std::invalid_argument("DiceBuffer::dice: level > maxLevel");
   if (interval < 0 || interval + 1 >= patch.timeSamples())
     throw std::invalid_argument("DiceBuffer::diceInterval: no such time interval");
@@ -68,6 +69,7 @@ void DiceBuffer::diceInterval(const Patch& patch, int interval, int level) {
   moving_ = true;
   patch_ = &patch;
   sampleA_ = interval;
+  shared_ = {};
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();  // the union over all samples: the margin is per patch, not per interval
   newStamp();

@@ -42,6 +42,7 @@
 #include <memory>
 #include <vector>
 #include "core/box.h"
+#include "dicing/border_bound_cache.h"
 #include "dicing/micro_quad.h"
 #include "geometry/patch.h"
 
@@ -68,6 +69,13 @@ struct BottomQuery {
                               // coarser or equal dicing closes that seam for this ray)
 };
 
+// Where a static dicing keeps its border bounds beyond itself: the render's shared table and
+// the key of the diced leaf in it (no cache: each dicing computes its own).
+struct SharedBorderBounds {
+  BorderBoundCache* cache = nullptr;
+  uint32_t leaf = 0;
+};
+
 class DiceBuffer {
  public:
   // Allocates for levels up to maxLevel (0..12; std::invalid_argument otherwise).
@@ -76,12 +84,15 @@ class DiceBuffer {
   DiceBuffer& operator=(const DiceBuffer&) = delete;
 
   // Dices `patch` at `level` (<= maxLevel, else std::invalid_argument) and builds the
-  // implicit BVH. Vertex normals are stored unit length.
-  void dice(const Patch& patch, int level);
+  // implicit BVH. Vertex normals are stored unit length. With `shared`, the border regions' boxes
+  // and radii are looked up in and added to shared.cache under shared.leaf (which must name
+  // this patch, the same one every time): the same values, computed once per leaf.
+  void dice(const Patch& patch, int level, SharedBorderBounds shared = {});
 
   // Dices time samples `interval` and `interval`+1 of a moving patch (0 <= interval <
-  // timeSamples()-1) at `level`, for queries with alpha in [0, 1]. A static patch: dice().
-  void diceInterval(const Patch& patch, int interval, int level);
+  // timeSamples()-1) at `level`, for queries with alpha in [0, 1]. A static patch: dice(),
+  // with `shared`; a moving one does not use it.
+  void diceInterval(const Patch& patch, int interval, int level, SharedBorderBounds shared = {});
 
   int level() const { return level_; }
   bool moving() const { return moving_; }
@@ -159,8 +170,9 @@ class DiceBuffer {
                        float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const;
   // The box of the true border curve over segment j of border e at level i, of time sample
   // `sample` (Patch::boundsOverAt on the degenerate rectangle); of a static dicing's sample,
-  // cached for i <= maxLevel.
-  Box3 curveBox(int e, int i, uint32_t j, int sample) const;
+  // cached for i <= maxLevel (with `share`, also in the shared table: the region boxes, not the
+  // radii's finer pieces, which would crowd it out).
+  Box3 curveBox(int e, int i, uint32_t j, int sample, bool share = false) const;
   // A static dicing's region box of segment j of border e at level i <= level(): curveBox and
   // the chord's two grid vertices.
   Box3 regionBox(int e, int i, uint32_t j) const;
@@ -181,6 +193,7 @@ class DiceBuffer {
   bool moving_ = false;   // the second sample (b_) holds this dicing's other time sample
   const Patch* patch_ = nullptr;  // the diced patch (border regions query it; must outlive the queries)
   int sampleA_ = 0;       // its time samples in a_ and b_
+  SharedBorderBounds shared_;  // a static dicing's shared table (cache null: none)
   bool borders_ = false;  // this dicing has border regions
   // Per (border, level <= maxLevel, segment), index borderOffset() / 6: what this dicing has
   // computed of its borders (a moving dicing uses only the radii, at alpha 0).

@@ -45,6 +45,7 @@ struct EngineStats {
   // The dice cache (CachingEngine; zero otherwise). Misses are dicings.
   uint64_t cacheEntries = 0, cacheHits = 0, cacheMisses = 0;
   size_t cachePeakBytes = 0;
+  size_t borderBoundBytes = 0;  // Rayes: the shared table of border bounds (part of fixedBytes)
 };
 
 class RayEngine {

@@ -48,7 +48,7 @@ RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
 
 Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
     : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)),
-      cache_(s.gridCacheBytes) {
+      cache_(s.gridCacheBytes), borderBounds_(s.borderBoundEntries) {
   leafSize_.resize(leaves.size());
   leafBox_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
@@ -164,6 +164,7 @@ EngineStats Tracer::engineStats() const {
   s.maxLevel = settings_.maxLod;
   s.cacheHits = cache_.hits();
   s.cachePeakBytes = cache_.peakBytes();
+  s.borderBoundBytes = borderBounds_.bytes();
   return s;
 }
 
@@ -430,8 +431,8 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
                      const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
   {
     ScopedTimer timer(times.dice);
-    if (interval < 0) dice.dice(patch, m);
-    else dice.diceInterval(patch, interval, m);
+    if (interval < 0) dice.dice(patch, m, sharedBorders(leaf));
+    else dice.diceInterval(patch, interval, m, sharedBorders(leaf));
   }
   const uint64_t grids = interval < 0 ? 1 : 2;
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
@@ -490,8 +491,8 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
     auto& scratch = scratch_.local();
     DiceBuffer& dice = localDiceBuffer();
-    const GridSource diceForThisRay = [&](uint32_t, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
-      dice.diceInterval(*patch, interval, level);
+    const GridSource diceForThisRay = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
+      dice.diceInterval(*patch, interval, level, sharedBorders(leaf));
       diced.fetch_add(1, std::memory_order_relaxed);
       micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
       if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);

@@ -67,7 +67,7 @@ class Tracer : public RayEngine {
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
   size_t bytesPerRay() const override { return bytesPerRaySlot(); }
-  size_t fixedBytes() const override { return diceBufferBytes() + cache_.peakBytes(); }
+  size_t fixedBytes() const override { return diceBufferBytes() + cache_.peakBytes() + borderBounds_.bytes(); }
   EngineStats engineStats() const override;
 
   const TraceSettings& settings() const { return settings_; }
@@ -187,6 +187,10 @@ class Tracer : public RayEngine {
   };
   tbb::enumerable_thread_specific<IntervalScratch> intervals_;
   GridCache cache_;
+  BorderBoundCache borderBounds_;
+  SharedBorderBounds sharedBorders(uint32_t leaf) {
+    return {settings_.borderBoundEntries ? &borderBounds_ : nullptr, leaf};
+  }
   std::vector<int> runLevel_;                  // per static run of the current iteration (cache on)
   std::vector<GridCache::Entry*> runEntry_;    // its cache entry, or nullptr (diced per thread)
   // The batch's leaf queries grouped by leaf, run in the first iteration's per-leaf tasks; and

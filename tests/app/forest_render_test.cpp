@@ -12,8 +12,10 @@
 #include <unistd.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include "dicing/border_bound_cache.h"
 #include "dicing/dice_buffer.h"
 #include "geometry/forest_leaves.h"
+#include "rays/trace_settings.h"
 #include "render_fixtures.h"
 #include "scene/scene_loader.h"
 
@@ -95,6 +97,9 @@ TEST(ForestRender, MemoryGrowsOnlyWithTheSceneDescription) {
   const size_t oneBuffer = DiceBuffer(RenderOptions{}.maxLod).bytesAllocated();
   EXPECT_LE(a.diceBuffers, 2 * oneBuffer);
   EXPECT_LE(b.diceBuffers, 2 * oneBuffer);
+  // The border bounds kept across dicings: one fixed table, the same for both forests.
+  EXPECT_EQ(a.borderBounds, TraceSettings{}.borderBoundEntries * BorderBoundCache::entryBytes());
+  EXPECT_EQ(b.borderBounds, a.borderBounds);
   for (const MemoryByOwner* m : {&a, &b}) {
     EXPECT_GT(m->sceneDescription, 0u);
     EXPECT_LE(m->sceneDescription + m->topLevel, kForestBoundBytesPerLeaf * m->leaves) << m->leaves << " leaves";
