@@ -1,4 +1,5 @@
-// Compares two renders of the same size (bench/peer_render.sh): prints the RMSE over the RGB
+// Compares two renders of the same size (bench/peer_render.sh): prints how many pixels differ at
+// all, the RMSE over the RGB
 // channels (as rmseAgainst, docs/stats.md's error_vs_time) and the relative difference of the
 // second image's mean from the first's, per channel and overall; then the five pixels that
 // differ most (sum over RGB of the squared difference): where a spike or a bias sits.
@@ -33,13 +34,16 @@ int main(int argc, char** argv) {
     }
     const double n = double(a.size() / 3);
     std::vector<std::pair<double, size_t>> worst;
+    size_t differing = 0;
     for (size_t p = 0; p < a.size() / 3; ++p) {
       double d2 = 0;
       for (int c = 0; c < 3; ++c) d2 += (double(a[3 * p + c]) - b[3 * p + c]) * (double(a[3 * p + c]) - b[3 * p + c]);
       worst.push_back({d2, p});
+      differing += d2 > 0;
     }
     const size_t shown = std::min<size_t>(5, worst.size());
     std::partial_sort(worst.begin(), worst.begin() + shown, worst.end(), std::greater<>());
+    std::printf("differing_pixels %zu of %zu\n", differing, a.size() / 3);
     std::printf("rmse %.6g mean_a %.6g %.6g %.6g mean_b %.6g %.6g %.6g relative_mean_diff %+.4f %%\n",
                 a.empty() ? 0.0 : std::sqrt(sq / double(a.size())), ma[0] / n, ma[1] / n, ma[2] / n, mb[0] / n,
                 mb[1] / n, mb[2] / n, 100.0 * ((mb[0] + mb[1] + mb[2]) / (ma[0] + ma[1] + ma[2]) - 1.0));
