@@ -1,7 +1,8 @@
 // Compares two renders of the same size (bench/peer_render.sh): prints how many pixels differ at
 // all, the RMSE over the RGB channels (as rmseAgainst, docs/stats.md's error_vs_time) and the
-// relative difference of the second image's mean from the first's, per channel and overall; then the five pixels that
-// differ most (sum over RGB of the squared difference): where a spike or a bias sits.
+// relative difference of the second image's mean from the first's, per channel and overall;
+// then the five pixels that differ most (sum over RGB of the squared difference): where a spike
+// or a bias sits.
 //
 // usage: bench_app_image_diff A.exr B.exr
 #include <algorithm>
