@@ -40,7 +40,8 @@ struct TraceSettings {
   // (rays/grid_cache.h); 0: every iteration dices every leaf it has rays for.
   size_t gridCacheBytes = 0;
   // Entries of the table of static dicings' border bounds kept across dicings
-  // (dicing/border_bound_cache.h; 40 bytes each, allocated on first use); 0: every dicing
+  // (dicing/border_bound_cache.h; 40 bytes each, allocated on first use; at most
+  // Tracer::kBorderBoundsPerLeaf per leaf of the scene); 0: every dicing
   // computes its own. A displaced leaf's border radii cost more than its micro-polygons, and the
   // sorted pipeline re-dices a leaf in every iteration and generation that has rays for it.
   size_t borderBoundEntries = size_t(1) << 22;

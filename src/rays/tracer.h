@@ -105,6 +105,8 @@ class Tracer : public RayEngine {
   // path; later iterations up to the clip, TraceSettings::maxCandidatesPerRay, as rays
   // finish). 2 instead of 4 saves 32 bytes per ray slot; the hits do not depend on N.
   static constexpr size_t kCandidatesPerRay = 2;
+  // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
+  static constexpr size_t kBorderBoundsPerLeaf = 64;
   // Per ray slot: the trace state, the active lists and kCandidatesPerRay candidate slots.
   // (bytesPerRay() of a Tracer; static so the budget can be set before the Tracer exists.)
   static constexpr size_t bytesPerRaySlot() {

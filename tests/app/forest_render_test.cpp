@@ -5,6 +5,7 @@
 // forest, only its scene description does, within the bound the loader refuses forests by; and
 // the Embree engine refuses forest-100 up front, naming the memory it would need.
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,7 @@
 #include "dicing/dice_buffer.h"
 #include "geometry/forest_leaves.h"
 #include "rays/trace_settings.h"
+#include "rays/tracer.h"
 #include "render_fixtures.h"
 #include "scene/scene_loader.h"
 
@@ -78,7 +80,7 @@ TEST(ForestRender, ImageIsTheSameOnAnyThreadCountAndBudget) {
 // holds for rays, candidates and the film is the same; the dice buffers are at most one per
 // thread whatever the forest, the grid cache within its budget; only the scene description and
 // the top level grow, by at most the bytes per leaf the loader assumes when it refuses a forest
-// too large to describe.
+// too large to describe, and the border-bound table, by a fixed count per leaf up to its cap.
 TEST(ForestRender, MemoryGrowsOnlyWithTheSceneDescription) {
   const Scene one = smallForest(1), six = smallForest(6);
   ASSERT_GT(six.leaves.size(), 5 * one.leaves.size() / 2);
@@ -97,9 +99,14 @@ TEST(ForestRender, MemoryGrowsOnlyWithTheSceneDescription) {
   const size_t oneBuffer = DiceBuffer(RenderOptions{}.maxLod).bytesAllocated();
   EXPECT_LE(a.diceBuffers, 2 * oneBuffer);
   EXPECT_LE(b.diceBuffers, 2 * oneBuffer);
-  // The border bounds kept across dicings: one fixed table, the same for both forests.
-  EXPECT_EQ(a.borderBounds, TraceSettings{}.borderBoundEntries * BorderBoundCache::entryBytes());
-  EXPECT_EQ(b.borderBounds, a.borderBounds);
+  // The border bounds kept across dicings: one table of Tracer::kBorderBoundsPerLeaf entries per
+  // leaf (a power of two), never more than TraceSettings::borderBoundEntries.
+  for (const MemoryByOwner* m : {&a, &b}) {
+    const size_t perLeaf = m->leaves * Tracer::kBorderBoundsPerLeaf;
+    const size_t entries = std::bit_ceil(std::min(TraceSettings{}.borderBoundEntries, perLeaf));
+    EXPECT_EQ(m->borderBounds, entries * BorderBoundCache::entryBytes()) << m->leaves << " leaves";
+  }
+  EXPECT_GT(b.borderBounds, a.borderBounds);
   for (const MemoryByOwner* m : {&a, &b}) {
     EXPECT_GT(m->sceneDescription, 0u);
     EXPECT_LE(m->sceneDescription + m->topLevel, kForestBoundBytesPerLeaf * m->leaves) << m->leaves << " leaves";
