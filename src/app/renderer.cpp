@@ -209,11 +209,12 @@ void Renderer::buildBeams() {
   // Environment lights get no beams: their caustic paths stay with the path tracer (with
   // --caustic-paths only, those paths alone besides the beams).
   const uint8_t covered = kPointLight | kSpotLight | kDistantLight | (lights.patches.empty() ? 0 : kPatchLight);
-  const bool gathersAsQueries = !options_.beamGathersInShading;
-  const PathTracer::Options pto = options_.integrator.causticPaths == CausticPaths::Only
-                                      ? PathTracer::Options{.causticPaths = CausticPaths::Only, .causticRadiance = caustics, .causticLights = uint8_t(kAllLights & ~covered), .gathersAsLeafQueries = gathersAsQueries}
-                                      : PathTracer::Options{.causticPaths = CausticPaths::Without, .causticRadiance = caustics, .causticLights = covered, .gathersAsLeafQueries = gathersAsQueries};
-  integrator_ = std::make_unique<PathTracer>(data_.shading, pto);
+  const bool only = options_.integrator.causticPaths == CausticPaths::Only;
+  integrator_ = std::make_unique<PathTracer>(
+      data_.shading, PathTracer::Options{.causticPaths = only ? CausticPaths::Only : CausticPaths::Without,
+                                         .causticRadiance = caustics,
+                                         .causticLights = only ? uint8_t(kAllLights & ~covered) : covered,
+                                         .gathersAsLeafQueries = !options_.beamGathersInShading});
   bs.built = true;
 }
 

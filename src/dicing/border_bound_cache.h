@@ -8,8 +8,9 @@
 //   returns exactly the value a recomputation would give: images do not depend on the table,
 //   its capacity or which thread filled an entry (docs/design.md, invariant on determinism).
 // - Bound: `capacity` entries (a power of two) of entryBytes() each, allocated on the first
-//   insert and never grown: it does not grow with the leaves or the micro-polygons. Direct
-//   mapped: an insert overwrites whatever entry its key hashes to (eviction by collision).
+//   insert and never grown: it does not grow with the micro-polygons (the Tracer chooses the
+//   capacity from the leaf count, Tracer::kBorderBoundsPerLeaf, up to a cap). Direct mapped:
+//   an insert overwrites whatever entry its key hashes to (eviction by collision).
 // - Threads: lookup and insert may run concurrently from any thread without locks. Each entry
 //   is a seqlock: a writer that finds it being written gives up (the value is simply not kept),
 //   and a reader that sees it change reports a miss. Either way the caller recomputes.

@@ -27,7 +27,6 @@
 #pragma once
 #include <cstdint>
 #include <span>
-#include <type_traits>
 #include <utility>
 #include <vector>
 #include "lbt/beam_segment.h"
@@ -64,11 +63,10 @@ class BeamStore final : public CausticRadiance {
       Vec3 psi;
       const Rgb irradiance = beamIrradiance(s, x, normal, psi);
       if (!(maxComponent(irradiance) > 0 && reaches(s, inside))) continue;
-      if constexpr (std::is_invocable_v<Add, Vec3, Rgb, const BeamSegment&>) add(psi, irradiance, s);
-      else add(psi, irradiance);
+      add(psi, irradiance);
     }
   }
-    // The caustic radiance at a diffuse vertex: sum + f(wo, -psi)·E over the gathered segments,
+  // The caustic radiance at a diffuse vertex: sum + f(wo, -psi)·E over the gathered segments,
   // added one by one in segment order (a batch continues the previous batch's sum). As the path
   // tracer it complements counts them, only paths within maxDepth: camera bounce + light-path
   // vertex (scatterings + 1) ≤ maxDepth.

@@ -21,10 +21,12 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
  public:
   PhotonMapper(bool progressive, const ShadingScene& scene, const IntegratorOptions& options)
       : scene_(scene), options_(options), progressive_(progressive),
+        // Photons leave every kind of light: the estimate alone (Only) keeps no path-traced
+        // caustic path, and Without leaves out those of every light.
         pt_(scene, options.causticPaths == CausticPaths::Only
-                       // The photon estimate alone: photons leave every kind of light.
                        ? PathTracer::Options{.causticPaths = CausticPaths::Only, .causticRadiance = this, .causticLights = 0}
-                       : PathTracer::Options{.causticPaths = CausticPaths::Without, .causticRadiance = this, .causticLights = kAllLights}) {}
+                       : PathTracer::Options{.causticPaths = CausticPaths::Without, .causticRadiance = this,
+                                             .causticLights = kAllLights}) {}
 
   uint32_t raysPerPath() const override { return PathTracer::kRaysPerPath; }
   size_t bytesPerPath() const override {

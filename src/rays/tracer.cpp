@@ -217,7 +217,8 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
                            int m) {
   const uint32_t i = rayOfSlot(s);
-  const int level = settings_.lod == LodRule::Density ? m : levelOn(b, i, leaf);
+  const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
+  const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
   const float limit = searchLimit(b, i, bestT_[i]);
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
@@ -233,7 +234,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
   }
   GridHit h;
   if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
-    offerHit(b, i, hitRecord(h, leaf, level, leafEntry(b, i, leaf)));
+    offerHit(b, i, hitRecord(h, leaf, level, entry));
     return h.border;
   }
   return false;
@@ -532,7 +533,8 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
       if (leaf == b.ignoreLeaf[i]) continue;
-      const int level = levelOn(b, i, leaf);
+      const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
+      const int level = levelFor(b, i, leaf, entry);
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
       const TimeInterval when = timeInterval(*made, b.timeOf(i));
       const DiceBuffer& dice = gridFor(leaf, made, when.interval, level);
@@ -549,10 +551,9 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
-        const float entry = leafEntry(b, i, leaf);
-        if (nearerHit(keptDistance(h.t, entry), leaf, h.quad, best)) best = hitRecord(h, leaf, level, entry);
-      }
+      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) &&
+          nearerHit(keptDistance(h.t, entry), leaf, h.quad, best))
+        best = hitRecord(h, leaf, level, entry);
     }
     if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
     const bool exhausted = !(next < kInf);

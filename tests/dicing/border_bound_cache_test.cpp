@@ -71,7 +71,9 @@ TEST(BorderBoundCache, CachedBoundsGiveTheHitsOfRecomputedOnes) {
     GridHit expected, cached;
     const bool e = alone.intersect(org, dir, 0.0f, kInf, k, expected, q);
     ASSERT_EQ(reader.intersect(org, dir, 0.0f, kInf, k, cached, q), e);
-    if (e) ASSERT_TRUE(sameHit(expected, cached)) << expected.t << " " << cached.t;
+    if (e) {
+      ASSERT_TRUE(sameHit(expected, cached)) << expected.t << " " << cached.t;
+    }
     borderHits += e && expected.border;
     ASSERT_EQ(reader.occluded(org, dir, 0.0f, kInf, k, q), alone.occluded(org, dir, 0.0f, kInf, k, q));
   });
