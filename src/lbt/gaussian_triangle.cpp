@@ -9,78 +9,98 @@ namespace {
 constexpr double kTwoPi = 2 * std::numbers::pi;
 constexpr double kNegligibleOwenH = 9;
 
-// 20-point Gauss-Legendre rule on [-1, 1], computed once by Newton's method on P_20 (the
-// standard construction; no table to mistype). On [0, a] with |a| <= 1 the Owen integrand
-// e^(-h²(1+x²)/2)/(1+x²) is analytic with its nearest poles at ±i, so 20 points give ~1e-17.
-struct GaussLegendre20 {
-  static constexpr int n = 20;
-  std::array<double, n> x{}, w{};
-  GaussLegendre20() {
-    for (int i = 0; i < n; ++i) {
-      double z = std::cos(std::numbers::pi * (i + 0.75) / (n + 0.5)), dp = 0;
-      for (int it = 0; it < 100; ++it) {
-        double p0 = 1, p1 = z;
-        for (int k = 2; k <= n; ++k) {
-          const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-          p0 = p1;
-          p1 = p2;
-        }
-        dp = n * (z * p1 - p0) / (z * z - 1);
-        const double step = p1 / dp;
-        z -= step;
-        if (std::fabs(step) < 1e-16) break;
-      }
-      x[i] = z;
-      w[i] = 2 / ((1 - z * z) * dp * dp);
+// Owen's series for |a| <= 1, x = h²/2, N ~ Poisson(x):
+//
+//   2π·G(h, a) = Σ_j (-1)^j · a^(2j+1)/(2j+1) · P(N > j)
+//
+// (expand 1/(1+t²) in T's x-form and integrate term by term). The terms alternate in sign and
+// shrink in magnitude (|a| <= 1, P(N > j) falls with j), so stopping before a term below
+// kSeriesTolerance leaves an error below it: a proven bound, not a tuned one. The number of
+// terms grows with h and |a|; the worst case, h just below 9 and |a| = 1, needs 100.
+constexpr int kMaxSeriesTerms = 128;
+constexpr double kSeriesTolerance = 1e-16;
+
+struct SeriesTables {
+  std::array<double, kMaxSeriesTerms + 1> oddReciprocal{}, reciprocal{};
+  constexpr SeriesTables() {
+    for (int j = 0; j <= kMaxSeriesTerms; ++j) {
+      oddReciprocal[j] = 1.0 / (2 * j + 1);
+      reciprocal[j] = j > 0 ? 1.0 / j : 0;
     }
   }
 };
+constexpr SeriesTables kSeries;
 
-const GaussLegendre20& rule() {
-  static const GaussLegendre20 r;
-  return r;
-}
-
-// T(h, a) for h >= 0 and 0 <= a <= 1, by quadrature.
-double owenTQuadrature(double h, double a) {
-  const GaussLegendre20& g = rule();
-  double sum = 0;
-  for (int i = 0; i < GaussLegendre20::n; ++i) {
-    const double x = 0.5 * a * (g.x[i] + 1);
-    const double q = 1 + x * x;
-    sum += g.w[i] * std::exp(-0.5 * h * h * q) / q;
+// 2π·[G(h, a1) - G(h, a0)] for 0 < h < 9 and |a0|, |a1| <= 1: one pass, the coefficients
+// shared by both ends. The error is below 2·kSeriesTolerance plus rounding (the Poisson tail
+// is carried by subtraction: its absolute error stays near 1e-16·x).
+double seriesDifference(double h, double a0, double a1) {
+  const double x = 0.5 * h * h;
+  double pmf = std::exp(-x), tail = -std::expm1(-x);  // P(N = j), P(N > j)
+  const double step0 = a0 * a0, step1 = a1 * a1, stepMax = std::max(step0, step1);
+  double pow0 = a0, pow1 = a1, powMax = std::max(std::fabs(a0), std::fabs(a1));  // a^(2j+1)
+  double sum = 0, sign = 1;
+  for (int j = 0; j < kMaxSeriesTerms; ++j) {
+    const double c = tail * kSeries.oddReciprocal[j];
+    if (!(c * powMax > kSeriesTolerance)) break;
+    sum += sign * c * (pow1 - pow0);
+    sign = -sign;
+    pow0 *= step0;
+    pow1 *= step1;
+    powMax *= stepMax;
+    pmf *= x * kSeries.reciprocal[j + 1];
+    tail -= pmf;
   }
-  return 0.5 * a * sum / kTwoPi;
+  return sum;
 }
 
-// G(h, a) = atan(a)/2π - T(h, a) = (1/2π) ∫_0^atan(a) (1 - e^(-h²/2cos²θ)) dθ, h > 0:
-// the part of an edge's subtended angle that the lobe's mass covers.
-double edgeTerm(double h, double a) { return std::atan(a) / kTwoPi - owenT(h, a); }
+// G(h, a) for 0 < h < 9 and |a| > 1, by Owen's reflection T(h, a) = ½(Q(h) + Q(ah)) -
+// Q(h)·Q(ah) - T(ah, 1/a) and atan(a) = π/2 - atan(1/a), written with tails so that nothing
+// cancels for large h: G(h, a) = 1/4 - ½Q(h) - ½Q(ah) + Q(h)·Q(ah) - G(ah, 1/a). tailH = Q(h).
+double reflectedComplement(double h, double a, double tailH) {
+  const double b = std::fabs(a), hb = h * b;  // hb = inf for a = ±inf: Q = 0, G(inf, 0) = 0
+  const double tailHb = normalTail(hb);
+  const double outer = 0.5 * tailH + 0.5 * tailHb - tailH * tailHb;
+  // Past the cut, G(hb, 1/b) is atan(1/b)/2π: G(h, a) is then written atan(a)/2π - T(h, a)
+  // like the terms of edges past the cut, so that a sum of such terms that should cancel (a
+  // centre far outside a triangle) cancels to rounding of the tiny T, not of 1/4.
+  if (hb >= kNegligibleOwenH) return std::atan(a) / kTwoPi - std::copysign(outer, a);
+  return std::copysign(0.25 - outer - owenTComplement(hb, 1 / b), a);
+}
+
+// One end's G for 0 < h < 9, tailH = Q(h) (only read for |a| > 1).
+double complementBelowCut(double h, double a, double tailH) {
+  if (std::fabs(a) <= 1) return seriesDifference(h, 0, a) / kTwoPi;
+  return reflectedComplement(h, a, tailH);
+}
 
 bool finite(FlatPoint p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 
-// Sum over the edges of a counter-clockwise triangle; `term(h, s, d)` is one edge end's value.
-template <class Term>
-double sumOverEdges(const FlatPoint (&v)[3], Term term) {
-  double sum = 0;
-  for (int e = 0; e < 3; ++e) {
-    const FlatPoint p = v[e], q = v[(e + 1) % 3];
-    double tx = q.x - p.x, ty = q.y - p.y;
-    const double len = std::hypot(tx, ty);
-    if (!(len > 0)) continue;
-    tx /= len;
-    ty /= len;
-    // Outward normal (ty, -tx) of a counter-clockwise triangle: the origin is inside when
-    // every edge has d > 0. An edge through the origin (d = 0) contributes nothing. d is
-    // taken at the end nearer the origin, where its rounding error is smallest (exactly 0
-    // when that end is the origin: a gather point on a corner ray).
-    const FlatPoint near = std::hypot(p.x, p.y) <= std::hypot(q.x, q.y) ? p : q;
-    const double d = near.x * ty - near.y * tx;
-    if (d == 0) continue;
-    const double s0 = p.x * tx + p.y * ty, s1 = q.x * tx + q.y * ty;
-    sum += std::copysign(1.0, d) * (term(std::fabs(d), s1) - term(std::fabs(d), s0));
-  }
-  return sum;
+// An edge seen from the origin: d its signed distance (> 0 on the inner side of a
+// counter-clockwise triangle), s0 and s1 its ends' coordinates along it from the origin's foot.
+struct EdgeFrame {
+  double d, s0, s1;
+};
+
+// False for an edge of zero length.
+bool edgeFrame(FlatPoint p, FlatPoint q, EdgeFrame& e) {
+  double tx = q.x - p.x, ty = q.y - p.y;
+  double len = std::sqrt(tx * tx + ty * ty);
+  // The squares overflow or underflow for corners ~1e154 or ~1e-154 apart; hypot does not,
+  // and costs several times more, so it is asked only there.
+  if (!(len > 1e-150 && len < 1e150)) len = std::hypot(tx, ty);
+  if (!(len > 0)) return false;
+  tx /= len;
+  ty /= len;
+  // d is taken at the end nearer the origin, where its rounding error is smallest (exactly 0
+  // when that end is the origin: a gather point on a corner ray). An edge through the origin
+  // (d = 0) contributes nothing.
+  const double np = p.x * p.x + p.y * p.y, nq = q.x * q.x + q.y * q.y;
+  const bool pNearer = std::isnormal(np) && std::isnormal(nq) ? np <= nq
+                                                              : std::hypot(p.x, p.y) <= std::hypot(q.x, q.y);
+  const FlatPoint near = pNearer ? p : q;
+  e = {near.x * ty - near.y * tx, p.x * tx + p.y * ty, q.x * tx + q.y * ty};
+  return true;
 }
 
 // Orders the corners counter-clockwise; false when they are collinear (zero area).
@@ -98,28 +118,35 @@ double specularMass(FlatPoint a, FlatPoint b, FlatPoint c) {
   if (!counterClockwise(a, b, c, v)) return 0;
   // The σ → 0 limit of G is atan(a)/2π: the winding angle, with 1/2 on an edge and the
   // interior angle / 2π on a corner.
-  const double p = sumOverEdges(v, [](double h, double s) { return std::atan2(s, h) / kTwoPi; });
+  double p = 0;
+  for (int i = 0; i < 3; ++i) {
+    EdgeFrame e;
+    if (!edgeFrame(v[i], v[(i + 1) % 3], e) || e.d == 0) continue;
+    const double h = std::fabs(e.d);
+    p += std::copysign(1.0, e.d) * (std::atan2(e.s1, h) / kTwoPi - std::atan2(e.s0, h) / kTwoPi);
+  }
   return std::clamp(p, 0.0, 1.0);
 }
 }  // namespace
 
 double normalTail(double x) { return 0.5 * std::erfc(x / std::numbers::sqrt2); }
 
-double owenT(double h, double a) {
+double owenTComplement(double h, double a) {
   h = std::fabs(h);
-  if (a < 0) return -owenT(h, -a);
-  if (!(a > 0)) return 0;  // a = 0 (or NaN)
-  if (h == 0) return std::atan(a) / kTwoPi;
-  // 0 <= T(h, a) <= T(h, inf) = Q(h)/2 < 6e-20 past h = 9: far below the 1e-14 promised, and
-  // it skips the quadrature's exp calls, which underflow (glibc's slow errno path) for the
-  // narrow lobes where almost every gather point lies many σ from every edge.
-  if (h >= kNegligibleOwenH) return 0;
-  if (a <= 1) return owenTQuadrature(h, a);
-  // Owen's reflection for a > 1, written with tails so that nothing cancels for large h:
-  // T(h, a) = ½(Q(h) + Q(ah)) - Q(h)·Q(ah) - T(ah, 1/a).
-  const double q1 = normalTail(h), q2 = normalTail(a * h);
-  const double rest = std::isinf(a) ? 0.0 : owenTQuadrature(a * h, 1 / a);
-  return 0.5 * (q1 + q2) - q1 * q2 - rest;
+  if (!(h > 0) || a == 0 || std::isnan(a)) return 0;
+  // T(h, a) <= T(h, inf) = Q(h)/2 < 6e-20 past h = 9: far below the 1e-14 promised.
+  if (h >= kNegligibleOwenH) return std::atan(a) / kTwoPi;
+  return complementBelowCut(h, a, std::fabs(a) > 1 ? normalTail(h) : 0);
+}
+
+double owenTComplementDifference(double h, double a0, double a1) {
+  h = std::fabs(h);
+  if (!(h > 0)) return 0;
+  if (h >= kNegligibleOwenH) return (std::atan(a1) - std::atan(a0)) / kTwoPi;
+  const bool series0 = std::fabs(a0) <= 1, series1 = std::fabs(a1) <= 1;
+  if (series0 && series1) return seriesDifference(h, a0, a1) / kTwoPi;
+  const double tailH = normalTail(h);
+  return complementBelowCut(h, a1, tailH) - complementBelowCut(h, a0, tailH);
 }
 
 double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c) {
@@ -130,22 +157,27 @@ double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double 
   if (!finite(a) || !finite(b) || !finite(c)) return 0;
   FlatPoint v[3];
   if (!counterClockwise(a, b, c, v)) return 0;
-  // A centre at least kNegligibleOwenH from every edge's line gets 1 (inside) or 0 (outside)
-  // to within Q(9) < 1.2e-19, without the six atan calls of the edge terms: the usual case for
-  // narrow lobes. (The triangle lies on the inner side of each edge's line, so a centre that far
-  // beyond one line sees at most the mass of a half-plane that far away.)
+  // A centre at least `reach` from every edge's line gets 1 (inside) or 0 (outside) to within
+  // Q(reach) per edge, without the edge terms: the usual case for narrow lobes. (The triangle
+  // lies on the inner side of each edge's line, so a centre that far beyond one line sees at
+  // most the mass of a half-plane that far away.)
+  EdgeFrame edges[3];
+  bool has[3];
   bool inside = true;
-  for (int e = 0; e < 3; ++e) {
-    const FlatPoint p = v[e], q = v[(e + 1) % 3];
-    const double length = std::sqrt((q.x - p.x) * (q.x - p.x) + (q.y - p.y) * (q.y - p.y));
-    const double d = (p.x * q.y - p.y * q.x) / length;  // > 0 on the inner side
-    if (d <= -reach) return 0;
-    inside = inside && d >= reach;
+  for (int i = 0; i < 3; ++i) {
+    has[i] = edgeFrame(v[i], v[(i + 1) % 3], edges[i]);
+    if (has[i] && edges[i].d <= -reach) return 0;
+    inside = inside && has[i] && edges[i].d >= reach;
   }
   if (inside) return 1;
-  // s/h may overflow to ±inf for an edge passing within 1e-300 of the centre: G(h, ±inf) is
-  // still defined (owenT handles a = inf), and such an edge's term is ~h anyway.
-  const double p = sumOverEdges(v, [](double h, double s) { return edgeTerm(h, s / h); });
+  double p = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (!has[i] || edges[i].d == 0) continue;
+    // s/h may overflow to ±inf for an edge passing within 1e-300 of the centre: G(h, ±inf) is
+    // still defined, and such an edge's term is ~h anyway.
+    const double h = std::fabs(edges[i].d);
+    p += std::copysign(1.0, edges[i].d) * owenTComplementDifference(h, edges[i].s0 / h, edges[i].s1 / h);
+  }
   return std::clamp(p, 0.0, 1.0);
 }
 

@@ -1,10 +1,14 @@
-// The glossy gather's footprint integral (lbt/gaussian_triangle.h): Owen's T against direct
-// quadrature of its angular form, the triangle mass against closed forms (half-plane, wedge,
-// full plane), against Monte Carlo within 4 standard errors, and at its stiff cases (origin on
+// The glossy gather's footprint integral (lbt/gaussian_triangle.h): G = atan/2π - Owen's T
+// against adaptive quadrature of its angular form, the triangle mass against closed forms
+// (half-plane, wedge, full plane), against Monte Carlo within 4 standard errors, and at its stiff cases (origin on
 // a corner or an edge, collinear and inverted corners, huge and tiny scales, σ → 0).
 #include <gtest/gtest.h>
+#include <array>
 #include <cmath>
+#include <iterator>
 #include <numbers>
+#include <utility>
+#include <vector>
 #include "core/rng.h"
 #include "lbt/gaussian_triangle.h"
 
@@ -12,38 +16,104 @@ namespace rayes {
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-// T(h, a) = (1/2π) ∫_0^atan(a) exp(-h² / 2cos²θ) dθ: a bounded integrand on a finite range,
-// integrated by composite Simpson in long double. Independent of the implementation, which
-// uses the x-form, Gauss-Legendre and Owen's reflection.
-double owenTReference(double h, double a) {
-  const long double top = std::atan((long double)a);
-  const int n = 20000;
-  const long double step = top / n;
-  long double sum = 0;
-  for (int i = 0; i <= n; ++i) {
-    const long double th = step * i, c = std::cos(th);
-    const long double f = std::exp(-(long double)h * h / (2 * c * c));
-    sum += f * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
+// G(h, a) = atan(a)/2π - T(h, a) = (1/2π) ∫_0^atan(a) (1 - e^(-h²/2cos²θ)) dθ: a bounded
+// integrand on a finite range, integrated by adaptive Simpson in long double to 1e-17 (it
+// resolves the near-step at θ ≈ π/2 - h that a tiny h and a huge a give). Independent of the
+// implementation, which uses Owen's series in the x-form and Owen's reflection.
+long double simpson(long double h2, long double lo, long double hi, long double flo, long double fmid,
+                    long double fhi, long double whole, long double tolerance, int depth) {
+  auto f = [h2](long double th) {
+    const long double c = std::cos(th);
+    return -std::expm1(-h2 / (2 * c * c));
+  };
+  const long double mid = (lo + hi) / 2, left = f((lo + mid) / 2), right = f((mid + hi) / 2);
+  const long double l = (mid - lo) / 6 * (flo + 4 * left + fmid), r = (hi - mid) / 6 * (fmid + 4 * right + fhi);
+  if (depth == 0 || std::fabs(l + r - whole) <= 15 * tolerance) return l + r + (l + r - whole) / 15;
+  return simpson(h2, lo, mid, flo, left, fmid, l, tolerance / 2, depth - 1) +
+         simpson(h2, mid, hi, fmid, right, fhi, r, tolerance / 2, depth - 1);
+}
+
+double owenTComplementReference(double h, double a) {
+  const long double top = std::atan((long double)a), h2 = (long double)h * h;
+  auto f = [h2](long double th) {
+    const long double c = std::cos(th);
+    return -std::expm1(-h2 / (2 * c * c));
+  };
+  const long double flo = f(0), fmid = f(top / 2), fhi = f(top);
+  const long double whole = top / 6 * (flo + 4 * fmid + fhi);
+  return double(simpson(h2, 0, top, flo, fmid, fhi, whole, 1e-17L, 60) / (2 * std::numbers::pi_v<long double>));
+}
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The grid covers every branch and edge: h = 0, tiny, ordinary, near and past the 9 cut;
+// a = 0, tiny, inside (0, 1), 1 and just past it, large, huge and infinite; both signs of both.
+const double kGridH[] = {0.0, 1e-300, 1e-8, 0.01, 0.1, 0.5, 1.0, 2.0, 3.5, 5.0, 6.5, 8.5, 8.999, 9.0, 12.0};
+const double kGridA[] = {0.0, 1e-12, 0.01, 0.3, 0.7, 0.999, 1.0, 1.001, 2.5, 10.0, 300.0, 1e8, kInf};
+
+// The references on the grid, computed once for the tests below (the quadrature is slow).
+constexpr int kGridHCount = std::size(kGridH), kGridACount = std::size(kGridA);
+const std::array<std::array<double, kGridACount>, kGridHCount>& gridReferences() {
+  static const auto table = [] {
+    std::array<std::array<double, kGridACount>, kGridHCount> t{};
+    for (int i = 0; i < kGridHCount; ++i)
+      for (int j = 0; j < kGridACount; ++j) t[i][j] = owenTComplementReference(kGridH[i], kGridA[j]);
+    return t;
+  }();
+  return table;
+}
+
+TEST(OwenTComplement, AgreesWithAdaptiveQuadratureOfItsAngularForm) {
+  for (int i = 0; i < kGridHCount; ++i)
+    for (int j = 0; j < kGridACount; ++j) {
+      const double h = kGridH[i], a = kGridA[j], ref = gridReferences()[i][j];
+      EXPECT_NEAR(owenTComplement(h, a), ref, 1e-14) << "h=" << h << " a=" << a;
+      EXPECT_NEAR(owenTComplement(-h, -a), -ref, 1e-14) << "h=" << -h << " a=" << -a;
+    }
+}
+
+// The edge term shares the series' coefficients between both ends: each pair of grid ends, in
+// both orders and of either sign, against the difference of the references (each end's
+// error is at most 1e-14).
+TEST(OwenTComplement, DifferenceOfBothEndsAgreesWithTheReference) {
+  for (int i = 0; i < kGridHCount; ++i) {
+    const double h = kGridH[i];
+    std::vector<std::pair<double, double>> ends;  // (a, reference G)
+    for (int j = 0; j < kGridACount; ++j) {
+      ends.push_back({kGridA[j], gridReferences()[i][j]});
+      ends.push_back({-kGridA[j], -gridReferences()[i][j]});
+    }
+    for (const auto& [a0, g0] : ends)
+      for (const auto& [a1, g1] : ends)
+        EXPECT_NEAR(owenTComplementDifference(h, a0, a1), g1 - g0, 2e-14) << "h=" << h << " a0=" << a0 << " a1=" << a1;
   }
-  return double(sum * step / 3 / (2 * std::numbers::pi_v<long double>));
 }
 
-TEST(OwenT, AgreesWithDirectQuadratureOfItsAngularForm) {
-  for (double h : {0.0, 0.1, 0.5, 1.0, 2.0, 3.5, 6.0})
-    for (double a : {0.01, 0.3, 0.999, 1.0, 1.001, 2.5, 10.0, 300.0})
-      EXPECT_NEAR(owenT(h, a), owenTReference(h, a), 1e-13) << "h=" << h << " a=" << a;
-}
-
-TEST(OwenT, ClosedFormsAndSymmetries) {
-  for (double a : {0.2, 1.0, 7.0}) EXPECT_NEAR(owenT(0, a), std::atan(a) / (2 * kPi), 1e-15);
-  for (double h : {0.3, 1.0, 2.0}) {
+TEST(OwenTComplement, ClosedFormsAndSymmetries) {
+  for (double a : {0.2, 1.0, 7.0, kInf}) EXPECT_EQ(owenTComplement(0, a), 0.0);
+  for (double h : {0.3, 1.0, 2.0, 4.0, 8.0}) {
     const double q = normalTail(h);
-    EXPECT_NEAR(owenT(h, 1), 0.5 * q * (1 - q), 1e-15);                       // T(h, 1)
-    EXPECT_NEAR(owenT(h, std::numeric_limits<double>::infinity()), 0.5 * q, 1e-15);  // T(h, inf)
-    EXPECT_EQ(owenT(h, -0.7), -owenT(h, 0.7));
-    EXPECT_EQ(owenT(-h, 0.7), owenT(h, 0.7));
+    EXPECT_NEAR(owenTComplement(h, 1), 0.125 - 0.5 * q * (1 - q), 1e-15);  // T(h, 1) = Q(1-Q)/2
+    EXPECT_NEAR(owenTComplement(h, kInf), 0.25 - 0.5 * q, 1e-15);          // T(h, inf) = Q/2
+    EXPECT_EQ(owenTComplement(h, -0.7), -owenTComplement(h, 0.7));
+    EXPECT_EQ(owenTComplement(h, -3.0), -owenTComplement(h, 3.0));
+    EXPECT_EQ(owenTComplement(-h, 0.7), owenTComplement(h, 0.7));
+    EXPECT_EQ(owenTComplement(h, 0), 0.0);
+    EXPECT_EQ(owenTComplementDifference(h, 0.4, 0.4), 0.0);
+    EXPECT_EQ(owenTComplementDifference(h, 0.4, -0.2), -owenTComplementDifference(h, -0.2, 0.4));
   }
-  EXPECT_EQ(owenT(1, 0), 0);
+}
+
+// Past h = 9, G is atan(a)/2π (T < Q(9)/2 < 6e-20 is dropped); just below it differs from that
+// by T alone, at most Q(h)/2, plus rounding: no jump larger than that bound at the cut.
+TEST(OwenTComplement, IsTheWholeAngleFarFromTheCentreWithinItsBound) {
+  for (double a : {0.3, 1.0, 40.0, kInf}) {
+    const double angle = std::atan(a) / (2 * kPi);
+    EXPECT_NEAR(owenTComplement(8.999, a), angle, 0.5 * normalTail(8.999) + 1e-16) << a;
+    EXPECT_EQ(owenTComplement(9.0, a), angle);
+    EXPECT_EQ(owenTComplement(1e6, a), angle);
+    EXPECT_EQ(owenTComplementDifference(9.0, -a, a), 2 * angle);
+  }
 }
 
 // At 9σ from every edge P is 0 or 1 to within the mass of a half-plane 9σ away, Q(9).
@@ -53,18 +123,6 @@ TEST(GaussianTriangle, FarFromEveryEdgeIsZeroOrOneWithinTheTail) {
   EXPECT_NEAR(gaussianTriangleMass({a.x, -8.99}, {b.x, -8.99}, c), 1 - normalTail(8.99), 1e-15);  // an edge closer
   EXPECT_EQ(gaussianTriangleMass({30, 30}, {40, 30}, {35, 40}), 0.0);
   EXPECT_LE(gaussianTriangleMass({-50, 8.99}, {50, 8.99}, {0, 50}), normalTail(8.99) * (1 + 1e-9));
-}
-
-// Far from the centre T is below Q(h)/2 (< 6e-20 at h = 9), and is returned as 0 there: no jump
-// larger than that bound at the cut, nothing negative, nothing that is not finite.
-TEST(OwenT, VanishesFarFromTheCentreWithinItsBound) {
-  for (double a : {0.3, 1.0, 40.0, std::numeric_limits<double>::infinity()}) {
-    const double below = owenT(8.999, a);
-    EXPECT_GE(below, 0.0);
-    EXPECT_LE(below, 0.5 * normalTail(8.999) * (1 + 1e-9)) << a;
-    EXPECT_EQ(owenT(9.0, a), 0.0);
-    EXPECT_EQ(owenT(1e6, a), 0.0);
-  }
 }
 
 TEST(GaussianTriangle, HalfPlaneIsTheNormalTail) {
