@@ -1,5 +1,6 @@
 #include "lbt/beam_store.h"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <tbb/blocked_range.h>
@@ -33,33 +34,44 @@ int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
 }
 int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
 
-// The box of the part of a segment between fractions u0 < u1 of its corner rays' lengths: the
-// cross-sections are linear in u, so the six corner points bound it; glossy: grown by 5σ of
-// angle at the far end (as beamBounds).
-Box3 pieceBounds(const BeamSegment& s, float u0, float u1) {
-  Box3 box;
-  float far = 0;
-  for (int i = 0; i < 3; ++i) {
-    box.extend(s.o[i] + s.d[i] * (s.t[i] * u0));
-    box.extend(s.o[i] + s.d[i] * (s.t[i] * u1));
-    far = std::max(far, s.t[i] * u1);
+// The boxes of a segment's kPieces lengthwise pieces: piece k spans fractions k/kPieces to
+// (k+1)/kPieces of its corner rays' lengths, the last reaching past the ends by the gather's cap
+// slack. The cross-sections are linear in u, so a piece's six corner points bound it; glossy:
+// grown by 5σ of angle at its far end (as beamBounds). Each cross-section and the lobe's tan
+// are computed once for all pieces (the gather's reach test asks for them per segment).
+std::array<Box3, BeamStore::kPieces> pieceBoxes(const BeamSegment& s) {
+  constexpr int n = BeamStore::kPieces;
+  Vec3 section[n + 1][3];
+  float far[n + 1];
+  for (int k = 0; k <= n; ++k) {
+    const float u = k == n ? 1 + kCapSlack : float(k) / n;
+    far[k] = 0;
+    for (int i = 0; i < 3; ++i) {
+      section[k][i] = s.o[i] + s.d[i] * (s.t[i] * u);
+      far[k] = std::max(far[k], s.t[i] * u);
+    }
   }
-  if (s.sigma > 0) {
-    const float pad = far * std::tan(std::min(5.0f * s.sigma, 1.3f));
-    box.lo -= Vec3{pad, pad, pad};
-    box.hi += Vec3{pad, pad, pad};
+  const float spread = s.sigma > 0 ? std::tan(std::min(5.0f * s.sigma, 1.3f)) : 0;
+  std::array<Box3, n> boxes;
+  for (int k = 0; k < n; ++k) {
+    Box3& box = boxes[k];
+    for (int i = 0; i < 3; ++i) {
+      box.extend(section[k][i]);
+      box.extend(section[k + 1][i]);
+    }
+    if (s.sigma > 0) {
+      const float pad = far[k + 1] * spread;
+      box.lo -= Vec3{pad, pad, pad};
+      box.hi += Vec3{pad, pad, pad};
+    }
   }
-  return box;
-}
-// Piece k of kPieces; the last reaches past the ends by the gather's cap slack.
-Box3 piece(const BeamSegment& s, int k) {
-  return pieceBounds(s, float(k) / BeamStore::kPieces, k + 1 == BeamStore::kPieces ? 1 + kCapSlack : float(k + 1) / BeamStore::kPieces);
+  return boxes;
 }
 }  // namespace
 
 bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
-  for (int k = 0; k < kPieces; ++k)
-    if (piece(s, k).contains(x)) return true;
+  for (const Box3& box : pieceBoxes(s))
+    if (box.contains(x)) return true;
   return false;
 }
 
@@ -106,11 +118,12 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const BeamSegment& seg = segments_[i];
       std::vector<uint64_t>& out = cellsOf[i];
+      const std::array<Box3, kPieces> boxes = pieceBoxes(seg);
       for (uint32_t l : hits[i]) {
         const LeafGrid& g = grids_[l];
         if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
         for (int k = 0; k < kPieces; ++k) {
-          Box3 part = piece(seg, k);
+          Box3 part = boxes[k];
           part.lo = vmax(part.lo, g.box.lo);
           part.hi = vmin(part.hi, g.box.hi);
           if (part.empty()) continue;
