@@ -36,7 +36,8 @@ constexpr SeriesTables kSeries;
 // is carried by subtraction: its absolute error stays near 1e-16·x).
 double seriesDifference(double h, double a0, double a1) {
   const double x = 0.5 * h * h;
-  double pmf = std::exp(-x), tail = -std::expm1(-x);  // P(N = j), P(N > j)
+  // P(N = j) and P(N > j); 1 - e^(-x) loses relative accuracy for tiny x, not absolute.
+  double pmf = std::exp(-x), tail = 1 - pmf;
   const double step0 = a0 * a0, step1 = a1 * a1, stepMax = std::max(step0, step1);
   double pow0 = a0, pow1 = a1, powMax = std::max(std::fabs(a0), std::fabs(a1));  // a^(2j+1)
   double sum = 0, sign = 1;
