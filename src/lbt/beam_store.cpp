@@ -34,45 +34,41 @@ int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
 }
 int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
 
-// The boxes of a segment's kPieces lengthwise pieces: piece k spans fractions k/kPieces to
-// (k+1)/kPieces of its corner rays' lengths, the last reaching past the ends by the gather's cap
-// slack. The cross-sections are linear in u, so a piece's six corner points bound it; glossy:
-// grown by 5σ of angle at its far end (as beamBounds). Each cross-section and the lobe's tan
-// are computed once for all pieces (the gather's reach test asks for them per segment).
-std::array<Box3, BeamStore::kPieces> pieceBoxes(const BeamSegment& s) {
+// The boxes of a segment's kPieces lengthwise pieces, in order, to visit(box) until it
+// returns true (then true): piece k spans fractions k/kPieces to (k+1)/kPieces of its corner
+// rays' lengths, the last reaching past the ends by the gather's cap slack. The cross-sections
+// are linear in u, so a piece's six corner points bound it; glossy: grown by 5σ of angle at its
+// far end (as beamBounds). Each cross-section and the lobe's tan are computed once (the
+// gather's reach test asks for them per segment and stops at the first box holding x).
+template <class Visit>
+bool visitPieceBoxes(const BeamSegment& s, Visit&& visit) {
   constexpr int n = BeamStore::kPieces;
-  Vec3 section[n + 1][3];
-  float far[n + 1];
-  for (int k = 0; k <= n; ++k) {
-    const float u = k == n ? 1 + kCapSlack : float(k) / n;
-    far[k] = 0;
-    for (int i = 0; i < 3; ++i) {
-      section[k][i] = s.o[i] + s.d[i] * (s.t[i] * u);
-      far[k] = std::max(far[k], s.t[i] * u);
-    }
-  }
   const float spread = s.sigma > 0 ? std::tan(std::min(5.0f * s.sigma, 1.3f)) : 0;
-  std::array<Box3, n> boxes;
+  Vec3 section[3];
+  for (int i = 0; i < 3; ++i) section[i] = s.o[i] + s.d[i] * (s.t[i] * 0.0f);
   for (int k = 0; k < n; ++k) {
-    Box3& box = boxes[k];
+    const float u = k + 1 == n ? 1 + kCapSlack : float(k + 1) / n;
+    Box3 box;
+    float far = 0;
     for (int i = 0; i < 3; ++i) {
-      box.extend(section[k][i]);
-      box.extend(section[k + 1][i]);
+      box.extend(section[i]);
+      section[i] = s.o[i] + s.d[i] * (s.t[i] * u);
+      box.extend(section[i]);
+      far = std::max(far, s.t[i] * u);
     }
     if (s.sigma > 0) {
-      const float pad = far[k + 1] * spread;
+      const float pad = far * spread;
       box.lo -= Vec3{pad, pad, pad};
       box.hi += Vec3{pad, pad, pad};
     }
+    if (visit(box)) return true;
   }
-  return boxes;
+  return false;
 }
 }  // namespace
 
 bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
-  for (const Box3& box : pieceBoxes(s))
-    if (box.contains(x)) return true;
-  return false;
+  return visitPieceBoxes(s, [x](const Box3& box) { return box.contains(x); });
 }
 
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
@@ -118,7 +114,12 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const BeamSegment& seg = segments_[i];
       std::vector<uint64_t>& out = cellsOf[i];
-      const std::array<Box3, kPieces> boxes = pieceBoxes(seg);
+      std::array<Box3, kPieces> boxes;
+      int count = 0;
+      visitPieceBoxes(seg, [&](const Box3& box) {
+        boxes[count++] = box;
+        return false;
+      });
       for (uint32_t l : hits[i]) {
         const LeafGrid& g = grids_[l];
         if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
