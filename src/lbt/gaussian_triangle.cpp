@@ -60,7 +60,8 @@ double seriesDifference(double h, double a0, double a1) {
 // cancels for large h: G(h, a) = 1/4 - ½Q(h) - ½Q(ah) + Q(h)·Q(ah) - G(ah, 1/a). tailH = Q(h).
 double reflectedComplement(double h, double a, double tailH) {
   const double b = std::fabs(a), hb = h * b;  // hb = inf for a = ±inf: Q = 0, G(inf, 0) = 0
-  const double tailHb = normalTail(hb);
+  // Q(hb) < Q(9)/2 < 6e-20 past the cut: below what G promises, and an erfc saved.
+  const double tailHb = hb < kNegligibleOwenH ? normalTail(hb) : 0;
   const double outer = 0.5 * tailH + 0.5 * tailHb - tailH * tailHb;
   // Past the cut, G(hb, 1/b) is atan(1/b)/2π: G(h, a) is then written atan(a)/2π - T(h, a)
   // like the terms of edges past the cut, so that a sum of such terms that should cancel (a
