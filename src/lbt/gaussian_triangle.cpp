@@ -55,25 +55,26 @@ double seriesDifference(double h, double a0, double a1) {
   return sum;
 }
 
-// G(h, a) for 0 < h < 9 and |a| > 1, by Owen's reflection T(h, a) = ½(Q(h) + Q(ah)) -
+// G(h, a) for 0 < h < cut <= 9 and |a| > 1, by Owen's reflection T(h, a) = ½(Q(h) + Q(ah)) -
 // Q(h)·Q(ah) - T(ah, 1/a) and atan(a) = π/2 - atan(1/a), written with tails so that nothing
 // cancels for large h: G(h, a) = 1/4 - ½Q(h) - ½Q(ah) + Q(h)·Q(ah) - G(ah, 1/a). tailH = Q(h).
-double reflectedComplement(double h, double a, double tailH) {
-  const double b = std::fabs(a), hb = h * b;  // hb = inf for a = ±inf: Q = 0, G(inf, 0) = 0
-  // Q(hb) < Q(9)/2 < 6e-20 past the cut: below what G promises, and an erfc saved.
-  const double tailHb = hb < kNegligibleOwenH ? normalTail(hb) : 0;
+// Past the cut (|a|h >= cut) Q(|a|h) and T(|a|h, 1/|a|) are dropped: that changes G by
+// -Q(|a|h)·(½ - Q(h)) + T(|a|h, 1/|a|), both parts in [0, ½Q(|a|h)], so at most ½Q(cut).
+double reflectedComplement(double h, double a, double tailH, double cut) {
+  const double b = std::fabs(a), hb = h * b;  // hb = inf for a = ±inf
+  // Written atan(a)/2π - T(h, a) like the terms of edges past the cut, so that a sum of such
+  // terms that should cancel (a centre far outside a triangle) cancels to rounding of the
+  // tiny T, not of 1/4.
+  if (hb >= cut) return std::atan(a) / kTwoPi - std::copysign(0.5 * tailH, a);
+  const double tailHb = normalTail(hb);
   const double outer = 0.5 * tailH + 0.5 * tailHb - tailH * tailHb;
-  // Past the cut, G(hb, 1/b) is atan(1/b)/2π: G(h, a) is then written atan(a)/2π - T(h, a)
-  // like the terms of edges past the cut, so that a sum of such terms that should cancel (a
-  // centre far outside a triangle) cancels to rounding of the tiny T, not of 1/4.
-  if (hb >= kNegligibleOwenH) return std::atan(a) / kTwoPi - std::copysign(outer, a);
-  return std::copysign(0.25 - outer - owenTComplement(hb, 1 / b), a);
+  return std::copysign(0.25 - outer - seriesDifference(hb, 0, 1 / b) / kTwoPi, a);
 }
 
-// One end's G for 0 < h < 9, tailH = Q(h) (only read for |a| > 1).
-double complementBelowCut(double h, double a, double tailH) {
+// One end's G for 0 < h < cut <= 9, tailH = Q(h) (only read for |a| > 1).
+double complementBelowCut(double h, double a, double tailH, double cut) {
   if (std::fabs(a) <= 1) return seriesDifference(h, 0, a) / kTwoPi;
-  return reflectedComplement(h, a, tailH);
+  return reflectedComplement(h, a, tailH, cut);
 }
 
 bool finite(FlatPoint p) { return std::isfinite(p.x) && std::isfinite(p.y); }
@@ -138,17 +139,19 @@ double owenTComplement(double h, double a) {
   if (!(h > 0) || a == 0 || std::isnan(a)) return 0;
   // T(h, a) <= T(h, inf) = Q(h)/2 < 6e-20 past h = 9: far below the 1e-14 promised.
   if (h >= kNegligibleOwenH) return std::atan(a) / kTwoPi;
-  return complementBelowCut(h, a, std::fabs(a) > 1 ? normalTail(h) : 0);
+  return complementBelowCut(h, a, std::fabs(a) > 1 ? normalTail(h) : 0, kNegligibleOwenH);
 }
 
-double owenTComplementDifference(double h, double a0, double a1) {
+double owenTComplementDifference(double h, double a0, double a1, double cut) {
   h = std::fabs(h);
+  cut = std::min(cut, kNegligibleOwenH);
   if (!(h > 0)) return 0;
-  if (h >= kNegligibleOwenH) return (std::atan(a1) - std::atan(a0)) / kTwoPi;
+  // T(h, a1) - T(h, a0) is dropped: T is odd and monotone in a and below Q(h)/2.
+  if (h >= cut) return (std::atan(a1) - std::atan(a0)) / kTwoPi;
   const bool series0 = std::fabs(a0) <= 1, series1 = std::fabs(a1) <= 1;
   if (series0 && series1) return seriesDifference(h, a0, a1) / kTwoPi;
   const double tailH = normalTail(h);
-  return complementBelowCut(h, a1, tailH) - complementBelowCut(h, a0, tailH);
+  return complementBelowCut(h, a1, tailH, cut) - complementBelowCut(h, a0, tailH, cut);
 }
 
 double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c) {
@@ -162,7 +165,8 @@ double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double 
   // A centre at least `reach` from every edge's line gets 1 (inside) or 0 (outside) to within
   // Q(reach) per edge, without the edge terms: the usual case for narrow lobes. (The triangle
   // lies on the inner side of each edge's line, so a centre that far beyond one line sees at
-  // most the mass of a half-plane that far away.)
+  // most the mass of a half-plane that far away.) Otherwise each edge's term is cut at the
+  // same reach, again to within Q(reach) per edge (owenTComplementDifference).
   EdgeFrame edges[3];
   bool has[3];
   bool inside = true;
@@ -178,7 +182,7 @@ double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double 
     // s/h may overflow to ±inf for an edge passing within 1e-300 of the centre: G(h, ±inf) is
     // still defined, and such an edge's term is ~h anyway.
     const double h = std::fabs(edges[i].d);
-    p += std::copysign(1.0, edges[i].d) * owenTComplementDifference(h, edges[i].s0 / h, edges[i].s1 / h);
+    p += std::copysign(1.0, edges[i].d) * owenTComplementDifference(h, edges[i].s0 / h, edges[i].s1 / h, reach);
   }
   return std::clamp(p, 0.0, 1.0);
 }

@@ -39,7 +39,11 @@ struct FlatPoint {
 double owenTComplement(double h, double a);
 
 // G(h, a1) - G(h, a0): one edge's term, with the work that depends on h alone done once.
-double owenTComplementDifference(double h, double a0, double a1);
+// `cut` (at most 9, the default) drops what lies that far from the centre: for |h| >= cut the
+// term is the angle (atan(a1) - atan(a0))/2π, and an end with |a·h| >= cut loses the parts
+// of Owen's reflection at |a|h. Either changes the term by at most Q(cut) (T is odd and
+// monotone in a and below Q/2; each end's dropped parts lie within ½Q(|a|h)).
+double owenTComplementDifference(double h, double a0, double a1, double cut = 9);
 
 // The standard normal upper tail Q(x) = ½·erfc(x/√2): the mass of the half-plane at signed
 // distance x from the lobe's centre.
@@ -49,8 +53,9 @@ double normalTail(double x);
 double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c);
 
 // The same with the lobe cut at `reach` (σ = 1): a centre at least `reach` from every edge's
-// line gets 1 (inside) or 0 (outside) without the edge integrals; the error is at most
-// 3·Q(reach) (Q(5) = 2.9e-7). reach ≥ 9 is gaussianTriangleMass.
+// line gets 1 (inside) or 0 (outside) without the edge integrals, and otherwise each edge's
+// term is cut at `reach` (owenTComplementDifference); the error is at most 3·Q(reach)
+// (Q(5) = 2.9e-7). reach ≥ 9 is gaussianTriangleMass.
 double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double reach);
 
 // P for a lobe of width sigma > 0: P(φ, σ) = P(φ/σ, 1), cut at reach·σ as above (the default:

@@ -89,6 +89,25 @@ TEST(OwenTComplement, DifferenceOfBothEndsAgreesWithTheReference) {
   }
 }
 
+// Cut at c, an edge's term drops T beyond c: it moves by at most Q(c) from the reference, and
+// not at all where the edge and both ends' reflections lie within c.
+TEST(OwenTComplement, CutDropsAtMostTheTailBeyondIt) {
+  for (double cut : {2.0, 5.0})
+    for (int i = 0; i < kGridHCount; ++i) {
+      const double h = kGridH[i];
+      for (int j0 = 0; j0 < kGridACount; ++j0)
+        for (int j1 = 0; j1 < kGridACount; ++j1) {
+          const double a0 = -kGridA[j0], a1 = kGridA[j1];
+          const double exact = gridReferences()[i][j1] + gridReferences()[i][j0];
+          const double cutTerm = owenTComplementDifference(h, a0, a1, cut);
+          EXPECT_NEAR(cutTerm, exact, normalTail(cut) + 2e-14) << "cut=" << cut << " h=" << h << " a0=" << a0 << " a1=" << a1;
+          if (h < cut && std::fabs(a0 * h) < cut && std::fabs(a1 * h) < cut) {
+            EXPECT_EQ(cutTerm, owenTComplementDifference(h, a0, a1));
+          }
+        }
+    }
+}
+
 TEST(OwenTComplement, ClosedFormsAndSymmetries) {
   for (double a : {0.2, 1.0, 7.0, kInf}) EXPECT_EQ(owenTComplement(0, a), 0.0);
   for (double h : {0.3, 1.0, 2.0, 4.0, 8.0}) {
@@ -123,6 +142,21 @@ TEST(GaussianTriangle, FarFromEveryEdgeIsZeroOrOneWithinTheTail) {
   EXPECT_NEAR(gaussianTriangleMass({a.x, -8.99}, {b.x, -8.99}, c), 1 - normalTail(8.99), 1e-15);  // an edge closer
   EXPECT_EQ(gaussianTriangleMass({30, 30}, {40, 30}, {35, 40}), 0.0);
   EXPECT_LE(gaussianTriangleMass({-50, 8.99}, {50, 8.99}, {0, 50}), normalTail(8.99) * (1 + 1e-9));
+}
+
+// Cut at `reach`, P loses at most the lobe's mass beyond reach of each edge: 3·Q(reach).
+TEST(GaussianTriangle, CutAtTheReachLosesAtMostThreeTails) {
+  for (double reach : {1.5, 5.0})
+    for (uint32_t i = 0; i < 2000; ++i) {
+      FlatPoint v[3];
+      for (uint32_t k = 0; k < 3; ++k) {
+        const RngKey key{i, k, 0, 91};
+        v[k] = {12 * sampleUniform(key, 0) - 6, 12 * sampleUniform(key, 1) - 6};
+      }
+      const double exact = gaussianTriangleMass(v[0], v[1], v[2]);
+      EXPECT_NEAR(gaussianTriangleMassWithin(v[0], v[1], v[2], reach), exact, 3 * normalTail(reach) + 1e-13)
+          << "reach " << reach << " triangle " << i;
+    }
 }
 
 TEST(GaussianTriangle, HalfPlaneIsTheNormalTail) {
