@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -65,6 +67,41 @@ bool visitPieceBoxes(const BeamSegment& s, Visit&& visit) {
   }
   return false;
 }
+
+// Appends the cells of leaf grid g that the piece boxes reach (each clipped to the leaf's box),
+// in increasing order and once each: row by row, the union of the pieces' x ranges in that row
+// (adjacent pieces overlap, so collecting every piece's cells and sorting them cost more).
+void appendCells(const BeamStore::LeafGrid& g, const std::array<Box3, BeamStore::kPieces>& boxes,
+                 std::vector<uint64_t>& out) {
+  int lo[BeamStore::kPieces][3], hi[BeamStore::kPieces][3], m = 0;
+  for (const Box3& box : boxes) {
+    Box3 part = box;
+    part.lo = vmax(part.lo, g.box.lo);
+    part.hi = vmin(part.hi, g.box.hi);
+    if (part.empty()) continue;
+    for (int a = 0; a < 3; ++a) lo[m][a] = safeCell(g, a, part.lo[a]), hi[m][a] = safeCell(g, a, part.hi[a]);
+    ++m;
+  }
+  if (m == 0) return;
+  int first[3] = {lo[0][0], lo[0][1], lo[0][2]}, last[3] = {hi[0][0], hi[0][1], hi[0][2]};
+  for (int p = 1; p < m; ++p)
+    for (int a = 1; a < 3; ++a) first[a] = std::min(first[a], lo[p][a]), last[a] = std::max(last[a], hi[p][a]);
+  for (int z = first[2]; z <= last[2]; ++z)
+    for (int y = first[1]; y <= last[1]; ++y) {
+      std::pair<int, int> runs[BeamStore::kPieces];
+      int n = 0;
+      for (int p = 0; p < m; ++p)
+        if (lo[p][2] <= z && z <= hi[p][2] && lo[p][1] <= y && y <= hi[p][1]) runs[n++] = {lo[p][0], hi[p][0]};
+      for (int r = 1; r < n; ++r)  // insertion sort: at most kPieces runs
+        for (int q = r; q > 0 && runs[q] < runs[q - 1]; --q) std::swap(runs[q], runs[q - 1]);
+      const uint64_t row = g.first + (uint64_t(z) * g.n[1] + y) * g.n[0];
+      int next = 0;  // the first x not yet appended in this row
+      for (int r = 0; r < n; ++r) {
+        for (int x = std::max(runs[r].first, next); x <= runs[r].second; ++x) out.push_back(row + x);
+        next = std::max(next, runs[r].second + 1);
+      }
+    }
+}
 }  // namespace
 
 bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
@@ -120,23 +157,15 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
         boxes[count++] = box;
         return false;
       });
-      for (uint32_t l : hits[i]) {
+      // Leaves in increasing order: their cells are increasing blocks.
+      std::vector<uint32_t>& leavesHit = hits[i];
+      std::sort(leavesHit.begin(), leavesHit.end());
+      leavesHit.erase(std::unique(leavesHit.begin(), leavesHit.end()), leavesHit.end());
+      for (uint32_t l : leavesHit) {
         const LeafGrid& g = grids_[l];
         if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
-        for (int k = 0; k < kPieces; ++k) {
-          Box3 part = boxes[k];
-          part.lo = vmax(part.lo, g.box.lo);
-          part.hi = vmin(part.hi, g.box.hi);
-          if (part.empty()) continue;
-          int lo[3], hi[3];
-          for (int a = 0; a < 3; ++a) lo[a] = safeCell(g, a, part.lo[a]), hi[a] = safeCell(g, a, part.hi[a]);
-          for (int z = lo[2]; z <= hi[2]; ++z)
-            for (int y = lo[1]; y <= hi[1]; ++y)
-              for (int x = lo[0]; x <= hi[0]; ++x) out.push_back(g.first + (uint64_t(z) * g.n[1] + y) * g.n[0] + x);
-        }
+        appendCells(g, boxes, out);
       }
-      std::sort(out.begin(), out.end());
-      out.erase(std::unique(out.begin(), out.end()), out.end());
     }
   });
   auto forCells = [&](uint32_t i, auto&& visit) {
