@@ -36,36 +36,29 @@ int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
 }
 int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
 
-// The boxes of a segment's kPieces lengthwise pieces, in order, to visit(box) until it
-// returns true (then true): piece k spans fractions k/kPieces to (k+1)/kPieces of its corner
-// rays' lengths, the last reaching past the ends by the gather's cap slack. The cross-sections
-// are linear in u, so a piece's six corner points bound it; glossy: grown by 5σ of angle at its
-// far end (as beamBounds). Each cross-section and the lobe's tan are computed once (the
-// gather's reach test asks for them per segment and stops at the first box holding x).
-template <class Visit>
-bool visitPieceBoxes(const BeamSegment& s, Visit&& visit) {
+// The lobe's growth per unit length of a segment's pieces: tan of 5σ (0 for specular).
+float lobeSpread(const BeamSegment& s) { return s.sigma > 0 ? std::tan(std::min(5.0f * s.sigma, 1.3f)) : 0; }
+
+// The box of piece k of a segment's kPieces lengthwise pieces: fractions k/kPieces to
+// (k+1)/kPieces of its corner rays' lengths, the last reaching past the ends by the gather's
+// cap slack. The cross-sections are linear in u, so the six corner points bound it; glossy:
+// grown by 5σ of angle at its far end (spread = lobeSpread(s), as beamBounds).
+Box3 pieceBox(const BeamSegment& s, int k, float spread) {
   constexpr int n = BeamStore::kPieces;
-  const float spread = s.sigma > 0 ? std::tan(std::min(5.0f * s.sigma, 1.3f)) : 0;
-  Vec3 section[3];
-  for (int i = 0; i < 3; ++i) section[i] = s.o[i] + s.d[i] * (s.t[i] * 0.0f);
-  for (int k = 0; k < n; ++k) {
-    const float u = k + 1 == n ? 1 + kCapSlack : float(k + 1) / n;
-    Box3 box;
-    float far = 0;
-    for (int i = 0; i < 3; ++i) {
-      box.extend(section[i]);
-      section[i] = s.o[i] + s.d[i] * (s.t[i] * u);
-      box.extend(section[i]);
-      far = std::max(far, s.t[i] * u);
-    }
-    if (s.sigma > 0) {
-      const float pad = far * spread;
-      box.lo -= Vec3{pad, pad, pad};
-      box.hi += Vec3{pad, pad, pad};
-    }
-    if (visit(box)) return true;
+  const float u0 = float(k) / n, u1 = k + 1 == n ? 1 + kCapSlack : float(k + 1) / n;
+  Box3 box;
+  float far = 0;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u0));
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u1));
+    far = std::max(far, s.t[i] * u1);
   }
-  return false;
+  if (s.sigma > 0) {
+    const float pad = far * spread;
+    box.lo -= Vec3{pad, pad, pad};
+    box.hi += Vec3{pad, pad, pad};
+  }
+  return box;
 }
 
 // Appends the cells of leaf grid g that the piece boxes reach (each clipped to the leaf's box),
@@ -105,7 +98,15 @@ void appendCells(const BeamStore::LeafGrid& g, const std::array<Box3, BeamStore:
 }  // namespace
 
 bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
-  return visitPieceBoxes(s, [x](const Box3& box) { return box.contains(x); });
+  // The piece that x's distance along the first corner ray points at first (most gathers
+  // that reach a segment are in it), then the others: the answer does not depend on the order.
+  const float spread = lobeSpread(s);
+  const float along = dot(x - s.o[0], s.d[0]) / s.t[0] * kPieces;
+  const int guess = along > 0 ? (along < kPieces ? int(along) : kPieces - 1) : 0;  // NaN: 0
+  if (pieceBox(s, guess, spread).contains(x)) return true;
+  for (int k = 0; k < kPieces; ++k)
+    if (k != guess && pieceBox(s, k, spread).contains(x)) return true;
+  return false;
 }
 
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
@@ -152,11 +153,8 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
       const BeamSegment& seg = segments_[i];
       std::vector<uint64_t>& out = cellsOf[i];
       std::array<Box3, kPieces> boxes;
-      int count = 0;
-      visitPieceBoxes(seg, [&](const Box3& box) {
-        boxes[count++] = box;
-        return false;
-      });
+      const float spread = lobeSpread(seg);
+      for (int k = 0; k < kPieces; ++k) boxes[k] = pieceBox(seg, k, spread);
       // Leaves in increasing order: their cells are increasing blocks.
       std::vector<uint32_t>& leavesHit = hits[i];
       std::sort(leavesHit.begin(), leavesHit.end());
