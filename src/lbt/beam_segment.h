@@ -37,7 +37,8 @@ inline constexpr float kCapSlack = 0.02f;
 
 // How far a glossy lobe reaches, in σ: the mass beyond one edge's line is Q(5) = 2.9e-7. The
 // bins hold a segment only this far out (beamBounds), and the gather takes P = 0 or 1 without
-// the edge integrals for a point this far from every edge of the angular triangle.
+// the edge integrals for a point this far from every edge of the angular triangle, and drops
+// what lies beyond it from each edge's integral otherwise (P within 3·Q(5) in all).
 inline constexpr double kLobeReach = 5;
 
 // The box a segment's gathers can lie in: its corner rays up to t_i, grown by its lobe
