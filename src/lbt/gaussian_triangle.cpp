@@ -16,7 +16,7 @@ constexpr double kNegligibleOwenH = 9;
 // (expand 1/(1+t²) in T's x-form and integrate term by term). The terms alternate in sign and
 // shrink in magnitude (|a| <= 1, P(N > j) falls with j), so stopping before a term below
 // kSeriesTolerance leaves an error below it: a proven bound, not a tuned one. The number of
-// terms grows with h and |a|; the worst case, h just below 9 and |a| = 1, needs 100.
+// terms grows with h and |a|; the worst case, h just below 9 and |a| = 1, needs about 100.
 constexpr int kMaxSeriesTerms = 128;
 constexpr double kSeriesTolerance = 1e-16;
 
