@@ -76,6 +76,7 @@ class ValueNoise {
   // Conservative range of eval() over every float point of [lo, hi].
   Interval range(Vec3 lo, Vec3 hi) const;
   float lattice(int64_t ix, int64_t iy, int64_t iz) const;
+  uint64_t seed() const { return seed_; }
 
  private:
   uint64_t seed_;

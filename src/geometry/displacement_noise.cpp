@@ -7,6 +7,7 @@
 // closed form and needs Lipschitz bounds that stay loose.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include "core/rng.h"
 #include "geometry/displacement.h"
@@ -48,6 +49,37 @@ inline D lerpRange(D a, D b, D s) {
   return {std::min(l0, l1), std::max(h0, h1)};
 }
 
+// The last lattice cell a thread asked for, per noise seed.
+struct CellCorners {
+  uint64_t seed = 0;
+  int64_t ix = 0, iy = 0, iz = std::numeric_limits<int64_t>::min();  // no cell yet
+  float c[2][2][2] = {};  // c[dz][dy][dx]
+};
+
+// The lattice values at the corners of cell (ix, iy, iz). Neighbouring vertices of a dicing,
+// and neighbouring border pieces, mostly fall in the cell of the one before (a lattice cell of
+// the low octaves spans many micropolygons), so each thread keeps the last cell per seed:
+// hashing the eight corners was the larger half of eval(). The values are a pure function of
+// (seed, cell), so the cache never changes a result. Direct-mapped by seed: the octaves of one
+// displacement (and the displacements diced one after another on a thread) have independent
+// random seeds, so they rarely share a slot, and a shared slot only costs hashing again.
+const float (&cellCorners(const ValueNoise& noise, int64_t ix, int64_t iy, int64_t iz))[2][2][2] {
+  constexpr size_t kSlots = 32;
+  thread_local CellCorners cells[kSlots];
+  const uint64_t seed = noise.seed();
+  CellCorners& cell = cells[(seed ^ (seed >> 32)) % kSlots];
+  if (!(cell.seed == seed && cell.ix == ix && cell.iy == iy && cell.iz == iz)) {
+    for (int dz = 0; dz < 2; ++dz)
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) cell.c[dz][dy][dx] = noise.lattice(ix + dx, iy + dy, iz + dz);
+    cell.seed = seed;
+    cell.ix = ix;
+    cell.iy = iy;
+    cell.iz = iz;
+  }
+  return cell.c;
+}
+
 }  // namespace
 
 float ValueNoise::lattice(int64_t ix, int64_t iy, int64_t iz) const {
@@ -66,10 +98,7 @@ float ValueNoise::eval(float x, float y, float z, Vec3* gradient) const {
   const float sx = std::clamp(fade(tx), 0.0f, 1.0f), sy = std::clamp(fade(ty), 0.0f, 1.0f),
               sz = std::clamp(fade(tz), 0.0f, 1.0f);
   const int64_t ix = int64_t(fx), iy = int64_t(fy), iz = int64_t(fz);
-  float c[2][2][2];  // c[dz][dy][dx]
-  for (int dz = 0; dz < 2; ++dz)
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx) c[dz][dy][dx] = lattice(ix + dx, iy + dy, iz + dz);
+  const float (&c)[2][2][2] = cellCorners(*this, ix, iy, iz);  // c[dz][dy][dx]
   const float a00 = lerp1(c[0][0][0], c[0][0][1], sx), a10 = lerp1(c[0][1][0], c[0][1][1], sx);
   const float a01 = lerp1(c[1][0][0], c[1][0][1], sx), a11 = lerp1(c[1][1][0], c[1][1][1], sx);
   const float b0 = lerp1(a00, a10, sy), b1 = lerp1(a01, a11, sy);
@@ -105,8 +134,7 @@ Interval ValueNoise::range(Vec3 lo, Vec3 hi) const {
     return {std::max(0.0, fadeExact(t0) - kFadeError), std::min(1.0, fadeExact(t1) + kFadeError)};
   };
   // The weights of each axis's cells and the lattice values at the cells' corners, computed
-  // once (a corner is shared by up to 8 cells; a weight by every cell of its slab) and then
-  // combined per cell exactly as before.
+  // once (a corner is shared by up to 8 cells; a weight by every cell of its slab).
   int count[3];
   D w[3][kMaxCells];
   for (int a = 0; a < 3; ++a) {
@@ -115,33 +143,42 @@ Interval ValueNoise::range(Vec3 lo, Vec3 hi) const {
   }
   const int sx = count[0] + 1, sy = count[1] + 1;
   float corner[8 * kMaxCells];  // (count+1) per axis: at most 2 * 2 * (kMaxCells + 1) <= 8 kMaxCells
-  for (int z = 0; z <= count[2]; ++z)
-    for (int y = 0; y < sy; ++y)
-      for (int x = 0; x < sx; ++x)
-        corner[(z * sy + y) * sx + x] =
-            lattice(int64_t(cl[0]) + x, int64_t(cl[1]) + y, int64_t(cl[2]) + z);
+  if (count[0] == 1 && count[1] == 1 && count[2] == 1) {
+    // Most boxes (a border piece, a small dicing's subtree) lie in one cell: eval()'s cache.
+    const float (&c)[2][2][2] = cellCorners(*this, int64_t(cl[0]), int64_t(cl[1]), int64_t(cl[2]));
+    for (int k = 0; k < 8; ++k) corner[k] = c[k >> 2][(k >> 1) & 1][k & 1];
+  } else {
+    for (int z = 0; z <= count[2]; ++z)
+      for (int y = 0; y < sy; ++y)
+        for (int x = 0; x < sx; ++x)
+          corner[(z * sy + y) * sx + x] = lattice(int64_t(cl[0]) + x, int64_t(cl[1]) + y, int64_t(cl[2]) + z);
+  }
+  // The per-cell blend of the trilinear interpolation, done axis by axis: a lerp along x of two
+  // corners is shared by the (up to) four cells around that lattice edge, a lerp along y by
+  // the two cells on either side in z, so each is computed once (about 3 lerps per cell instead
+  // of 7 for large boxes). The same operations on the same values as per cell: the same bits.
+  const int nx = count[0], ny = count[1], nz = count[2];
+  D alongX[4 * kMaxCells];  // [z in 0..nz][y in 0..ny][x < nx]: nx (ny + 1) (nz + 1) <= 4 kMaxCells
+  for (int z = 0; z <= nz; ++z)
+    for (int y = 0; y <= ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const double a = corner[(z * sy + y) * sx + x], b = corner[(z * sy + y) * sx + x + 1];
+        alongX[(z * (ny + 1) + y) * nx + x] = lerpRange({a, a}, {b, b}, w[0][x]);
+      }
+  D alongY[2 * kMaxCells];  // [z in 0..nz][y < ny][x < nx]: nx ny (nz + 1) <= 2 kMaxCells
+  for (int z = 0; z <= nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        alongY[(z * ny + y) * nx + x] = lerpRange(alongX[(z * (ny + 1) + y) * nx + x],
+                                                  alongX[(z * (ny + 1) + y + 1) * nx + x], w[1][y]);
   double rlo = 2, rhi = -2;
-  for (int z = 0; z < count[2]; ++z) {
-    const D sz = w[2][z];
-    for (int y = 0; y < count[1]; ++y) {
-      const D syw = w[1][y];
-      for (int x = 0; x < count[0]; ++x) {
-        const D sxw = w[0][x];
-        D c[2][2][2];
-        for (int dz = 0; dz < 2; ++dz)
-          for (int dy = 0; dy < 2; ++dy)
-            for (int dx = 0; dx < 2; ++dx) {
-              const double v = corner[((z + dz) * sy + y + dy) * sx + x + dx];
-              c[dz][dy][dx] = {v, v};
-            }
-        const D a00 = lerpRange(c[0][0][0], c[0][0][1], sxw), a10 = lerpRange(c[0][1][0], c[0][1][1], sxw);
-        const D a01 = lerpRange(c[1][0][0], c[1][0][1], sxw), a11 = lerpRange(c[1][1][0], c[1][1][1], sxw);
-        const D r = lerpRange(lerpRange(a00, a10, syw), lerpRange(a01, a11, syw), sz);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
+        const D r = lerpRange(alongY[(z * ny + y) * nx + x], alongY[((z + 1) * ny + y) * nx + x], w[2][z]);
         rlo = std::min(rlo, r.lo);
         rhi = std::max(rhi, r.hi);
       }
-    }
-  }
   return intersect(widened({float(rlo), float(rhi)}, kLerpError), everything);
 }
 

@@ -3,6 +3,9 @@
 // loose (the mean ratio of interval width to the sampled spread is printed and bounded).
 #include <gtest/gtest.h>
 #include <cstdio>
+#include <cstring>
+#include <thread>
+#include <vector>
 #include "core/interval.h"
 #include "geometry/displacement.h"
 #include "support/patch_test_util.h"
@@ -93,6 +96,45 @@ TEST(ValueNoise, TinyBoxesGiveTinyIntervals) {
     EXPECT_LT(r.width(), 3e-3f);  // gradient <= 3.75 per axis: 3 x 3.75e-4 + rounding margins
     EXPECT_TRUE(r.contains(noise.eval(lo.x, lo.y, lo.z, nullptr)));
   }
+}
+
+// eval() and range() keep each thread's last lattice cell per seed; what they return must not
+// depend on what the thread evaluated before. Seeds that are multiples of 2^5 share one cache
+// slot, points are clustered in a few cells so that hits, misses and evictions all happen, and
+// the same queries in a shuffled order on another thread give the same bits.
+TEST(ValueNoise, ValuesDoNotDependOnWhatWasEvaluatedBefore) {
+  std::vector<ValueNoise> noises;
+  for (uint64_t k = 0; k < 40; ++k) noises.emplace_back(k < 20 ? k * 32 : k * 7919 + 1);
+  struct Query {
+    size_t noise;
+    Vec3 p;
+  };
+  Random rng(11);
+  std::vector<Query> queries;
+  for (int k = 0; k < 20000; ++k)
+    queries.push_back({size_t(rng.uniform() * 39.99f), {rng.uniform(0, 2.5f), rng.uniform(0, 2.5f), rng.uniform(-1, 1)}});
+  auto run = [&](const std::vector<size_t>& order) {
+    std::vector<float> out(queries.size() * 4);
+    std::thread([&] {
+      for (const size_t q : order) {
+        const Query& e = queries[q];
+        Vec3 g;
+        out[4 * q] = noises[e.noise].eval(e.p.x, e.p.y, e.p.z, &g);
+        out[4 * q + 1] = g.x + 2 * g.y + 3 * g.z;
+        const Vec3 hi = e.p + Vec3{0.01f, 0.01f, 0.01f};  // mostly one cell
+        const Interval r = noises[e.noise].range(e.p, hi);
+        out[4 * q + 2] = r.lo;
+        out[4 * q + 3] = r.hi;
+      }
+    }).join();
+    return out;
+  };
+  std::vector<size_t> order(queries.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  const std::vector<float> inOrder = run(order);
+  for (size_t k = order.size() - 1; k > 0; --k) std::swap(order[k], order[size_t(rng.uniform() * float(k + 1)) % (k + 1)]);
+  const std::vector<float> shuffled = run(order);
+  ASSERT_EQ(0, std::memcmp(inOrder.data(), shuffled.data(), inOrder.size() * sizeof(float)));
 }
 
 TEST(ValueNoise, GradientMatchesDifferences) {
