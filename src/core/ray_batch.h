@@ -75,14 +75,19 @@ struct RayBatch {
     hit.resize(n);
   }
   float timeOf(size_t i) const { return timed ? time[i] : 0.0f; }
+  // Every argument explicit: a defaulted shutter time or origin leaf let a stale call compile
+  // and trace at time 0, or re-hit the surface it leaves.
   void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t0, float t1, float width, float spread,
-           uint32_t ignore = kNoLeaf, uint32_t fromLeaf = kNoLeaf, uint8_t fromLevel = 0,
-           float shutterTime = 0.0f) {
+           uint32_t ignore, uint32_t fromLeaf, uint8_t fromLevel, float shutterTime) {
     kind[i] = k; org[i] = o; dir[i] = d; tmin[i] = t0; tmax[i] = t1; coneWidth[i] = width;
     coneSpread[i] = spread; ignoreLeaf[i] = ignore;
     if (timed) time[i] = shutterTime;
     originLeaf[i] = fromLeaf; originLevel[i] = fromLevel;
     hit[i] = RayHit{};
+  }
+  // A ray that leaves no surface and ignores no leaf, at shutter time 0 (tests, benchmarks).
+  void setFromNowhere(size_t i, RayKind k, Vec3 o, Vec3 d, float t0, float t1, float width, float spread) {
+    set(i, k, o, d, t0, t1, width, spread, kNoLeaf, kNoLeaf, 0, 0.0f);
   }
   static constexpr size_t bytesPerRay(bool timed) {
     return 2 * sizeof(Vec3) + (timed ? 5 : 4) * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint8_t) +

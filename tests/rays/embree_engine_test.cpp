@@ -154,9 +154,9 @@ TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   RayBatch b;
   b.resize(4);
   const uint32_t floor = uint32_t(w.leaves.size() - 1);  // the quad at x, y in [0, 5]
-  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, floor);
-  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, floor);
-  b.set(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0);
+  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, floor, kNoLeaf, 0, 0.0f);
+  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, floor, kNoLeaf, 0, 0.0f);
+  b.setFromNowhere(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0);
   b.kind[3] = RayKind::Inactive;
   const GenerationStats stats = traceEmbree(w, b);
   EXPECT_FALSE(b.hit[0].valid());
@@ -174,7 +174,7 @@ TEST(EmbreeEngine, BatchesOfAnySizeAreTracedWhole) {
   RayBatch b;
   const int n = 300001;
   b.resize(n);
-  for (int i = 0; i < n; ++i) b.set(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);
+  for (int i = 0; i < n; ++i) b.setFromNowhere(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);
   traceEmbree(w, b);
   int hits = 0;
   for (int i = 0; i < n; ++i) hits += b.hit[i].valid() && b.hit[i].t == 5.0f;
@@ -185,9 +185,9 @@ TEST(EmbreeEngine, RaysItCannotTraceHitNothing) {
   const World w(false);
   RayBatch b;
   b.resize(3);
-  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, 0, kInf, 0, 0);                 // zero direction
-  b.set(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);             // infinite origin
-  b.set(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 3, 3, 0, 0);                   // empty interval
+  b.setFromNowhere(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, 0, kInf, 0, 0);      // zero direction
+  b.setFromNowhere(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);  // infinite origin
+  b.setFromNowhere(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 3, 3, 0, 0);        // empty interval
   traceEmbree(w, b);
   for (int i = 0; i < 3; ++i) EXPECT_FALSE(b.hit[i].valid()) << i;
 }

@@ -42,7 +42,7 @@ RayBatch randomRays(int n, bool shadow) {
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
     const Vec3 d = normalize(target - o);
-    b.set(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, 0.0f, shadow ? 8.0f : kInf, 0.0f, 0.0f);
+    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, 0.0f, shadow ? 8.0f : kInf, 0.0f, 0.0f);
   }
   return b;
 }
@@ -168,7 +168,7 @@ TEST(Tracer, HitsDoNotDependOnCandidatesPerIteration) {
     const RngKey k{uint32_t(i), 0, 0, 12};
     const Vec3 o{-3 + 6 * sampleUniform(k, 0), -3 + 6 * sampleUniform(k, 1), 0.5f + 9 * sampleUniform(k, 2)};
     const Vec3 target{-0.9f + 1.8f * sampleUniform(k, 3), -0.9f + 1.8f * sampleUniform(k, 4), 0};
-    rays.set(i, RayKind::Closest, o, target - o, 0.0f, kInf, 0.0f, 0.0f);
+    rays.setFromNowhere(i, RayKind::Closest, o, target - o, 0.0f, kInf, 0.0f, 0.0f);
   }
   RayBatch one = rays, all = rays;
   traceAll(w, one, 1 << 16, true, 1);
@@ -245,7 +245,7 @@ TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   RayBatch b;
   b.resize(2);
   const uint32_t wall = uint32_t(w.leaves.size() - 1);
-  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, 0, kInf, 0, 0, wall);  // above the teapot, at the wall
+  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, 0, kInf, 0, 0, wall, kNoLeaf, 0, 0.0f);  // above the teapot, at the wall
   b.kind[1] = RayKind::Inactive;
   GenerationStats stats;
   TraceTimes times;
