@@ -15,6 +15,9 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 rayes="${RAYES:-$root/build/bin/rayes}"
+# The image comparison tool beside $rayes (a build tree), else this tree's.
+imagediff="$(dirname "$rayes")/bench_app_image_diff"
+[ -x "$imagediff" ] || imagediff="$root/build/bin/bench_app_image_diff"
 res=320x240 spp=16 maxlod=10 repeat=1 threads=0
 scenes=()
 while [ $# -gt 0 ]; do
@@ -63,7 +66,7 @@ for scene in "${scenes[@]}"; do
     best_r=$(python3 -c "print(min(float('$best_r'), $(wall "$work/r.time")))")
     best_e=$(python3 -c "print(min(float('$best_e'), $(wall "$work/e.time")))")
   done
-  diff=$("$(dirname "$rayes")/bench_app_image_diff" "$work/r.exr" "$work/e.exr")
+  diff=$("$imagediff" "$work/r.exr" "$work/e.exr")
   python3 - "$work" "$name" "$best_r" "$best_e" "$(rss "$work/r.time")" "$(rss "$work/e.time")" "$diff" <<'PY'
 import json, sys
 work, name = sys.argv[1], sys.argv[2]

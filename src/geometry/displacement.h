@@ -66,10 +66,14 @@ struct NoiseParams {
 // [-1, 1) with quintic fade weights. Its interval extension over a box is exact per lattice
 // cell up to rounding: the fade is monotone, so each axis's weight over the box's slice of the
 // cell is an interval [fade(t0), fade(t1)], and a lerp of intervals with an interval weight is
-// bounded at the weight's endpoints. Boxes over more than kMaxCells cells get [-1, 1].
+// bounded at the weight's endpoints. Boxes over more than kMaxCells cells get [-1, 1]: a box
+// that large holds more than 32 lattice values, so its exact range usually reaches within 0.1
+// of both ends anyway, while visiting its cells (up to 512 before) was most of the cost of
+// the border bounds of displaced leaves (bench/RESULTS.md, "Interval noise capped at 32 cells";
+// tests/geometry/displace_noise_test.cpp, BoxesOverTheCellCapAreCloseToEverything).
 class ValueNoise {
  public:
-  static constexpr int kMaxCells = 512;
+  static constexpr int kMaxCells = 32;
   explicit ValueNoise(uint64_t seed) : seed_(seed) {}
   // Noise and its gradient at x (lattice units).
   float eval(float x, float y, float z, Vec3* gradient) const;
