@@ -6,6 +6,7 @@
 #   NAME-ref-lt.exr  lt --caustic-paths only, LT_SPP light paths per pixel (seed 1000): the caustic paths
 # plus NAME-ref-lt-check.exr (lt only, LT_SPP/4, seed 2000) to measure the reference's own noise:
 # RMSE(check, ref-lt)² = 5 · (RMSE of ref-lt)², and NAME-mask.exr (bench/lbt_error_mask_scene.py).
+# Stops (exit 1) when the two lt images differ by fireflies (bench/reference_fireflies.py).
 # Usage: bench/lbt_references.sh OUT RES PT_SPP LT_SPP SCENE...
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -22,6 +23,8 @@ for scene in "$@"; do
     "$scene" "${geometry[@]}" --method lt --caustic-paths only --spp "$ltspp" --seed 1000 -o "$out/$name-ref-lt.exr"
   [ -f "$out/$name-ref-lt-check.exr" ] || nice -n 5 build/bin/rayes render "$scene" "${geometry[@]}" --method lt \
     --caustic-paths only --spp $((ltspp / 4)) --seed 2000 -o "$out/$name-ref-lt-check.exr"
+  # A firefly in either image floors every method's RMSE: refuse it here, not after hours of curves.
+  python3 bench/reference_fireflies.py "$out/$name-ref-lt.exr" "$out/$name-ref-lt-check.exr"
   if [ ! -f "$out/$name-mask.exr" ]; then
     python3 bench/lbt_error_mask_scene.py "$scene" "$out/$name-mask.json"
     nice -n 5 build/bin/rayes render "$out/$name-mask.json" "${geometry[@]}" --spp 16 --seed 1000 -o "$out/$name-mask.exr"
