@@ -73,9 +73,22 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
   kind_ = std::string("displaced-") + base_->kind();
   if (const auto* bz = dynamic_cast<const BezierPatch*>(base_.get())) {
     baseKind_ = BaseKind::Bezier;
+    const auto& cp = bz->controlPoints();
     Box3 box;
-    for (const Vec3& p : bz->controlPoints()) box.extend(p);
+    for (const Vec3& p : cp) box.extend(p);
     tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
+    // P_u and P_v are Bézier patches themselves (hodographs): 3 x the control point
+    // differences along u (3 x 4 points) and along v (4 x 3). Made once here: the border
+    // bounds restrict them to hundreds of pieces per dicing.
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 3; ++i) hodographU_[j * 3 + i] = (cp[size_t(j) * 4 + i + 1] - cp[size_t(j) * 4 + i]) * 3.0f;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 4; ++i) hodographV_[j * 4 + i] = (cp[size_t(j + 1) * 4 + i] - cp[size_t(j) * 4 + i]) * 3.0f;
+    // evaluate()'s derivatives are differences of float blends of the control points taken
+    // relative to the patch's anchor (bezier_patch.cpp): off by a few ulps of the anchored
+    // control points' magnitude, at most the control box's extent (not of the derivative's,
+    // and not of the distance from the origin).
+    hodographCancellation_ = 2e-5f * maxComponent(box.extent()) + 1e-30f;
   } else if (dynamic_cast<const BilinearPatch*>(base_.get())) {
     baseKind_ = BaseKind::Bilinear;
     // A bilinear patch's corners come out of evaluate() exactly (lerp weights 1 and 0).
@@ -103,25 +116,13 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
   u0 = std::clamp(u0, 0.0f, 1.0f); u1 = std::clamp(u1, 0.0f, 1.0f);
   v0 = std::clamp(v0, 0.0f, 1.0f); v1 = std::clamp(v1, 0.0f, 1.0f);
   if (baseKind_ == BaseKind::Bezier) {
-    const auto& cp = static_cast<const BezierPatch&>(*base_).controlPoints();
-    // P_u and P_v are Bézier patches themselves (hodographs): 3 x the control point
-    // differences along u (3 x 4 points) and along v (4 x 3). Restricted to the rectangle,
-    // their control boxes bound the derivatives there -- also over a degenerate rectangle
-    // (a border piece, u0 == u1 or v0 == v1).
-    Vec3 hu[12], hv[12];
-    for (int j = 0; j < 4; ++j)
-      for (int i = 0; i < 3; ++i) hu[j * 3 + i] = (cp[size_t(j) * 4 + i + 1] - cp[size_t(j) * 4 + i]) * 3.0f;
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 4; ++i) hv[j * 4 + i] = (cp[size_t(j + 1) * 4 + i] - cp[size_t(j) * 4 + i]) * 3.0f;
-    Box3 du = detail::restrictedHull<3, 4>(hu, u0, u1, v0, v1), dv = detail::restrictedHull<4, 3>(hv, u0, u1, v0, v1);
-    // evaluate()'s derivatives are differences of float blends of the control points taken
-    // relative to the patch's anchor (bezier_patch.cpp): off by a few ulps of the anchored
-    // control points' magnitude, at most the control box's extent (not of the derivative's,
-    // and not of the distance from the origin), and the float restriction by a few ulps of
-    // the derivative's.
-    Box3 cb;
-    for (const Vec3& p : cp) cb.extend(p);
-    const float cancellation = 2e-5f * maxComponent(cb.extent()) + 1e-30f;
+    // The hodographs restricted to the rectangle: their control boxes bound the derivatives
+    // there -- also over a degenerate rectangle (a border piece, u0 == u1 or v0 == v1).
+    Box3 du = detail::restrictedHull<3, 4>(hodographU_, u0, u1, v0, v1),
+         dv = detail::restrictedHull<4, 3>(hodographV_, u0, u1, v0, v1);
+    // Widened for the cancellation in evaluate()'s derivatives (see the constructor) and for
+    // the float restriction, a few ulps of the derivative's magnitude.
+    const float cancellation = hodographCancellation_;
     du = widenedBox(du, 1e-5f * du.magnitude() + cancellation);
     dv = widenedBox(dv, 1e-5f * dv.magnitude() + cancellation);
     IVec3 n = cross(toIntervals(du), toIntervals(dv));

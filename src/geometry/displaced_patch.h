@@ -75,6 +75,9 @@ class DisplacedPatch final : public Patch {
   std::string kind_;
   BaseKind baseKind_ = BaseKind::Other;
   Vec3 corners_[4];          // bilinear base: p00, p10, p01, p11 (from evaluate at the corners)
+  Vec3 hodographU_[12];      // Bézier base: 3 x the control point differences along u (4 rows of 3)
+  Vec3 hodographV_[12];      // ... and along v (3 rows of 4)
+  float hodographCancellation_ = 0;  // Bézier base: the derivatives' rounding, from the control box
   float tinyNormal_ = 0;     // the base's degenerate-normal threshold (patch_math.h)
   Box3 bounds_;
   float sizeBound_ = 0;
