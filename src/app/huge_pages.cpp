@@ -13,12 +13,14 @@ void restartWithHugePages(char** argv) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   // Already named (by us, or by the user, whatever its value): never exec twice.
   if (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")) return;
-  std::string value = tunables && *tunables ? std::string(tunables) + ":" : std::string();
-  value += "glibc.malloc.hugetlb=1";
+  // A copy: setenv may invalidate the string getenv returned, and a failed exec restores it.
+  const bool hadTunables = tunables != nullptr;
+  const std::string old = hadTunables ? tunables : "";
+  const std::string value = (old.empty() ? "" : old + ":") + "glibc.malloc.hugetlb=1";
   if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
   execv("/proc/self/exe", argv);
   // The exec failed (no /proc, a sandbox): go on without huge pages, as before.
-  if (tunables) setenv("GLIBC_TUNABLES", tunables, 1);
+  if (hadTunables) setenv("GLIBC_TUNABLES", old.c_str(), 1);
   else unsetenv("GLIBC_TUNABLES");
 #else
   (void)argv;
