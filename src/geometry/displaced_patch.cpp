@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 #include "core/interval.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
@@ -174,63 +175,108 @@ static float differencePoint(float u) {
   return u + h <= 1.0f ? u + h : u - h;
 }
 
+// The base's frame at one vertex from its three base (and reference) points, and where the
+// displacement is to be sampled.
+DisplacedPatch::Frame DisplacedPatch::frame(float u, float v, float ua, float va, const SurfacePoint base[3],
+                                            const Vec3* ref) const {
+  const SurfacePoint& c = base[0];
+  Frame f;
+  f.p = c.p;
+  f.baseNormal = c.n;
+  f.n = unitOrZero(c.n);
+  // One-sided differences of the base at a fixed step (two extra base evaluations per point;
+  // central differences took four, for no visible gain in a shading normal).
+  const float iu = 1.0f / (ua - u), iv = 1.0f / (va - v);
+  f.pu = (base[1].p - c.p) * iu;
+  f.pv = (base[2].p - c.p) * iv;
+  f.nu = (unitOrZero(base[1].n) - f.n) * iu;
+  f.nv = (unitOrZero(base[2].n) - f.n) * iv;
+  if (ref) {
+    f.at = ref[0];
+    f.atU = (ref[1] - ref[0]) * iu;
+    f.atV = (ref[2] - ref[0]) * iv;
+  } else {
+    f.at = c.p;
+    f.atU = f.pu;
+    f.atV = f.pv;
+  }
+  return f;
+}
+
+SurfacePoint DisplacedPatch::displaced(const Frame& f, const HeightSample& s) const {
+  SurfacePoint out;
+  out.p = f.p + f.n * s.h;
+  const Vec3 du = f.pu + f.nu * s.h + f.n * s.hu, dv = f.pv + f.nv * s.h + f.n * s.hv;
+  const Vec3 dn = rayes::cross(du, dv);
+  out.n = (isFinite(dn) && maxComponent(vabs(dn)) > tinyNormal_) ? dn : f.baseNormal;
+  return out;
+}
+
 SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
   const float ua = differencePoint(u), va = differencePoint(v);
   const SurfacePoint base[3] = {base_->evaluate(u, v), base_->evaluate(ua, v), base_->evaluate(u, va)};
-  if (reference_ == base_) return displaced(u, v, ua, va, base, nullptr);
-  const Vec3 ref[3] = {reference_->evaluate(u, v).p, reference_->evaluate(ua, v).p, reference_->evaluate(u, va).p};
-  return displaced(u, v, ua, va, base, ref);
+  Vec3 ref[3];
+  if (reference_ != base_)
+    for (int k = 0; k < 3; ++k) ref[k] = reference_->evaluate(k == 1 ? ua : u, k == 2 ? va : v).p;
+  const Frame f = frame(u, v, ua, va, base, reference_ != base_ ? ref : nullptr);
+  return displaced(f, displacement_->sample(f.at, f.atU, f.atV, u, v));
 }
 
-// Three base (and reference) points per vertex, as evaluate() takes them, but a Bézier base's
-// rows at v and at v's difference point are computed once per grid row rather than once per
-// point: the same calls evaluate() makes (BezierPatch::evaluate is pointOnRow(rowAt(v), ...)),
-// so the grid is bit for bit the Patch default's.
+// One evaluate() per vertex, bit for bit, a grid row at a time: the row's base frames first,
+// then the displacement over the whole row (Displacement::sampleRow: the noise vectorises
+// across it), then the displaced points. A Bézier base's (and reference's) rows at v and at
+// v's difference point are computed once per grid row rather than once per point: the same
+// calls evaluate() makes (BezierPatch::evaluate is pointOnRow(rowAt(v), ...)).
 void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
   const auto* bz = dynamic_cast<const BezierPatch*>(base_.get());
   const auto* rz = reference_ == base_ ? nullptr : dynamic_cast<const BezierPatch*>(reference_.get());
-  if (!bz || (reference_ != base_ && !rz)) return Patch::dice(level, positions, normals);
+  const bool hasRef = reference_ != base_;
   const int n = 1 << level;
   const float fn = float(n);
+  std::vector<Frame> frames(size_t(n) + 1);
+  std::vector<Vec3> at(size_t(n) + 1), atU(size_t(n) + 1), atV(size_t(n) + 1);
+  std::vector<float> us(size_t(n) + 1);
+  std::vector<HeightSample> heights(size_t(n) + 1);
   for (int j = 0; j <= n; ++j) {
     const float v = float(j) / fn, va = differencePoint(v);
-    const BezierPatch::RowAtV row = bz->rowAt(v), rowA = bz->rowAt(va);
-    BezierPatch::RowAtV refRow, refRowA;
+    BezierPatch::RowAtV row, rowA, refRow, refRowA;
+    if (bz) { row = bz->rowAt(v); rowA = bz->rowAt(va); }
     if (rz) { refRow = rz->rowAt(v); refRowA = rz->rowAt(va); }
     for (int i = 0; i <= n; ++i) {
       const float u = float(i) / fn, ua = differencePoint(u);
-      const SurfacePoint base[3] = {bz->pointOnRow(row, u, v), bz->pointOnRow(row, ua, v), bz->pointOnRow(rowA, u, va)};
-      SurfacePoint sp;
-      if (rz) {
-        const Vec3 ref[3] = {rz->pointOnRow(refRow, u, v).p, rz->pointOnRow(refRow, ua, v).p,
-                             rz->pointOnRow(refRowA, u, va).p};
-        sp = displaced(u, v, ua, va, base, ref);
+      SurfacePoint base[3];
+      if (bz) {
+        base[0] = bz->pointOnRow(row, u, v);
+        base[1] = bz->pointOnRow(row, ua, v);
+        base[2] = bz->pointOnRow(rowA, u, va);
       } else {
-        sp = displaced(u, v, ua, va, base, nullptr);
+        base[0] = base_->evaluate(u, v);
+        base[1] = base_->evaluate(ua, v);
+        base[2] = base_->evaluate(u, va);
       }
+      Vec3 ref[3];
+      if (rz) {
+        ref[0] = rz->pointOnRow(refRow, u, v).p;
+        ref[1] = rz->pointOnRow(refRow, ua, v).p;
+        ref[2] = rz->pointOnRow(refRowA, u, va).p;
+      } else if (hasRef) {
+        ref[0] = reference_->evaluate(u, v).p;
+        ref[1] = reference_->evaluate(ua, v).p;
+        ref[2] = reference_->evaluate(u, va).p;
+      }
+      const Frame& f = frames[size_t(i)] = frame(u, v, ua, va, base, hasRef ? ref : nullptr);
+      at[size_t(i)] = f.at;
+      atU[size_t(i)] = f.atU;
+      atV[size_t(i)] = f.atV;
+      us[size_t(i)] = u;
+    }
+    displacement_->sampleRow(n + 1, at.data(), atU.data(), atV.data(), us.data(), v, heights.data());
+    for (int i = 0; i <= n; ++i) {
+      const SurfacePoint sp = displaced(frames[size_t(i)], heights[size_t(i)]);
       positions[size_t(j) * (n + 1) + i] = sp.p;
       normals[size_t(j) * (n + 1) + i] = sp.n;
     }
   }
-}
-
-SurfacePoint DisplacedPatch::displaced(float u, float v, float ua, float va, const SurfacePoint base[3],
-                                       const Vec3* ref) const {
-  const SurfacePoint& c = base[0];
-  const Vec3 n = unitOrZero(c.n);
-  // One-sided differences of the base at a fixed step (two extra base evaluations per point;
-  // central differences took four, for no visible gain in a shading normal).
-  const float iu = 1.0f / (ua - u), iv = 1.0f / (va - v);
-  const Vec3 pu = (base[1].p - c.p) * iu, pv = (base[2].p - c.p) * iv;
-  const Vec3 nu = (unitOrZero(base[1].n) - n) * iu, nv = (unitOrZero(base[2].n) - n) * iv;
-  const HeightSample s = ref ? displacement_->sample(ref[0], (ref[1] - ref[0]) * iu, (ref[2] - ref[0]) * iv, u, v)
-                             : displacement_->sample(c.p, pu, pv, u, v);
-  SurfacePoint out;
-  out.p = c.p + n * s.h;
-  const Vec3 du = pu + nu * s.h + n * s.hu, dv = pv + nv * s.h + n * s.hv;
-  const Vec3 dn = rayes::cross(du, dv);
-  out.n = (isFinite(dn) && maxComponent(vabs(dn)) > tinyNormal_) ? dn : c.n;
-  return out;
 }
 
 }  // namespace rayes

@@ -37,6 +37,11 @@ class Displacement {
   // The height at base point p with parameters (u, v); pu, pv are the base surface's dP/du,
   // dP/dv there (only used for hu, hv). Deterministic, finite for finite input.
   virtual HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const = 0;
+  // sample() at n points with one v (a grid row: DisplacedPatch::dice()): out[i] is
+  // sample(p[i], pu[i], pv[i], u[i], v) bit for bit. The default calls sample(); kinds that
+  // evaluate a row faster than its points one at a time override it.
+  virtual void sampleRow(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, const float* u, float v,
+                         HeightSample* out) const;
   // Conservative range of sample().h, see the contract above.
   virtual Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const = 0;
   // LOD estimates (not bounds): the mean |dh/ds| per unit length of base surface, and per unit
@@ -77,6 +82,10 @@ class ValueNoise {
   explicit ValueNoise(uint64_t seed) : seed_(seed) {}
   // Noise and its gradient at x (lattice units).
   float eval(float x, float y, float z, Vec3* gradient) const;
+  // eval() at n points (lattice units): value[i] and the gradient (gx, gy, gz)[i]. Bit for bit n eval() calls (eval() is its n = 1 case), at a fraction of the cost:
+  // the fade weights and the blend are vectorised and a row's points share their cells.
+  void evalRow(int n, const float* x, const float* y, const float* z, float* value, float* gx, float* gy,
+               float* gz) const;
   // Conservative range of eval() over every float point of [lo, hi].
   Interval range(Vec3 lo, Vec3 hi) const;
   float lattice(int64_t ix, int64_t iy, int64_t iz) const;
@@ -89,7 +98,9 @@ class ValueNoise {
 class NoiseDisplacement final : public Displacement {
  public:
   explicit NoiseDisplacement(const NoiseParams& params);  // std::invalid_argument if out of range
-  HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const override;
+  HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const override;  // sampleRow() for n = 1
+  void sampleRow(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, const float* u, float v,
+                 HeightSample* out) const override;
   Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const override;
   float meanSlopePerLength() const override { return meanSlope_; }
   float meanSlopePerParameter() const override { return 0; }

@@ -20,9 +20,12 @@ namespace {
 // the clamp, a monotone function, keeps the box image conservative.
 constexpr float kCoordinateLimit = 1073741824.0f;
 
+// Selects rather than std::clamp's branches, so that the loops over a row vectorise (with
+// -fno-trapping-math, CMakeLists.txt).
 inline float clampCoordinate(float x) {
-  if (!(x == x)) return 0.0f;  // NaN (never from a finite base surface)
-  return std::clamp(x, -kCoordinateLimit, kCoordinateLimit);
+  x = x == x ? x : 0.0f;  // NaN (never from a finite base surface)
+  x = x > -kCoordinateLimit ? x : -kCoordinateLimit;
+  return x < kCoordinateLimit ? x : kCoordinateLimit;
 }
 
 inline float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
@@ -80,6 +83,21 @@ const float (&cellCorners(const ValueNoise& noise, int64_t ix, int64_t iy, int64
   return cell.c;
 }
 
+// Where x lies on the lattice: its cell floor(x) and its position t = x - floor(x) in [0, 1].
+// Written with a truncation instead of std::floor so that evalRow's first loop vectorises (SSE2
+// has no floor); the same float as std::floor for every x within the coordinate limit, -0.0
+// included (the + 0.0f turns t's -0.0 there into the +0.0 of -0.0 - -0.0).
+inline void cellOf(float x, int32_t& cell, float& t) {
+  x = clampCoordinate(x);
+  const int32_t i = int32_t(x);
+  const float fi = float(i);                  // exact: |x| <= 2^30
+  const bool below = fi > x;                  // only when x is not an integer
+  const float f = below ? fi - 1.0f : fi;     // exact
+  cell = below ? i - 1 : i;
+  const float d = (x - f) + 0.0f;
+  t = d < 1.0f ? (d > 0.0f ? d : 0.0f) : 1.0f;  // std::clamp(d, 0, 1) for the d here (never NaN)
+}
+
 }  // namespace
 
 float ValueNoise::lattice(int64_t ix, int64_t iy, int64_t iz) const {
@@ -89,27 +107,78 @@ float ValueNoise::lattice(int64_t ix, int64_t iy, int64_t iz) const {
 }
 
 float ValueNoise::eval(float x, float y, float z, Vec3* gradient) const {
-  x = clampCoordinate(x);
-  y = clampCoordinate(y);
-  z = clampCoordinate(z);
-  const float fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
-  const float tx = std::clamp(x - fx, 0.0f, 1.0f), ty = std::clamp(y - fy, 0.0f, 1.0f),
-              tz = std::clamp(z - fz, 0.0f, 1.0f);
-  const float sx = std::clamp(fade(tx), 0.0f, 1.0f), sy = std::clamp(fade(ty), 0.0f, 1.0f),
-              sz = std::clamp(fade(tz), 0.0f, 1.0f);
-  const int64_t ix = int64_t(fx), iy = int64_t(fy), iz = int64_t(fz);
-  const float (&c)[2][2][2] = cellCorners(*this, ix, iy, iz);  // c[dz][dy][dx]
-  const float a00 = lerp1(c[0][0][0], c[0][0][1], sx), a10 = lerp1(c[0][1][0], c[0][1][1], sx);
-  const float a01 = lerp1(c[1][0][0], c[1][0][1], sx), a11 = lerp1(c[1][1][0], c[1][1][1], sx);
-  const float b0 = lerp1(a00, a10, sy), b1 = lerp1(a01, a11, sy);
-  if (gradient) {
-    const float e00 = c[0][0][1] - c[0][0][0], e10 = c[0][1][1] - c[0][1][0];
-    const float e01 = c[1][0][1] - c[1][0][0], e11 = c[1][1][1] - c[1][1][0];
-    gradient->x = fadeDerivative(tx) * lerp1(lerp1(e00, e10, sy), lerp1(e01, e11, sy), sz);
-    gradient->y = fadeDerivative(ty) * lerp1(a10 - a00, a11 - a01, sz);
-    gradient->z = fadeDerivative(tz) * (b1 - b0);
+  float value, gx, gy, gz;
+  evalRow(1, &x, &y, &z, &value, &gx, &gy, &gz);
+  if (gradient) *gradient = {gx, gy, gz};
+  return value;
+}
+
+// Three passes over chunks of a row: the cells and fade weights (vectorised), the corners'
+// lattice values copied per point from the cell they share with their neighbours (scalar: a
+// cell spans many points of a row at all but the finest octaves), and the trilinear blend
+// and its gradient (vectorised). Per point the same float operations as a point at a time,
+// in the same order, so the row's values are eval()'s bit for bit -- eval() is this for n = 1.
+void ValueNoise::evalRow(int count, const float* xs, const float* ys, const float* zs, float* value, float* gx,
+                         float* gy, float* gz) const {
+  constexpr int kChunk = 64;
+  alignas(16) float tx[kChunk], ty[kChunk], tz[kChunk];
+  alignas(16) int32_t cx[kChunk], cy[kChunk], cz[kChunk];
+  alignas(16) float c[8][kChunk];  // c[dz * 4 + dy * 2 + dx][point]
+  for (int start = 0; start < count; start += kChunk) {
+    const int m = std::min(kChunk, count - start);
+    for (int i = 0; i < m; ++i) {
+      cellOf(xs[start + i], cx[i], tx[i]);
+      cellOf(ys[start + i], cy[i], ty[i]);
+      cellOf(zs[start + i], cz[i], tz[i]);
+    }
+    // The corners of the current cell, c[dz * 4 + dy * 2 + dx]. A step to a cell that shares
+    // a face with it (the common step along a row) keeps that face's four values and hashes
+    // the other four; the thread's cell cache is asked only at a chunk's start, where the row
+    // before began in the same cell.
+    float cur[8];
+    int32_t lastX = cx[0], lastY = cy[0], lastZ = cz[0];
+    {
+      const float* first = &cellCorners(*this, lastX, lastY, lastZ)[0][0][0];
+      std::copy(first, first + 8, cur);
+    }
+    for (int i = 0; i < m; ++i) {
+      const int32_t dx = cx[i] - lastX, dy = cy[i] - lastY, dz = cz[i] - lastZ;
+      if (dx | dy | dz) {
+        const int axis = (dy == 0 && dz == 0) ? 0 : (dx == 0 && dz == 0) ? 1 : (dx == 0 && dy == 0) ? 2 : -1;
+        const int32_t step = axis == 0 ? dx : axis == 1 ? dy : dz;
+        const int bit = 1 << axis;  // the corner index bit of that axis
+        if (axis >= 0 && (step == 1 || step == -1)) {
+          // The new cell's corners on the shared face come from the old cell's other side.
+          for (int k = 0; k < 8; ++k)
+            if (((k & bit) != 0) == (step < 0)) cur[k] = cur[k ^ bit];
+          for (int k = 0; k < 8; ++k)
+            if (((k & bit) != 0) == (step > 0))
+              cur[k] = lattice(int64_t(cx[i]) + (k & 1), int64_t(cy[i]) + ((k >> 1) & 1), int64_t(cz[i]) + (k >> 2));
+        } else {
+          for (int k = 0; k < 8; ++k)
+            cur[k] = lattice(int64_t(cx[i]) + (k & 1), int64_t(cy[i]) + ((k >> 1) & 1), int64_t(cz[i]) + (k >> 2));
+        }
+        lastX = cx[i];
+        lastY = cy[i];
+        lastZ = cz[i];
+      }
+      for (int k = 0; k < 8; ++k) c[k][i] = cur[k];
+    }
+    float *out = value + start, *dx = gx + start, *dy = gy + start, *dz = gz + start;
+    for (int i = 0; i < m; ++i) {
+      const float sx = std::clamp(fade(tx[i]), 0.0f, 1.0f), sy = std::clamp(fade(ty[i]), 0.0f, 1.0f),
+                  sz = std::clamp(fade(tz[i]), 0.0f, 1.0f);
+      const float a00 = lerp1(c[0][i], c[1][i], sx), a10 = lerp1(c[2][i], c[3][i], sx);
+      const float a01 = lerp1(c[4][i], c[5][i], sx), a11 = lerp1(c[6][i], c[7][i], sx);
+      const float b0 = lerp1(a00, a10, sy), b1 = lerp1(a01, a11, sy);
+      out[i] = lerp1(b0, b1, sz);
+      const float e00 = c[1][i] - c[0][i], e10 = c[3][i] - c[2][i];
+      const float e01 = c[5][i] - c[4][i], e11 = c[7][i] - c[6][i];
+      dx[i] = fadeDerivative(tx[i]) * lerp1(lerp1(e00, e10, sy), lerp1(e01, e11, sy), sz);
+      dy[i] = fadeDerivative(ty[i]) * lerp1(a10 - a00, a11 - a01, sz);
+      dz[i] = fadeDerivative(tz[i]) * (b1 - b0);
+    }
   }
-  return lerp1(b0, b1, sz);
 }
 
 Interval ValueNoise::range(Vec3 lo, Vec3 hi) const {
@@ -217,25 +286,54 @@ Vec3 NoiseDisplacement::octaveCoordinate(int k, Vec3 p) const {
 }
 
 HeightSample NoiseDisplacement::sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const {
-  float acc = 0;
-  Vec3 grad{0, 0, 0};
-  for (int k = 0; k < params_.octaves; ++k) {
-    const Vec3 c = octaveCoordinate(k, p);
-    Vec3 g;
-    float n = octaves_[size_t(k)].eval(c.x, c.y, c.z, &g);
-    if (params_.ridged) {
-      g = n < 0.0f ? g : -g;
-      n = 1.0f - std::fabs(n);
-    }
-    acc += weight_[size_t(k)] * n;
-    grad += g * (weight_[size_t(k)] * freq_[size_t(k)]);
-  }
   HeightSample s;
-  s.h = params_.offset + params_.amplitude * (acc * invWeightSum_);
-  const Vec3 gp = grad * (params_.amplitude * invWeightSum_);
-  s.hu = dot(gp, pu);
-  s.hv = dot(gp, pv);
+  sampleRow(1, &p, &pu, &pv, &u, v, &s);
   return s;
+}
+
+// Octave by octave over chunks of the row (per point the octaves' sum in the same order as a
+// point at a time, so the same bits), so that ValueNoise::evalRow sees a row.
+void NoiseDisplacement::sampleRow(int count, const Vec3* p, const Vec3* pu, const Vec3* pv, const float*, float,
+                                  HeightSample* out) const {
+  constexpr int kChunk = 64;
+  alignas(16) float x[kChunk], y[kChunk], z[kChunk], n[kChunk], gx[kChunk], gy[kChunk], gz[kChunk];
+  alignas(16) float acc[kChunk], ax[kChunk], ay[kChunk], az[kChunk];
+  for (int start = 0; start < count; start += kChunk) {
+    const int m = std::min(kChunk, count - start);
+    std::fill(acc, acc + m, 0.0f);
+    std::fill(ax, ax + m, 0.0f);
+    std::fill(ay, ay + m, 0.0f);
+    std::fill(az, az + m, 0.0f);
+    for (int k = 0; k < params_.octaves; ++k) {
+      for (int i = 0; i < m; ++i) {
+        const Vec3 c = octaveCoordinate(k, p[start + i]);
+        x[i] = c.x;
+        y[i] = c.y;
+        z[i] = c.z;
+      }
+      octaves_[size_t(k)].evalRow(m, x, y, z, n, gx, gy, gz);
+      const float w = weight_[size_t(k)], wf = w * freq_[size_t(k)];
+      for (int i = 0; i < m; ++i) {
+        float ni = n[i], sign = 1.0f;
+        if (params_.ridged) {
+          sign = ni < 0.0f ? 1.0f : -1.0f;  // exact: the gradient of 1 - |n|
+          ni = 1.0f - std::fabs(ni);
+        }
+        acc[i] += w * ni;
+        ax[i] += (sign * gx[i]) * wf;
+        ay[i] += (sign * gy[i]) * wf;
+        az[i] += (sign * gz[i]) * wf;
+      }
+    }
+    const float scale = params_.amplitude * invWeightSum_;
+    for (int i = 0; i < m; ++i) {
+      HeightSample& s = out[start + i];
+      s.h = params_.offset + params_.amplitude * (acc[i] * invWeightSum_);
+      const Vec3 gp = Vec3{ax[i], ay[i], az[i]} * scale;
+      s.hu = dot(gp, pu[start + i]);
+      s.hv = dot(gp, pv[start + i]);
+    }
+  }
 }
 
 Interval NoiseDisplacement::fractalRange(const Box3& b) const {

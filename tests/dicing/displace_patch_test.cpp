@@ -145,6 +145,38 @@ TEST(DisplacedPatch, DiceEqualsEvaluateBitForBitAndLevelsNest) {
   }
 }
 
+// dice() evaluates the displacement a grid row at a time (Displacement::sampleRow): at level 7
+// a row of 129 vertices spans several of the noise's chunks; with a reference surface as the
+// forest's terrain has (a bilinear base and reference) and its bark (Bézier), the grid is
+// still evaluate()'s, bit for bit.
+TEST(DisplacedPatch, RowsLongerThanTheNoiseChunkStillEqualEvaluate) {
+  const auto teapot = test::loadTeapot();
+  NoiseParams np;
+  np.amplitude = 0.2f;
+  np.frequency = 2.0f;
+  np.octaves = 5;
+  const auto d = std::make_shared<NoiseDisplacement>(np);
+  const Vec3 c[4] = {{0, 0, 0}, {3, 0, 0.2f}, {0, 0.1f, -3}, {3, 0.3f, -3.1f}};
+  auto bilinear = [&](Vec3 o) { return std::make_shared<BilinearPatch>(c[0] + o, c[1] + o, c[2] + o, c[3] + o); };
+  const std::pair<const char*, DisplacedPatch> cases[] = {
+      {"bilinear with reference", DisplacedPatch(bilinear({40, 0, 0}), d, bilinear({0, 0, 0}))},
+      {"bezier with reference",
+       DisplacedPatch(std::make_shared<BezierPatch>(test::transformed(teapot[0], 1.0f, {40, 0, 0})), d,
+                      std::make_shared<BezierPatch>(teapot[0]))},
+      {"bezier", DisplacedPatch(std::make_shared<BezierPatch>(teapot[0]), d)}};
+  for (const auto& [name, patch] : cases) {
+    const int m = 7, n = 1 << m;
+    std::vector<Vec3> p((n + 1) * (n + 1)), nn(p.size());
+    patch.dice(m, p.data(), nn.data());
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const SurfacePoint sp = patch.evaluate(float(i) / n, float(j) / n);
+        ASSERT_TRUE(sameBits(sp.p, p[size_t(j) * (n + 1) + i])) << name << " " << i << " " << j;
+        ASSERT_TRUE(sameBits(sp.n, nn[size_t(j) * (n + 1) + i])) << name << " " << i << " " << j;
+      }
+  }
+}
+
 TEST(DisplacedPatch, DicedGridInsideBoundsAndDiceBufferWorks) {
   DiceBuffer buffer(8);
   for (const Shape& shape : testShapes()) {

@@ -2,7 +2,10 @@
 // every sampled point value lies in the interval of its box, and the interval is not absurdly
 // loose (the mean ratio of interval width to the sampled spread is printed and bounded).
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -179,6 +182,82 @@ TEST(ValueNoise, ValuesDoNotDependOnWhatWasEvaluatedBefore) {
   ASSERT_EQ(0, std::memcmp(inOrder.data(), shuffled.data(), inOrder.size() * sizeof(float)));
 }
 
+// Value noise is defined as the trilinear blend, with quintic fade weights, of the lattice
+// values at the corners of the cell floor(x): written here with std::floor and std::clamp, as
+// the definition reads, the same float operations give the same bits as eval(), whose cell
+// search is a truncation (for the vectorised row) -- at integers, at -0.0 and just below 0,
+// beyond 2^24 (where every float is an integer) and past the 2^30 clamp.
+TEST(ValueNoise, EvalIsTheTrilinearBlendOfTheCellsLatticeValues) {
+  const ValueNoise noise(77);
+  auto reference = [&](float x, float y, float z) {
+    float in[3] = {x, y, z}, t[3], s[3];
+    int64_t cell[3];
+    for (int a = 0; a < 3; ++a) {
+      const float c = std::clamp(in[a], -1073741824.0f, 1073741824.0f);
+      const float f = std::floor(c);
+      cell[a] = int64_t(f);
+      t[a] = std::clamp(c - f, 0.0f, 1.0f);
+      s[a] = std::clamp(t[a] * t[a] * t[a] * (t[a] * (t[a] * 6.0f - 15.0f) + 10.0f), 0.0f, 1.0f);
+    }
+    auto l = [&](int dx, int dy, int dz) { return noise.lattice(cell[0] + dx, cell[1] + dy, cell[2] + dz); };
+    auto lerp = [](float a, float b, float w) { return a + (b - a) * w; };
+    const float b0 = lerp(lerp(l(0, 0, 0), l(1, 0, 0), s[0]), lerp(l(0, 1, 0), l(1, 1, 0), s[0]), s[1]);
+    const float b1 = lerp(lerp(l(0, 0, 1), l(1, 0, 1), s[0]), lerp(l(0, 1, 1), l(1, 1, 1), s[0]), s[1]);
+    return lerp(b0, b1, s[2]);
+  };
+  const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 3.0f, -7.0f, 0.5f, -0.5f, -1e-9f, 1e-9f, 0.99999994f,
+                           -0.99999994f, 16777216.0f, -16777218.0f, 3e8f, -3e8f, 1073741824.0f, 2e9f, -2e9f};
+  Random rng(5);
+  int checked = 0;
+  for (const float x : special)
+    for (const float y : special) {
+      const float z = special[size_t(rng.below(int(std::size(special))))];
+      for (const Vec3 p : {Vec3{x, y, z}, Vec3{z, x, y}, Vec3{y, z, x}}) {
+        const float got = noise.eval(p.x, p.y, p.z, nullptr), want = reference(p.x, p.y, p.z);
+        ASSERT_EQ(0, std::memcmp(&got, &want, sizeof got)) << p.x << " " << p.y << " " << p.z << ": " << got << " " << want;
+        ++checked;
+      }
+    }
+  for (int k = 0; k < 20000; ++k) {
+    const float reach = std::pow(10.0f, rng.uniform(-3.0f, 9.0f));
+    const Vec3 p{rng.uniform(-reach, reach), rng.uniform(-reach, reach), rng.uniform(-reach, reach)};
+    const float got = noise.eval(p.x, p.y, p.z, nullptr), want = reference(p.x, p.y, p.z);
+    ASSERT_EQ(0, std::memcmp(&got, &want, sizeof got)) << p.x << " " << p.y << " " << p.z;
+    ++checked;
+  }
+  EXPECT_GT(checked, 20000);
+}
+
+// evalRow() is eval() at every point of a row, bit for bit: rows longer than its chunk, whose
+// points step to a neighbouring cell across a face (where it keeps four corners), along a
+// diagonal, across several cells at once, back and forth, and stay in one cell.
+TEST(ValueNoise, RowEqualsOnePointAtATime) {
+  const ValueNoise noise(123);
+  Random rng(9);
+  const Vec3 steps[] = {{0.3f, 0, 0}, {0, -0.25f, 0}, {0, 0, 0.4f}, {0.3f, 0.2f, -0.1f},
+                        {2.5f, 0, 0}, {0.001f, 0, 0}, {-0.7f, 1.3f, 0.05f}};
+  for (const Vec3 step : steps)
+    for (const bool jitter : {false, true}) {
+      const int n = 200;
+      std::vector<float> x(n), y(n), z(n), value(n), gx(n), gy(n), gz(n);
+      Vec3 p{rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-50, 50)};
+      for (int i = 0; i < n; ++i) {
+        x[size_t(i)] = p.x;
+        y[size_t(i)] = p.y;
+        z[size_t(i)] = p.z;
+        p = p + step * (jitter && rng.below(4) == 0 ? -1.0f : 1.0f);
+      }
+      noise.evalRow(n, x.data(), y.data(), z.data(), value.data(), gx.data(), gy.data(), gz.data());
+      for (int i = 0; i < n; ++i) {
+        Vec3 g;
+        const float v = noise.eval(x[size_t(i)], y[size_t(i)], z[size_t(i)], &g);
+        const float row[4] = {value[size_t(i)], gx[size_t(i)], gy[size_t(i)], gz[size_t(i)]}, one[4] = {v, g.x, g.y, g.z};
+        ASSERT_EQ(0, std::memcmp(row, one, sizeof row)) << "point " << i << " of a row stepping " << step.x << " "
+                                                        << step.y << " " << step.z;
+      }
+    }
+}
+
 TEST(ValueNoise, GradientMatchesDifferences) {
   const ValueNoise noise(9);
   Random rng(1);
@@ -246,6 +325,37 @@ TEST(NoiseDisplacement, FractalIntervalContainsEverySample) {
   np.octaves = 16;  // up to 2^15 x the first frequency
   np.gain = 0.8f;
   checkFractal(np, 23, "fbm 16 octaves");
+}
+
+// sampleRow() is sample() at every point, bit for bit, plain and ridged (whose gradient flips
+// with the sign of each octave's value).
+TEST(NoiseDisplacement, SampleRowEqualsOnePointAtATime) {
+  for (const bool ridged : {false, true}) {
+    NoiseParams np;
+    np.amplitude = 0.7f;
+    np.frequency = 2.5f;
+    np.octaves = 5;
+    np.ridged = ridged;
+    np.offset = -0.1f;
+    const NoiseDisplacement disp(np);
+    Random rng(ridged ? 3 : 4);
+    const int n = 150;
+    std::vector<Vec3> p(n), pu(n), pv(n);
+    std::vector<float> u(n);
+    for (int i = 0; i < n; ++i) {
+      p[size_t(i)] = Vec3{0.013f * float(i), 0.4f * std::sin(0.05f * float(i)), 1.0f} + Vec3{rng.uniform(), 0, 0} * 0.01f;
+      pu[size_t(i)] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+      pv[size_t(i)] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+      u[size_t(i)] = float(i) / float(n - 1);
+    }
+    std::vector<HeightSample> row(n);
+    disp.sampleRow(n, p.data(), pu.data(), pv.data(), u.data(), 0.5f, row.data());
+    for (int i = 0; i < n; ++i) {
+      const HeightSample one = disp.sample(p[size_t(i)], pu[size_t(i)], pv[size_t(i)], u[size_t(i)], 0.5f);
+      const float a[3] = {row[size_t(i)].h, row[size_t(i)].hu, row[size_t(i)].hv}, b[3] = {one.h, one.hu, one.hv};
+      ASSERT_EQ(0, std::memcmp(a, b, sizeof a)) << (ridged ? "ridged" : "plain") << " point " << i;
+    }
+  }
 }
 
 TEST(NoiseDisplacement, AmplitudeBoundsTheHeight) {
