@@ -77,6 +77,20 @@ float param(Random& rng, float a, float b) {
   }
 }
 
+// dice() at level m gives evaluate()'s grid, positions and normals, bit for bit.
+::testing::AssertionResult diceEqualsEvaluate(const Patch& patch, int m) {
+  const int n = 1 << m;
+  std::vector<Vec3> p(size_t(n + 1) * (n + 1)), nn(p.size());
+  patch.dice(m, p.data(), nn.data());
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const SurfacePoint sp = patch.evaluate(float(i) / n, float(j) / n);
+      if (!sameBits(sp.p, p[size_t(j) * (n + 1) + i]) || !sameBits(sp.n, nn[size_t(j) * (n + 1) + i]))
+        return ::testing::AssertionFailure() << "vertex (" << i << ", " << j << ") of level " << m;
+    }
+  return ::testing::AssertionSuccess();
+}
+
 TEST(DisplacedPatch, MillionPointsInsideBoundsAndBoundsOver) {
   for (const Shape& shape : testShapes()) {
     const float size = shape.patch->bounds().longestSide();
@@ -164,17 +178,7 @@ TEST(DisplacedPatch, RowsLongerThanTheNoiseChunkStillEqualEvaluate) {
        DisplacedPatch(std::make_shared<BezierPatch>(test::transformed(teapot[0], 1.0f, {40, 0, 0})), d,
                       std::make_shared<BezierPatch>(teapot[0]))},
       {"bezier", DisplacedPatch(std::make_shared<BezierPatch>(teapot[0]), d)}};
-  for (const auto& [name, patch] : cases) {
-    const int m = 7, n = 1 << m;
-    std::vector<Vec3> p((n + 1) * (n + 1)), nn(p.size());
-    patch.dice(m, p.data(), nn.data());
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        const SurfacePoint sp = patch.evaluate(float(i) / n, float(j) / n);
-        ASSERT_TRUE(sameBits(sp.p, p[size_t(j) * (n + 1) + i])) << name << " " << i << " " << j;
-        ASSERT_TRUE(sameBits(sp.n, nn[size_t(j) * (n + 1) + i])) << name << " " << i << " " << j;
-      }
-  }
+  for (const auto& [name, patch] : cases) EXPECT_TRUE(diceEqualsEvaluate(patch, 7)) << name;
 }
 
 TEST(DisplacedPatch, DicedGridInsideBoundsAndDiceBufferWorks) {
@@ -255,15 +259,7 @@ TEST(DisplacedPatch, ReferenceSurfaceFeedsTheNoise) {
   EXPECT_GT(differ, 0);
   // dice() takes a Bézier base's and reference's rows once per grid row: still evaluate()'s
   // grid, bit for bit, with a reference surface (a transformed shape).
-  const int m = 5, n = 1 << m;
-  std::vector<Vec3> p((n + 1) * (n + 1)), nn(p.size());
-  b.dice(m, p.data(), nn.data());
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const SurfacePoint sp = b.evaluate(float(i) / n, float(j) / n);
-      ASSERT_TRUE(sameBits(sp.p, p[size_t(j) * (n + 1) + i])) << i << " " << j;
-      ASSERT_TRUE(sameBits(sp.n, nn[size_t(j) * (n + 1) + i])) << i << " " << j;
-    }
+  EXPECT_TRUE(diceEqualsEvaluate(b, 5));
 }
 
 // What displacement does at the teapot's seams: heights are a function of position, so they
