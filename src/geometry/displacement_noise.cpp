@@ -142,12 +142,13 @@ void ValueNoise::evalRow(int count, const float* xs, const float* ys, const floa
       std::copy(first, first + 8, cur);
     }
     for (int i = 0; i < m; ++i) {
-      const int32_t dx = cx[i] - lastX, dy = cy[i] - lastY, dz = cz[i] - lastZ;
+      // In int64: cells span +-2^30, so a step can exceed the int32 range.
+      const int64_t dx = int64_t(cx[i]) - lastX, dy = int64_t(cy[i]) - lastY, dz = int64_t(cz[i]) - lastZ;
       if (dx | dy | dz) {
         const int axis = (dy == 0 && dz == 0) ? 0 : (dx == 0 && dz == 0) ? 1 : (dx == 0 && dy == 0) ? 2 : -1;
-        const int32_t step = axis == 0 ? dx : axis == 1 ? dy : dz;
-        const int bit = 1 << axis;  // the corner index bit of that axis
-        if (axis >= 0 && (step == 1 || step == -1)) {
+        const int64_t step = axis == 0 ? dx : axis == 1 ? dy : axis == 2 ? dz : 0;
+        if (step == 1 || step == -1) {
+          const int bit = 1 << axis;  // the corner index bit of that axis
           // The new cell's corners on the shared face come from the old cell's other side.
           for (int k = 0; k < 8; ++k)
             if (((k & bit) != 0) == (step < 0)) cur[k] = cur[k ^ bit];

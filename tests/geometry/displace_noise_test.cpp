@@ -236,6 +236,17 @@ TEST(ValueNoise, RowEqualsOnePointAtATime) {
   Random rng(9);
   const Vec3 steps[] = {{0.3f, 0, 0}, {0, -0.25f, 0}, {0, 0, 0.4f}, {0.3f, 0.2f, -0.1f},
                         {2.5f, 0, 0}, {0.001f, 0, 0}, {-0.7f, 1.3f, 0.05f}};
+  // And a row jumping between the two ends of the clamped lattice (cells 2^31 apart).
+  {
+    const int n = 10;
+    std::vector<float> x(n), y(n, 0.5f), z(n, -0.25f), value(n), gx(n), gy(n), gz(n);
+    for (int i = 0; i < n; ++i) x[size_t(i)] = i % 2 ? 3e9f : -3e9f;
+    noise.evalRow(n, x.data(), y.data(), z.data(), value.data(), gx.data(), gy.data(), gz.data());
+    for (int i = 0; i < n; ++i) {
+      const float v = noise.eval(x[size_t(i)], y[size_t(i)], z[size_t(i)], nullptr);
+      ASSERT_EQ(0, std::memcmp(&v, &value[size_t(i)], sizeof v)) << "point " << i << " of the jumping row";
+    }
+  }
   for (const Vec3 step : steps)
     for (const bool jitter : {false, true}) {
       const int n = 200;
