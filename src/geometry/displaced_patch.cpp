@@ -175,10 +175,27 @@ static float differencePoint(float u) {
   return u + h <= 1.0f ? u + h : u - h;
 }
 
-// The base's frame at one vertex from its three base (and reference) points, and where the
-// displacement is to be sampled.
+// The three points a vertex's frame is built from: at (u, v), (ua, v) and (u, va).
+static void threePoints(const Patch& patch, float u, float v, float ua, float va, SurfacePoint out[3]) {
+  out[0] = patch.evaluate(u, v);
+  out[1] = patch.evaluate(ua, v);
+  out[2] = patch.evaluate(u, va);
+}
+
+// The same from a Bézier patch's rows at v and va: the calls its evaluate() makes
+// (BezierPatch::evaluate is pointOnRow(rowAt(v), ...)), so the same bits.
+static void threePointsOnRows(const BezierPatch& patch, const BezierPatch::RowAtV& row,
+                              const BezierPatch::RowAtV& rowA, float u, float v, float ua, float va,
+                              SurfacePoint out[3]) {
+  out[0] = patch.pointOnRow(row, u, v);
+  out[1] = patch.pointOnRow(row, ua, v);
+  out[2] = patch.pointOnRow(rowA, u, va);
+}
+
+// The base's frame at one vertex from its three base points, and (at, atU, atV) where the
+// displacement is sampled: the reference's point and differences (the base's when ref is null).
 DisplacedPatch::Frame DisplacedPatch::frame(float u, float v, float ua, float va, const SurfacePoint base[3],
-                                            const Vec3* ref) const {
+                                            const SurfacePoint* ref, Vec3& at, Vec3& atU, Vec3& atV) const {
   const SurfacePoint& c = base[0];
   Frame f;
   f.p = c.p;
@@ -192,13 +209,13 @@ DisplacedPatch::Frame DisplacedPatch::frame(float u, float v, float ua, float va
   f.nu = (unitOrZero(base[1].n) - f.n) * iu;
   f.nv = (unitOrZero(base[2].n) - f.n) * iv;
   if (ref) {
-    f.at = ref[0];
-    f.atU = (ref[1] - ref[0]) * iu;
-    f.atV = (ref[2] - ref[0]) * iv;
+    at = ref[0].p;
+    atU = (ref[1].p - ref[0].p) * iu;
+    atV = (ref[2].p - ref[0].p) * iv;
   } else {
-    f.at = c.p;
-    f.atU = f.pu;
-    f.atV = f.pv;
+    at = c.p;
+    atU = f.pu;
+    atV = f.pv;
   }
   return f;
 }
@@ -214,19 +231,19 @@ SurfacePoint DisplacedPatch::displaced(const Frame& f, const HeightSample& s) co
 
 SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
   const float ua = differencePoint(u), va = differencePoint(v);
-  const SurfacePoint base[3] = {base_->evaluate(u, v), base_->evaluate(ua, v), base_->evaluate(u, va)};
-  Vec3 ref[3];
-  if (reference_ != base_)
-    for (int k = 0; k < 3; ++k) ref[k] = reference_->evaluate(k == 1 ? ua : u, k == 2 ? va : v).p;
-  const Frame f = frame(u, v, ua, va, base, reference_ != base_ ? ref : nullptr);
-  return displaced(f, displacement_->sample(f.at, f.atU, f.atV, u, v));
+  const bool hasRef = reference_ != base_;
+  SurfacePoint base[3], ref[3];
+  threePoints(*base_, u, v, ua, va, base);
+  if (hasRef) threePoints(*reference_, u, v, ua, va, ref);
+  Vec3 at, atU, atV;
+  const Frame f = frame(u, v, ua, va, base, hasRef ? ref : nullptr, at, atU, atV);
+  return displaced(f, displacement_->sample(at, atU, atV, u, v));
 }
 
 // One evaluate() per vertex, bit for bit, a grid row at a time: the row's base frames first,
 // then the displacement over the whole row (Displacement::sampleRow: the noise vectorises
 // across it), then the displaced points. A Bézier base's (and reference's) rows at v and at
-// v's difference point are computed once per grid row rather than once per point: the same
-// calls evaluate() makes (BezierPatch::evaluate is pointOnRow(rowAt(v), ...)).
+// v's difference point are computed once per grid row rather than once per point.
 void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
   const auto* bz = dynamic_cast<const BezierPatch*>(base_.get());
   const auto* rz = reference_ == base_ ? nullptr : dynamic_cast<const BezierPatch*>(reference_.get());
@@ -244,31 +261,14 @@ void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
     if (rz) { refRow = rz->rowAt(v); refRowA = rz->rowAt(va); }
     for (int i = 0; i <= n; ++i) {
       const float u = float(i) / fn, ua = differencePoint(u);
-      SurfacePoint base[3];
-      if (bz) {
-        base[0] = bz->pointOnRow(row, u, v);
-        base[1] = bz->pointOnRow(row, ua, v);
-        base[2] = bz->pointOnRow(rowA, u, va);
-      } else {
-        base[0] = base_->evaluate(u, v);
-        base[1] = base_->evaluate(ua, v);
-        base[2] = base_->evaluate(u, va);
-      }
-      Vec3 ref[3];
-      if (rz) {
-        ref[0] = rz->pointOnRow(refRow, u, v).p;
-        ref[1] = rz->pointOnRow(refRow, ua, v).p;
-        ref[2] = rz->pointOnRow(refRowA, u, va).p;
-      } else if (hasRef) {
-        ref[0] = reference_->evaluate(u, v).p;
-        ref[1] = reference_->evaluate(ua, v).p;
-        ref[2] = reference_->evaluate(u, va).p;
-      }
-      const Frame& f = frames[size_t(i)] = frame(u, v, ua, va, base, hasRef ? ref : nullptr);
-      at[size_t(i)] = f.at;
-      atU[size_t(i)] = f.atU;
-      atV[size_t(i)] = f.atV;
-      us[size_t(i)] = u;
+      SurfacePoint base[3], ref[3];
+      if (bz) threePointsOnRows(*bz, row, rowA, u, v, ua, va, base);
+      else threePoints(*base_, u, v, ua, va, base);
+      if (rz) threePointsOnRows(*rz, refRow, refRowA, u, v, ua, va, ref);
+      else if (hasRef) threePoints(*reference_, u, v, ua, va, ref);
+      const size_t k = size_t(i);
+      frames[k] = frame(u, v, ua, va, base, hasRef ? ref : nullptr, at[k], atU[k], atV[k]);
+      us[k] = u;
     }
     displacement_->sampleRow(n + 1, at.data(), atU.data(), atV.data(), us.data(), v, heights.data());
     for (int i = 0; i <= n; ++i) {

@@ -67,14 +67,15 @@ class DisplacedPatch final : public Patch {
  private:
   enum class BaseKind { Bezier, Bilinear, Other };
   // The base at one vertex: its point, unit normal and their one-sided differences along u
-  // and v, and the point and derivatives the displacement is sampled at (the reference's).
+  // and v.
   struct Frame {
     Vec3 p, n, baseNormal, pu, pv, nu, nv;
-    Vec3 at, atU, atV;
   };
   // The frame at (u, v) from the base at (u, v), (ua, v), (u, va) (ua, va: the difference
-  // points) and the reference's positions there (null: the base is the reference).
-  Frame frame(float u, float v, float ua, float va, const SurfacePoint base[3], const Vec3* ref) const;
+  // points), and in (at, atU, atV) the point and differences the displacement is sampled at:
+  // the reference's points there (null: the base is the reference).
+  Frame frame(float u, float v, float ua, float va, const SurfacePoint base[3], const SurfacePoint* ref, Vec3& at,
+              Vec3& atU, Vec3& atV) const;
   SurfacePoint displaced(const Frame& f, const HeightSample& h) const;
   PatchPtr base_;
   DisplacementPtr displacement_;
