@@ -82,8 +82,9 @@ class ValueNoise {
   explicit ValueNoise(uint64_t seed) : seed_(seed) {}
   // Noise and its gradient at x (lattice units).
   float eval(float x, float y, float z, Vec3* gradient) const;
-  // eval() at n points (lattice units): value[i] and the gradient (gx, gy, gz)[i]. Bit for bit n eval() calls (eval() is its n = 1 case), at a fraction of the cost:
-  // the fade weights and the blend are vectorised and a row's points share their cells.
+  // eval() at n points (lattice units): value[i] and the gradient (gx, gy, gz)[i]. Bit for bit
+  // n eval() calls (eval() is its n = 1 case), at a fraction of the cost: the fade weights and
+  // the blend are vectorised and a row's points share their cells.
   void evalRow(int n, const float* x, const float* y, const float* z, float* value, float* gx, float* gy,
                float* gz) const;
   // Conservative range of eval() over every float point of [lo, hi].

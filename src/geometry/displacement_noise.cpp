@@ -59,6 +59,11 @@ struct CellCorners {
   float c[2][2][2] = {};  // c[dz][dy][dx]
 };
 
+// The lattice value at corner k = dz * 4 + dy * 2 + dx of cell (ix, iy, iz).
+inline float cornerValue(const ValueNoise& noise, int64_t ix, int64_t iy, int64_t iz, int k) {
+  return noise.lattice(ix + (k & 1), iy + ((k >> 1) & 1), iz + (k >> 2));
+}
+
 // The lattice values at the corners of cell (ix, iy, iz). Neighbouring vertices of a dicing,
 // and neighbouring border pieces, mostly fall in the cell of the one before (a lattice cell of
 // the low octaves spans many micropolygons), so each thread keeps the last cell per seed:
@@ -74,7 +79,7 @@ const float (&cellCorners(const ValueNoise& noise, int64_t ix, int64_t iy, int64
   if (!(cell.seed == seed && cell.ix == ix && cell.iy == iy && cell.iz == iz)) {
     for (int dz = 0; dz < 2; ++dz)
       for (int dy = 0; dy < 2; ++dy)
-        for (int dx = 0; dx < 2; ++dx) cell.c[dz][dy][dx] = noise.lattice(ix + dx, iy + dy, iz + dz);
+        for (int dx = 0; dx < 2; ++dx) cell.c[dz][dy][dx] = cornerValue(noise, ix, iy, iz, dz * 4 + dy * 2 + dx);
     cell.seed = seed;
     cell.ix = ix;
     cell.iy = iy;
@@ -147,18 +152,18 @@ void ValueNoise::evalRow(int count, const float* xs, const float* ys, const floa
       if (dx | dy | dz) {
         const int axis = (dy == 0 && dz == 0) ? 0 : (dx == 0 && dz == 0) ? 1 : (dx == 0 && dy == 0) ? 2 : -1;
         const int64_t step = axis == 0 ? dx : axis == 1 ? dy : axis == 2 ? dz : 0;
+        int fresh = 0xFF;  // the corners to hash, one bit per corner index
         if (step == 1 || step == -1) {
-          const int bit = 1 << axis;  // the corner index bit of that axis
           // The new cell's corners on the shared face come from the old cell's other side.
-          for (int k = 0; k < 8; ++k)
+          const int bit = 1 << axis;  // the corner index bit of that axis
+          fresh = 0;
+          for (int k = 0; k < 8; ++k) {
             if (((k & bit) != 0) == (step < 0)) cur[k] = cur[k ^ bit];
-          for (int k = 0; k < 8; ++k)
-            if (((k & bit) != 0) == (step > 0))
-              cur[k] = lattice(int64_t(cx[i]) + (k & 1), int64_t(cy[i]) + ((k >> 1) & 1), int64_t(cz[i]) + (k >> 2));
-        } else {
-          for (int k = 0; k < 8; ++k)
-            cur[k] = lattice(int64_t(cx[i]) + (k & 1), int64_t(cy[i]) + ((k >> 1) & 1), int64_t(cz[i]) + (k >> 2));
+            else fresh |= 1 << k;
+          }
         }
+        for (int k = 0; k < 8; ++k)
+          if (fresh & (1 << k)) cur[k] = cornerValue(*this, cx[i], cy[i], cz[i], k);
         lastX = cx[i];
         lastY = cy[i];
         lastZ = cz[i];
