@@ -41,18 +41,28 @@ class BezierPatch final : public Patch {
 
   const std::array<Vec3, 16>& controlPoints() const { return cp_; }
 
-  // The u-direction curve at a fixed v: its control points and their v-derivatives.
-  // evaluate(u, v) is pointOnRow(rowAt(v), u, v), bit for bit: callers evaluating many points of
-  // one row (dice(), DisplacedPatch::dice()) compute the row once.
+  // The u-direction curve at a fixed v: its control points and their first and second
+  // v-derivatives (relative to the patch's anchor). evaluate(u, v) is pointOnRow(rowAt(v), u,
+  // v), bit for bit: callers evaluating many points of one row (dice(), DisplacedPatch::dice())
+  // compute the row once.
   struct RowAtV {
     Vec3 q[4];
     Vec3 dq[4];
+    Vec3 ddq[4];
   };
   RowAtV rowAt(float v) const;
   SurfacePoint pointOnRow(const RowAtV& row, float u, float v) const;
+  // pointOnRow's p alone (the same bits), for callers that need no normal.
+  Vec3 positionOnRow(const RowAtV& row, float u, float v) const;
+  // The partial derivatives at u on the row; cross(pu, pv) is pointOnRow's normal wherever
+  // that normal is not degenerate (where the patch nudges it: poles, collapsed edges).
+  static SurfaceDerivatives derivativesOnRow(const RowAtV& row, float u);
+  // pointOnRow() and derivativesOnRow() at once (the same bits as each, half the work).
+  SurfacePoint pointOnRow(const RowAtV& row, float u, float v, SurfaceDerivatives& d) const;
 
  private:
   static Vec3 rawNormal(const RowAtV& row, const float bu[4], float u);  // dP/du x dP/dv
+  Vec3 positionOnRow(const RowAtV& row, const float bu[4], float u, float v) const;
   Vec3 normalAt(float u, float v) const;
   Vec3 borderPoint(float u, float v) const;  // precondition: u or v is exactly 0 or 1
 

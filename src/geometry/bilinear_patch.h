@@ -18,6 +18,9 @@ class BilinearPatch final : public Patch {
   Box3 bounds() const override { return bounds_; }    // box of the corners, grown by the rounding of evaluate()
   float sizeBound() const override { return sizeBound_; }  // longest of the 4 border edges
   SurfacePoint evaluate(float u, float v) const override;
+  // P_u and P_v are linear in v and u (cross(pu, pv) is evaluate()'s normal where that is not
+  // nudged), P_uv the twist, P_uu = P_vv = 0.
+  SurfaceDerivatives derivatives(float u, float v) const;
   const char* kind() const override { return "bilinear"; }
   // Each micro-quad is itself bilinear with twist h^2 w, w = p00 - p10 - p01 + p11; its two
   // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Exactly zero when the

@@ -72,8 +72,11 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
   if (!base_ || !displacement_) throw std::invalid_argument("DisplacedPatch needs a base patch and a displacement");
   if (!reference_) reference_ = base_;
   kind_ = std::string("displaced-") + base_->kind();
+  bezierReference_ = dynamic_cast<const BezierPatch*>(reference_.get());
+  bilinearReference_ = dynamic_cast<const BilinearPatch*>(reference_.get());
   if (const auto* bz = dynamic_cast<const BezierPatch*>(base_.get())) {
     baseKind_ = BaseKind::Bezier;
+    bezierBase_ = bz;
     const auto& cp = bz->controlPoints();
     Box3 box;
     for (const Vec3& p : cp) box.extend(p);
@@ -90,8 +93,9 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
     // control points' magnitude, at most the control box's extent (not of the derivative's,
     // and not of the distance from the origin).
     hodographCancellation_ = 2e-5f * maxComponent(box.extent()) + 1e-30f;
-  } else if (dynamic_cast<const BilinearPatch*>(base_.get())) {
+  } else if (const auto* bl = dynamic_cast<const BilinearPatch*>(base_.get())) {
     baseKind_ = BaseKind::Bilinear;
+    bilinearBase_ = bl;
     // A bilinear patch's corners come out of evaluate() exactly (lerp weights 1 and 0).
     corners_[0] = base_->evaluate(0, 0).p;
     corners_[1] = base_->evaluate(1, 0).p;
@@ -175,47 +179,118 @@ static float differencePoint(float u) {
   return u + h <= 1.0f ? u + h : u - h;
 }
 
-// The three points a vertex's frame is built from: at (u, v), (ua, v) and (u, va).
+// The three points a vertex's difference frame is built from: at (u, v), (ua, v) and (u, va).
 static void threePoints(const Patch& patch, float u, float v, float ua, float va, SurfacePoint out[3]) {
   out[0] = patch.evaluate(u, v);
   out[1] = patch.evaluate(ua, v);
   out[2] = patch.evaluate(u, va);
 }
 
-// The same from a Bézier patch's rows at v and va: the calls its evaluate() makes
-// (BezierPatch::evaluate is pointOnRow(rowAt(v), ...)), so the same bits.
-static void threePointsOnRows(const BezierPatch& patch, const BezierPatch::RowAtV& row,
-                              const BezierPatch::RowAtV& rowA, float u, float v, float ua, float va,
-                              SurfacePoint out[3]) {
-  out[0] = patch.pointOnRow(row, u, v);
-  out[1] = patch.pointOnRow(row, ua, v);
-  out[2] = patch.pointOnRow(rowA, u, va);
+struct DisplacedPatch::RowContext {
+  float v = 0, va = 0;
+  BezierPatch::RowAtV row, refRow;  // valid for a Bézier base / reference
+  // The Bézier base's row at va, for a vertex that falls back to differences; made on first use.
+  BezierPatch::RowAtV rowA;
+  bool haveRowA = false;
+};
+
+DisplacedPatch::RowContext DisplacedPatch::rowContext(float v) const {
+  RowContext r;
+  r.v = v;
+  r.va = differencePoint(v);
+  if (bezierBase_) r.row = bezierBase_->rowAt(v);
+  if (bezierReference_ && reference_ != base_) r.refRow = bezierReference_->rowAt(v);
+  return r;
 }
 
-// The base's frame at one vertex from its three base points, and (at, atU, atV) where the
-// displacement is sampled: the reference's point and differences (the base's when ref is null).
-DisplacedPatch::Frame DisplacedPatch::frame(float u, float v, float ua, float va, const SurfacePoint base[3],
-                                            const SurfacePoint* ref, Vec3& at, Vec3& atU, Vec3& atV) const {
-  const SurfacePoint& c = base[0];
+bool DisplacedPatch::analyticFrame(const SurfacePoint& c, const SurfaceDerivatives& d, Frame& f) const {
+  const Vec3 raw = rayes::cross(d.pu, d.pv);
+  const float m = maxComponent(vabs(raw));
+  // Where the base nudged its normal (a pole: |N| at most the threshold) N_u is not this
+  // formula; the comparison with c.n is what says so, whatever threshold the base used.
+  if (!(m > tinyNormal_) || !std::isfinite(m) || !(c.n == raw)) return false;
+  // unitOrZero(c.n), written out to keep its 1/m and 1/|N/m| for 1/|N| (no under- or
+  // overflow of |N|^2 at tiny or huge scales).
+  const float r = 1.0f / m;
+  const Vec3 s = raw * r;
+  const float k = 1.0f / std::sqrt(dot(s, s));
+  f.p = c.p;
+  f.baseNormal = c.n;
+  f.n = s * k;
+  f.pu = d.pu;
+  f.pv = d.pv;
+  // d(N/|N|) = (I - n n^T) dN / |N|.
+  const float inv = r * k;
+  const Vec3 dnu = rayes::cross(d.puu, d.pv) + rayes::cross(d.pu, d.puv);
+  const Vec3 dnv = rayes::cross(d.puv, d.pv) + rayes::cross(d.pu, d.pvv);
+  f.nu = (dnu - f.n * dot(f.n, dnu)) * inv;
+  f.nv = (dnv - f.n * dot(f.n, dnv)) * inv;
+  return isFinite(f.nu) && isFinite(f.nv);
+}
+
+// One-sided differences of the base at a fixed step (two extra base evaluations; central
+// differences took four, for no visible gain in a shading normal).
+DisplacedPatch::Frame DisplacedPatch::differenceFrame(RowContext& r, const SurfacePoint& c, float u) const {
+  const float v = r.v, ua = differencePoint(u), va = r.va;
+  SurfacePoint atUa, atVa;
+  if (bezierBase_) {
+    if (!r.haveRowA) {
+      r.rowA = bezierBase_->rowAt(va);
+      r.haveRowA = true;
+    }
+    atUa = bezierBase_->pointOnRow(r.row, ua, v);
+    atVa = bezierBase_->pointOnRow(r.rowA, u, va);
+  } else {
+    atUa = base_->evaluate(ua, v);
+    atVa = base_->evaluate(u, va);
+  }
   Frame f;
   f.p = c.p;
   f.baseNormal = c.n;
   f.n = unitOrZero(c.n);
-  // One-sided differences of the base at a fixed step (two extra base evaluations per point;
-  // central differences took four, for no visible gain in a shading normal).
   const float iu = 1.0f / (ua - u), iv = 1.0f / (va - v);
-  f.pu = (base[1].p - c.p) * iu;
-  f.pv = (base[2].p - c.p) * iv;
-  f.nu = (unitOrZero(base[1].n) - f.n) * iu;
-  f.nv = (unitOrZero(base[2].n) - f.n) * iv;
-  if (ref) {
-    at = ref[0].p;
-    atU = (ref[1].p - ref[0].p) * iu;
-    atV = (ref[2].p - ref[0].p) * iv;
+  f.pu = (atUa.p - c.p) * iu;
+  f.pv = (atVa.p - c.p) * iv;
+  f.nu = (unitOrZero(atUa.n) - f.n) * iu;
+  f.nv = (unitOrZero(atVa.n) - f.n) * iv;
+  return f;
+}
+
+DisplacedPatch::Frame DisplacedPatch::vertexFrame(RowContext& r, float u, Vec3& at, Vec3& atU, Vec3& atV) const {
+  const float v = r.v;
+  Frame f;
+  SurfacePoint c;
+  bool analytic = false;
+  if (bezierBase_) {
+    SurfaceDerivatives d;
+    c = bezierBase_->pointOnRow(r.row, u, v, d);
+    analytic = analyticFrame(c, d, f);
   } else {
-    at = c.p;
+    c = base_->evaluate(u, v);
+    if (bilinearBase_) analytic = analyticFrame(c, bilinearBase_->derivatives(u, v), f);
+  }
+  if (!analytic) f = differenceFrame(r, c, u);
+  if (reference_ == base_) {
+    at = f.p;
     atU = f.pu;
     atV = f.pv;
+  } else if (bezierReference_) {
+    at = bezierReference_->positionOnRow(r.refRow, u, v);
+    const SurfaceDerivatives d = BezierPatch::derivativesOnRow(r.refRow, u);
+    atU = d.pu;
+    atV = d.pv;
+  } else if (bilinearReference_) {
+    at = reference_->evaluate(u, v).p;
+    const SurfaceDerivatives d = bilinearReference_->derivatives(u, v);
+    atU = d.pu;
+    atV = d.pv;
+  } else {
+    SurfacePoint ref[3];
+    const float ua = differencePoint(u);
+    threePoints(*reference_, u, v, ua, r.va, ref);
+    at = ref[0].p;
+    atU = (ref[1].p - ref[0].p) * (1.0f / (ua - u));
+    atV = (ref[2].p - ref[0].p) * (1.0f / (r.va - v));
   }
   return f;
 }
@@ -230,24 +305,17 @@ SurfacePoint DisplacedPatch::displaced(const Frame& f, const HeightSample& s) co
 }
 
 SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
-  const float ua = differencePoint(u), va = differencePoint(v);
-  const bool hasRef = reference_ != base_;
-  SurfacePoint base[3], ref[3];
-  threePoints(*base_, u, v, ua, va, base);
-  if (hasRef) threePoints(*reference_, u, v, ua, va, ref);
+  RowContext r = rowContext(v);
   Vec3 at, atU, atV;
-  const Frame f = frame(u, v, ua, va, base, hasRef ? ref : nullptr, at, atU, atV);
+  const Frame f = vertexFrame(r, u, at, atU, atV);
   return displaced(f, displacement_->sample(at, atU, atV, u, v));
 }
 
 // One evaluate() per vertex, bit for bit, a grid row at a time: the row's base frames first,
 // then the displacement over the whole row (Displacement::sampleRow: the noise vectorises
-// across it), then the displaced points. A Bézier base's (and reference's) rows at v and at
-// v's difference point are computed once per grid row rather than once per point.
+// across it), then the displaced points. A Bézier base's (and reference's) rows are computed
+// once per grid row rather than once per point.
 void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
-  const auto* bz = dynamic_cast<const BezierPatch*>(base_.get());
-  const auto* rz = reference_ == base_ ? nullptr : dynamic_cast<const BezierPatch*>(reference_.get());
-  const bool hasRef = reference_ != base_;
   const int n = 1 << level;
   const float fn = float(n);
   std::vector<Frame> frames(size_t(n) + 1);
@@ -255,20 +323,12 @@ void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
   std::vector<float> us(size_t(n) + 1);
   std::vector<HeightSample> heights(size_t(n) + 1);
   for (int j = 0; j <= n; ++j) {
-    const float v = float(j) / fn, va = differencePoint(v);
-    BezierPatch::RowAtV row, rowA, refRow, refRowA;
-    if (bz) { row = bz->rowAt(v); rowA = bz->rowAt(va); }
-    if (rz) { refRow = rz->rowAt(v); refRowA = rz->rowAt(va); }
+    const float v = float(j) / fn;
+    RowContext r = rowContext(v);
     for (int i = 0; i <= n; ++i) {
-      const float u = float(i) / fn, ua = differencePoint(u);
-      SurfacePoint base[3], ref[3];
-      if (bz) threePointsOnRows(*bz, row, rowA, u, v, ua, va, base);
-      else threePoints(*base_, u, v, ua, va, base);
-      if (rz) threePointsOnRows(*rz, refRow, refRowA, u, v, ua, va, ref);
-      else if (hasRef) threePoints(*reference_, u, v, ua, va, ref);
       const size_t k = size_t(i);
-      frames[k] = frame(u, v, ua, va, base, hasRef ? ref : nullptr, at[k], atU[k], atV[k]);
-      us[k] = u;
+      us[k] = float(i) / fn;
+      frames[k] = vertexFrame(r, us[k], at[k], atU[k], atV[k]);
     }
     displacement_->sampleRow(n + 1, at.data(), atU.data(), atV.data(), us.data(), v, heights.data());
     for (int i = 0; i <= n; ++i) {

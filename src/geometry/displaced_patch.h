@@ -11,15 +11,17 @@
 // base normal can degenerate (poles, where the base substitutes a nudged normal), each
 // component is taken in [-1, 1]. bounds() is boundsOver(0, 1, 0, 1).
 //
-// Normals. The displaced normal is P'_u x P'_v with P'_u = P_u + N_u h + N h_u: the base's
-// P_u and N_u by one-sided finite differences of base evaluations at a fixed parameter step
-// (2^-10, forward, backward at u or v = 1), h_u analytically from the displacement. A fixed step (not the
-// dicing's grid spacing) keeps a vertex's normal independent of the dicing level, so dice()
-// equals evaluate() bit for bit and the level-k subgrid of a level-m dicing is a level-k
-// dicing, normals included (invariant 2). Where that cross product is not finite or vanishes,
-// the base normal is used. dice() equals one evaluate() per vertex, bit for bit; over a Bézier
-// base (and reference) it computes each row of the base once per grid row instead of per point.
-//
+// Normals. The displaced normal is P'_u x P'_v with P'_u = P_u + N_u h + N h_u, h_u analytically
+// from the displacement. Over Bézier and bilinear bases (and references) P_u, P_v and the unit
+// normal's derivative N_u = (I - N N^T) (P_uu x P_v + P_u x P_uv) / |P_u x P_v| are analytic
+// (SurfaceDerivatives). Where the base normal is degenerate (|P_u x P_v| at most the base's
+// threshold: a pole, where the base nudges its normal) and over other kinds (subdivision
+// faces), P_u and N_u are one-sided finite differences of base evaluations at a fixed
+// parameter step (2^-10, forward, backward at u or v = 1). Both are functions of (u, v) alone,
+// not of the dicing's grid spacing, so dice() equals evaluate() bit for bit and the level-k
+// subgrid of a level-m dicing is a level-k dicing, normals included (invariant 2). Where the
+// displaced cross product is not finite or vanishes, the base normal is used. Positions use
+// only the base point and unit normal, which are the base's own evaluate() bits.
 // Seams: h of a noise displacement is a function of the base POSITION, so it is bit-identical
 // on both sides of a shared border; the displaced border vertices are then bit-identical only
 // where the two bases' unit normals are too. See tests/dicing/displace_patch_test.cpp for what
@@ -30,6 +32,9 @@
 #include "geometry/patch.h"
 
 namespace rayes {
+
+class BezierPatch;
+class BilinearPatch;
 
 class DisplacedPatch final : public Patch {
  public:
@@ -66,22 +71,33 @@ class DisplacedPatch final : public Patch {
 
  private:
   enum class BaseKind { Bezier, Bilinear, Other };
-  // The base at one vertex: its point, unit normal and their one-sided differences along u
-  // and v.
+  // The base at one vertex: its point, unit normal and their derivatives along u and v.
   struct Frame {
     Vec3 p, n, baseNormal, pu, pv, nu, nv;
   };
-  // The frame at (u, v) from the base at (u, v), (ua, v), (u, va) (ua, va: the difference
-  // points), and in (at, atU, atV) the point and differences the displacement is sampled at:
-  // the reference's points there (null: the base is the reference).
-  Frame frame(float u, float v, float ua, float va, const SurfacePoint base[3], const SurfacePoint* ref, Vec3& at,
-              Vec3& atU, Vec3& atV) const;
+  // What the vertices of one grid row share (defined in the .cpp): the Bézier base's and
+  // reference's rows at v, and the rows at v's difference point once a vertex needs them.
+  struct RowContext;
+  RowContext rowContext(float v) const;
+  // The frame at (u, row v), and in (at, atU, atV) the point and derivatives the displacement
+  // is sampled at: the reference's (the base's when there is none). dice() and evaluate() both
+  // call this, which is what makes them equal bit for bit.
+  Frame vertexFrame(RowContext& row, float u, Vec3& at, Vec3& atU, Vec3& atV) const;
+  // The frame from the base's point and analytic derivatives; false where they cannot give one
+  // (degenerate or overflowing base normal), and the caller takes differences instead.
+  bool analyticFrame(const SurfacePoint& c, const SurfaceDerivatives& d, Frame& f) const;
+  Frame differenceFrame(RowContext& row, const SurfacePoint& c, float u) const;
   SurfacePoint displaced(const Frame& f, const HeightSample& h) const;
   PatchPtr base_;
   DisplacementPtr displacement_;
   PatchPtr reference_;       // never null (the base when none was given)
   std::string kind_;
   BaseKind baseKind_ = BaseKind::Other;
+  // The base's and reference's kinds where they have analytic derivatives (else null).
+  const BezierPatch* bezierBase_ = nullptr;
+  const BezierPatch* bezierReference_ = nullptr;
+  const BilinearPatch* bilinearBase_ = nullptr;
+  const BilinearPatch* bilinearReference_ = nullptr;
   Vec3 corners_[4];          // bilinear base: p00, p10, p01, p11 (from evaluate at the corners)
   Vec3 hodographU_[12];      // Bézier base: 3 x the control point differences along u (4 rows of 3)
   Vec3 hodographV_[12];      // ... and along v (3 rows of 4)

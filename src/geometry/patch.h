@@ -22,6 +22,14 @@ struct SurfacePoint {
   Vec3 n;
 };
 
+// A patch's first and second partial derivatives at one (u, v), for the kinds that have them
+// in closed form (BezierPatch::derivativesOnRow, BilinearPatch::derivatives): a displaced
+// surface's normal needs the base normal's derivatives, which come from these.
+struct SurfaceDerivatives {
+  Vec3 pu, pv;         // dP/du, dP/dv (their cross product is the kind's raw normal, bit for bit)
+  Vec3 puu, puv, pvv;  // second derivatives
+};
+
 class Patch {
  public:
   virtual ~Patch() = default;

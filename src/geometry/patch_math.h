@@ -41,6 +41,13 @@ inline Vec3 cubicDerivative(const Vec3 p[4], float t) {
   return ((p[1] - p[0]) * (s * s) + (p[2] - p[1]) * (2.0f * t * s) + (p[3] - p[2]) * (t * t)) * 3.0f;
 }
 
+// Second derivative of a cubic Bézier, 6 * sum_k B1_k(t) (second differences): the differences
+// of the hodograph's control points, so again exactly zero on a collapsed row.
+inline Vec3 cubicSecondDerivative(const Vec3 p[4], float t) {
+  const Vec3 d0 = p[1] - p[0], d1 = p[2] - p[1], d2 = p[3] - p[2];
+  return ((d1 - d0) * (1.0f - t) + (d2 - d1) * t) * 6.0f;
+}
+
 inline Vec3 cubicBezier(Vec3 p0, Vec3 p1, Vec3 p2, Vec3 p3, float t) {
   const float s = 1.0f - t;
   return p0 * (s * s * s) + p1 * (3.0f * t * s * s) + p2 * (3.0f * t * t * s) + p3 * (t * t * t);

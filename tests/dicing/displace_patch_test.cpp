@@ -6,6 +6,8 @@
 // equals evaluate() bit for bit, normals are finite, and what the teapot's seams do.
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <vector>
@@ -179,6 +181,89 @@ TEST(DisplacedPatch, RowsLongerThanTheNoiseChunkStillEqualEvaluate) {
                       std::make_shared<BezierPatch>(teapot[0]))},
       {"bezier", DisplacedPatch(std::make_shared<BezierPatch>(teapot[0]), d)}};
   for (const auto& [name, patch] : cases) EXPECT_TRUE(diceEqualsEvaluate(patch, 7)) << name;
+}
+
+// A constant height h makes the offset surface P + h N, whose raw normal is exactly
+// det(I - h S) (P_u x P_v), S the base's shape operator: trace and determinant from the first
+// and second fundamental forms, (E N - 2 F M + G L) / W and (L N - M^2) / W, W = E G - F^2 --
+// computed here in double from the base's float derivatives, independently of the code's
+// projection formula for N_u. A wrong or missing term of N_u, or a finite difference in its
+// place (error ~ h 2^-10 |N_u|^2, about 1e-4 of the normal here), fails it. The bound: the
+// code's P'_u and P'_v are each at most ~24 roundings from exact (the unit normal's 10, N_u's
+// projection 8, the sums) on terms of size |P_u| and |h| |dN_u| / |N| (dN_u = P_uu x P_v +
+// P_u x P_uv, before the projection cancels its normal part), then one more cross product:
+// gamma(32) of those magnitudes. Checked at scales from 1e-12 to 1e12 (the 1 / max component
+// and the sqrt of analyticFrame at their edges) and on both sides of the base.
+TEST(DisplacedPatch, ConstantHeightGivesTheOffsetSurfacesNormal) {
+  using D3 = std::array<double, 3>;
+  auto d3 = [](Vec3 a) { return D3{a.x, a.y, a.z}; };
+  auto dot3 = [](D3 a, D3 b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  auto cross3 = [](D3 a, D3 b) { return D3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; };
+  auto add3 = [](D3 a, D3 b, double k) { return D3{a[0] + k * b[0], a[1] + k * b[1], a[2] + k * b[2]}; };
+  auto len3 = [&](D3 a) { return std::sqrt(dot3(a, a)); };
+  const auto teapot = test::loadTeapot();
+  for (const float scale : {1e-12f, 1e-6f, 1.0f, 1e6f, 1e12f}) {
+    const auto body = std::make_shared<BezierPatch>(test::transformed(teapot[0], scale, {0, 0, 0}));
+    const Vec3 c[4] = {{0, 0, 0}, {2 * scale, 0, 0.3f * scale}, {0, 2 * scale, -0.2f * scale}, {2 * scale, 2.2f * scale, 0.4f * scale}};
+    const auto twisted = std::make_shared<BilinearPatch>(c[0], c[1], c[2], c[3]);
+    struct Case { const char* name; PatchPtr base; float relativeHeight; };
+    for (const Case& cs : {Case{"teapot body", body, 0.05f}, Case{"twisted bilinear", twisted, 0.2f}}) {
+      for (const float sign : {1.0f, -1.0f}) {
+        const float h = sign * cs.relativeHeight * cs.base->bounds().longestSide();
+        NoiseParams np;
+        np.amplitude = 0;
+        np.offset = h;
+        const DisplacedPatch patch(cs.base, std::make_shared<NoiseDisplacement>(np));
+        Random rng(7);
+        double worst = 0;
+        for (int k = 0; k < 2000; ++k) {
+          const float u = rng.uniform(0.02f, 0.98f), v = rng.uniform(0.02f, 0.98f);
+          SurfaceDerivatives fd;
+          if (const auto* bz = dynamic_cast<const BezierPatch*>(cs.base.get())) fd = BezierPatch::derivativesOnRow(bz->rowAt(v), u);
+          else fd = dynamic_cast<const BilinearPatch&>(*cs.base).derivatives(u, v);
+          const D3 pu = d3(fd.pu), pv = d3(fd.pv), puu = d3(fd.puu), puv = d3(fd.puv), pvv = d3(fd.pvv);
+          const D3 raw = cross3(pu, pv);
+          const double w = dot3(raw, raw), nl = std::sqrt(w);
+          const D3 n{raw[0] / nl, raw[1] / nl, raw[2] / nl};
+          const double E = dot3(pu, pu), F = dot3(pu, pv), G = dot3(pv, pv);
+          const double L = dot3(puu, n), M = dot3(puv, n), N = dot3(pvv, n);
+          const double trace = (E * N - 2 * F * M + G * L) / w, det = (L * N - M * M) / w;
+          const double factor = 1 - double(h) * trace + double(h) * double(h) * det;
+          const D3 expected{raw[0] * factor, raw[1] * factor, raw[2] * factor};
+          // Magnitudes for the bound (from the exact N_u, the same formula in double).
+          const D3 dnu = add3(cross3(puu, pv), cross3(pu, puv), 1), dnv = add3(cross3(puv, pv), cross3(pu, pvv), 1);
+          const D3 nu = add3(dnu, n, -dot3(n, dnu)), nv = add3(dnv, n, -dot3(n, dnv));
+          const D3 du = add3(pu, nu, double(h) / nl), dv = add3(pv, nv, double(h) / nl);
+          const double bound = double(gammaBound(32)) * ((len3(pu) + std::fabs(h) * len3(dnu) / nl) * len3(dv) +
+                                                         len3(du) * (len3(pv) + std::fabs(h) * len3(dnv) / nl));
+          const D3 got = d3(patch.evaluate(u, v).n);
+          const double err = len3(add3(got, expected, -1));
+          worst = std::max(worst, err / bound);
+          ASSERT_LE(err, bound) << cs.name << " at scale " << scale << ", h " << h << ", (" << u << ", " << v << ")";
+        }
+        std::printf("%-16s scale %-6g h %+.3g: worst error / bound %.3f\n", cs.name, double(scale), double(h), worst);
+      }
+    }
+  }
+}
+
+// Near a pole the base normal P_u x P_v vanishes and the base nudges it; there the frame falls
+// back to differences. Both paths give finite normals up to the pole (and bit-equal grids).
+TEST(DisplacedPatch, NormalsStayFiniteUpToAPole) {
+  const Shape pole = testShapes()[1];
+  NoiseParams np;
+  np.amplitude = 0.1f * pole.patch->bounds().longestSide();
+  np.frequency = 4.0f / pole.patch->bounds().longestSide();
+  const DisplacedPatch patch(pole.patch, std::make_shared<NoiseDisplacement>(np));
+  for (int e = 0; e <= 40; ++e) {
+    const float t = e == 40 ? 0.0f : std::ldexp(1.0f, -e);
+    for (const float s : {0.0f, 0.3f, 0.5f, 1.0f})
+      for (const float tt : {t, 1.0f - t}) {
+        EXPECT_TRUE(isFinite(patch.evaluate(s, tt).n) && isFinite(patch.evaluate(tt, s).n)) << s << ", " << tt;
+        EXPECT_GT(maxComponent(vabs(patch.evaluate(s, tt).n)), 0.0f);
+      }
+  }
+  EXPECT_TRUE(diceEqualsEvaluate(patch, 6));
 }
 
 TEST(DisplacedPatch, DicedGridInsideBoundsAndDiceBufferWorks) {
