@@ -7,10 +7,7 @@ namespace rayes {
 
 using detail::canonicalCubic;
 using detail::cubicBasis;
-
-// The Bernstein blend of four points: one expression for every caller, so rows, positions and
-// derivatives computed in different places round alike.
-static Vec3 blend(const Vec3 p[4], const float b[4]) { return p[0] * b[0] + p[1] * b[1] + p[2] * b[2] + p[3] * b[3]; }
+using detail::bernsteinBlend;
 
 BezierPatch::BezierPatch(const std::array<Vec3, 16>& controlPoints) : cp_(controlPoints) {
   Box3 box;
@@ -55,7 +52,7 @@ BezierPatch::RowAtV BezierPatch::rowAt(float v) const {
   RowAtV row;
   for (int i = 0; i < 4; ++i) {
     const Vec3 column[4] = {local_[i], local_[4 + i], local_[8 + i], local_[12 + i]};
-    row.q[i] = blend(column, b);
+    row.q[i] = bernsteinBlend(column, b);
     row.dq[i] = detail::cubicDerivative(column, v);
     row.ddq[i] = detail::cubicSecondDerivative(column, v);
   }
@@ -64,7 +61,7 @@ BezierPatch::RowAtV BezierPatch::rowAt(float v) const {
 
 Vec3 BezierPatch::rawNormal(const RowAtV& row, const float b[4], float u) {
   const Vec3 du = detail::cubicDerivative(row.q, u);
-  return cross(du, blend(row.dq, b));
+  return cross(du, bernsteinBlend(row.dq, b));
 }
 
 Vec3 BezierPatch::normalAt(float u, float v) const {
@@ -82,7 +79,7 @@ Vec3 BezierPatch::borderPoint(float u, float v) const {
 
 inline Vec3 BezierPatch::positionOnRow(const RowAtV& row, const float b[4], float u, float v) const {
   if (u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f) return borderPoint(u, v);
-  return anchor_ + blend(row.q, b);
+  return interiorPointOnRow(row, b);
 }
 
 Vec3 BezierPatch::positionOnRow(const RowAtV& row, float u, float v) const {
@@ -98,33 +95,6 @@ SurfacePoint BezierPatch::pointOnRow(const RowAtV& row, float u, float v) const 
   sp.p = positionOnRow(row, b, u, v);
   sp.n = detail::nonDegenerateNormal([this](float uu, float vv) { return normalAt(uu, vv); },
                                      rawNormal(row, b, u), u, v, tinyNormal_);
-  return sp;
-}
-
-static SurfaceDerivatives derivativesFromBasis(const BezierPatch::RowAtV& row, const float b[4], float u) {
-  SurfaceDerivatives d;
-  d.pu = detail::cubicDerivative(row.q, u);
-  d.pv = blend(row.dq, b);  // as rawNormal()
-  d.puu = detail::cubicSecondDerivative(row.q, u);
-  d.puv = detail::cubicDerivative(row.dq, u);
-  d.pvv = blend(row.ddq, b);
-  return d;
-}
-
-SurfaceDerivatives BezierPatch::derivativesOnRow(const RowAtV& row, float u) {
-  float b[4];
-  cubicBasis(u, b);
-  return derivativesFromBasis(row, b, u);
-}
-
-SurfacePoint BezierPatch::pointOnRow(const RowAtV& row, float u, float v, SurfaceDerivatives& d) const {
-  float b[4];
-  cubicBasis(u, b);
-  d = derivativesFromBasis(row, b, u);
-  SurfacePoint sp;
-  sp.p = positionOnRow(row, b, u, v);
-  sp.n = detail::nonDegenerateNormal([this](float uu, float vv) { return normalAt(uu, vv); },
-                                     cross(d.pu, d.pv), u, v, tinyNormal_);
   return sp;
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 #include "geometry/patch.h"
+#include "geometry/patch_math.h"
 
 namespace rayes {
 
@@ -55,10 +56,24 @@ class BezierPatch final : public Patch {
   // pointOnRow's p alone (the same bits), for callers that need no normal.
   Vec3 positionOnRow(const RowAtV& row, float u, float v) const;
   // The partial derivatives at u on the row; cross(pu, pv) is pointOnRow's normal wherever
-  // that normal is not degenerate (where the patch nudges it: poles, collapsed edges).
-  static SurfaceDerivatives derivativesOnRow(const RowAtV& row, float u);
-  // pointOnRow() and derivativesOnRow() at once (the same bits as each, half the work).
-  SurfacePoint pointOnRow(const RowAtV& row, float u, float v, SurfaceDerivatives& d) const;
+  // that normal is not degenerate (where the patch nudges it: poles, collapsed edges). Inline:
+  // DisplacedPatch calls it in a loop over a grid row that the compiler vectorises.
+  static SurfaceDerivatives derivativesOnRow(const RowAtV& row, float u) {
+    float b[4];
+    detail::cubicBasis(u, b);
+    SurfaceDerivatives d;
+    d.pu = detail::cubicDerivative(row.q, u);
+    d.pv = detail::bernsteinBlend(row.dq, b);  // as rawNormal()
+    d.puu = detail::cubicSecondDerivative(row.q, u);
+    d.puv = detail::cubicDerivative(row.dq, u);
+    d.pvv = detail::bernsteinBlend(row.ddq, b);
+    return d;
+  }
+  // An interior point (not on a border, where positionOnRow() takes the canonical border
+  // curve) from the row and the basis at u: pointOnRow's p there, bit for bit.
+  Vec3 interiorPointOnRow(const RowAtV& row, const float b[4]) const { return anchor_ + detail::bernsteinBlend(row.q, b); }
+  // The threshold below which pointOnRow() nudges the normal (patch_math.h).
+  float degenerateNormalThreshold() const { return tinyNormal_; }
 
  private:
   static Vec3 rawNormal(const RowAtV& row, const float bu[4], float u);  // dP/du x dP/dv

@@ -42,15 +42,6 @@ bool BilinearPatch::coplanarUpToRounding(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11)
   return std::fabs(triple) <= tolerance;
 }
 
-SurfaceDerivatives BilinearPatch::derivatives(float u, float v) const {
-  SurfaceDerivatives d;
-  d.pu = lerp(p10_ - p00_, p11_ - p01_, v);
-  d.pv = lerp(p01_ - p00_, p11_ - p10_, u);
-  d.puv = (p11_ - p01_) - (p10_ - p00_);
-  d.puu = d.pvv = Vec3{0, 0, 0};
-  return d;
-}
-
 Vec3 BilinearPatch::normalAt(float u, float v) const {
   const SurfaceDerivatives d = derivatives(u, v);
   return cross(d.pu, d.pv);

@@ -19,8 +19,16 @@ class BilinearPatch final : public Patch {
   float sizeBound() const override { return sizeBound_; }  // longest of the 4 border edges
   SurfacePoint evaluate(float u, float v) const override;
   // P_u and P_v are linear in v and u (cross(pu, pv) is evaluate()'s normal where that is not
-  // nudged), P_uv the twist, P_uu = P_vv = 0.
-  SurfaceDerivatives derivatives(float u, float v) const;
+  // nudged), P_uv the twist, P_uu = P_vv = 0. Inline: DisplacedPatch calls it in a loop over a
+  // grid row that the compiler vectorises.
+  SurfaceDerivatives derivatives(float u, float v) const {
+    SurfaceDerivatives d;
+    d.pu = detail::lerp(p10_ - p00_, p11_ - p01_, v);
+    d.pv = detail::lerp(p01_ - p00_, p11_ - p10_, u);
+    d.puv = (p11_ - p01_) - (p10_ - p00_);
+    d.puu = d.pvv = Vec3{0, 0, 0};
+    return d;
+  }
   const char* kind() const override { return "bilinear"; }
   // Each micro-quad is itself bilinear with twist h^2 w, w = p00 - p10 - p01 + p11; its two
   // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Exactly zero when the

@@ -1,6 +1,7 @@
 #include "geometry/displaced_patch.h"
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 #include "core/interval.h"
@@ -203,31 +204,6 @@ DisplacedPatch::RowContext DisplacedPatch::rowContext(float v) const {
   return r;
 }
 
-bool DisplacedPatch::analyticFrame(const SurfacePoint& c, const SurfaceDerivatives& d, Frame& f) const {
-  const Vec3 raw = rayes::cross(d.pu, d.pv);
-  const float m = maxComponent(vabs(raw));
-  // Where the base nudged its normal (a pole: |N| at most the threshold) N_u is not this
-  // formula; the comparison with c.n is what says so, whatever threshold the base used.
-  if (!(m > tinyNormal_) || !std::isfinite(m) || !(c.n == raw)) return false;
-  // unitOrZero(c.n), written out to keep its 1/m and 1/|N/m| for 1/|N| (no under- or
-  // overflow of |N|^2 at tiny or huge scales).
-  const float r = 1.0f / m;
-  const Vec3 s = raw * r;
-  const float k = 1.0f / std::sqrt(dot(s, s));
-  f.p = c.p;
-  f.baseNormal = c.n;
-  f.n = s * k;
-  f.pu = d.pu;
-  f.pv = d.pv;
-  // d(N/|N|) = (I - n n^T) dN / |N|.
-  const float inv = r * k;
-  const Vec3 dnu = rayes::cross(d.puu, d.pv) + rayes::cross(d.pu, d.puv);
-  const Vec3 dnv = rayes::cross(d.puv, d.pv) + rayes::cross(d.pu, d.pvv);
-  f.nu = (dnu - f.n * dot(f.n, dnu)) * inv;
-  f.nv = (dnv - f.n * dot(f.n, dnv)) * inv;
-  return isFinite(f.nu) && isFinite(f.nv);
-}
-
 // One-sided differences of the base at a fixed step (two extra base evaluations; central
 // differences took four, for no visible gain in a shading normal).
 DisplacedPatch::Frame DisplacedPatch::differenceFrame(RowContext& r, const SurfacePoint& c, float u) const {
@@ -256,20 +232,118 @@ DisplacedPatch::Frame DisplacedPatch::differenceFrame(RowContext& r, const Surfa
   return f;
 }
 
-DisplacedPatch::Frame DisplacedPatch::vertexFrame(RowContext& r, float u, Vec3& at, Vec3& atU, Vec3& atV) const {
+namespace {
+
+// Finite (not NaN, not infinite), as a compare the vectoriser turns into one vector compare.
+inline bool finite(float x) { return std::fabs(x) <= std::numeric_limits<float>::max(); }
+inline bool finite(Vec3 a) { return finite(a.x) & finite(a.y) & finite(a.z); }
+
+// One vertex's analytic frame from the base's derivatives: the raw normal N = P_u x P_v, the
+// unit normal n (unitOrZero's operations: 1 / max component, then 1 / |N / m|, so no under-
+// or overflow of |N|^2 at tiny or huge scales) and n's derivatives
+//   n_u = (I - n n^T) (P_uu x P_v + P_u x P_uv) / |N|,  n_v likewise with P_uv, P_vv.
+// valid: |N| above the base's degenerate-normal threshold (below it the base nudges its normal
+// -- a pole -- and n_u is not this formula) and everything finite. Written without branches
+// so that a loop over a grid row of it vectorises.
+struct AnalyticFrame {
+  Vec3 raw, n, nu, nv;
+  bool valid;
+};
+inline AnalyticFrame analyticFrame(const SurfaceDerivatives& d, float tinyNormal) {
+  AnalyticFrame f;
+  f.raw = cross(d.pu, d.pv);
+  const float m = maxComponent(vabs(f.raw));
+  const float r = 1.0f / m;
+  const Vec3 s = f.raw * r;
+  const float k = 1.0f / std::sqrt(dot(s, s));
+  f.n = s * k;
+  const float inv = r * k;
+  const Vec3 dnu = cross(d.puu, d.pv) + cross(d.pu, d.puv);
+  const Vec3 dnv = cross(d.puv, d.pv) + cross(d.pu, d.pvv);
+  f.nu = (dnu - f.n * dot(f.n, dnu)) * inv;
+  f.nv = (dnv - f.n * dot(f.n, dnv)) * inv;
+  f.valid = (m > tinyNormal) & finite(m) & finite(f.nu) & finite(f.nv);
+  return f;
+}
+
+// A chunk of a grid row's analytic frames as structure of arrays, so the loop that fills it
+// vectorises (SSE: four vertices per instruction, the divisions and square roots included).
+// Per lane the same IEEE operations as one vertex alone, so any count gives the same bits.
+constexpr int kChunk = 64;
+struct FrameChunk {
+  enum { P = 0, Pu = 3, Pv = 6, Raw = 9, N = 12, Nu = 15, Nv = 18, Arrays = 21 };
+  float a[Arrays][kChunk];
+  bool valid[kChunk];
+  void put(int k, int i, Vec3 v) { a[k][i] = v.x; a[k + 1][i] = v.y; a[k + 2][i] = v.z; }
+  Vec3 get(int k, int i) const { return {a[k][i], a[k + 1][i], a[k + 2][i]}; }
+};
+
+}  // namespace
+
+void DisplacedPatch::rowFrames(RowContext& r, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU,
+                               Vec3* atV) const {
   const float v = r.v;
-  Frame f;
-  SurfacePoint c;
-  bool analytic = false;
-  if (bezierBase_) {
-    SurfaceDerivatives d;
-    c = bezierBase_->pointOnRow(r.row, u, v, d);
-    analytic = analyticFrame(c, d, f);
-  } else {
-    c = base_->evaluate(u, v);
-    if (bilinearBase_) analytic = analyticFrame(c, bilinearBase_->derivatives(u, v), f);
+  const bool analytic = bezierBase_ || bilinearBase_;
+  FrameChunk chunk;
+  for (int c0 = 0; c0 < count; c0 += kChunk) {
+    const int n = std::min(kChunk, count - c0);
+    const float* u = us + c0;
+    if (bezierBase_) {
+      const BezierPatch& bz = *bezierBase_;
+      const BezierPatch::RowAtV row = r.row;  // a local copy: the loop's stores cannot alias it
+      for (int i = 0; i < n; ++i) {
+        float b[4];
+        detail::cubicBasis(u[i], b);
+        const SurfaceDerivatives d = BezierPatch::derivativesOnRow(row, u[i]);
+        const AnalyticFrame f = analyticFrame(d, tinyNormal_);
+        chunk.put(FrameChunk::P, i, bz.interiorPointOnRow(row, b));
+        chunk.put(FrameChunk::Pu, i, d.pu);
+        chunk.put(FrameChunk::Pv, i, d.pv);
+        chunk.put(FrameChunk::Raw, i, f.raw);
+        chunk.put(FrameChunk::N, i, f.n);
+        chunk.put(FrameChunk::Nu, i, f.nu);
+        chunk.put(FrameChunk::Nv, i, f.nv);
+        chunk.valid[i] = f.valid;
+      }
+    } else if (bilinearBase_) {
+      for (int i = 0; i < n; ++i) {
+        const SurfaceDerivatives d = bilinearBase_->derivatives(u[i], v);
+        const AnalyticFrame f = analyticFrame(d, tinyNormal_);
+        chunk.put(FrameChunk::Pu, i, d.pu);
+        chunk.put(FrameChunk::Pv, i, d.pv);
+        chunk.put(FrameChunk::Raw, i, f.raw);
+        chunk.put(FrameChunk::N, i, f.n);
+        chunk.put(FrameChunk::Nu, i, f.nu);
+        chunk.put(FrameChunk::Nv, i, f.nv);
+        chunk.valid[i] = f.valid;
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      const size_t k = size_t(c0 + i);
+      Frame& f = frames[k];
+      if (analytic && chunk.valid[i]) {
+        // The base point: a Bézier interior point from the chunk, borders (canonical curves)
+        // and bilinear points from the base itself.
+        if (!bezierBase_) f.p = base_->evaluate(u[i], v).p;
+        else if (u[i] == 0.0f || u[i] == 1.0f || v == 0.0f || v == 1.0f) f.p = bezierBase_->positionOnRow(r.row, u[i], v);
+        else f.p = chunk.get(FrameChunk::P, i);
+        f.baseNormal = chunk.get(FrameChunk::Raw, i);  // the base's own normal there, bit for bit
+        f.n = chunk.get(FrameChunk::N, i);
+        f.pu = chunk.get(FrameChunk::Pu, i);
+        f.pv = chunk.get(FrameChunk::Pv, i);
+        f.nu = chunk.get(FrameChunk::Nu, i);
+        f.nv = chunk.get(FrameChunk::Nv, i);
+      } else {
+        const SurfacePoint c = bezierBase_ ? bezierBase_->pointOnRow(r.row, u[i], v) : base_->evaluate(u[i], v);
+        f = differenceFrame(r, c, u[i]);
+      }
+      referenceAt(r, u[i], f, at[k], atU[k], atV[k]);
+    }
   }
-  if (!analytic) f = differenceFrame(r, c, u);
+}
+
+void DisplacedPatch::referenceAt(const RowContext& r, float u, const Frame& f, Vec3& at, Vec3& atU, Vec3& atV) const {
+  const float v = r.v;
   if (reference_ == base_) {
     at = f.p;
     atU = f.pu;
@@ -292,7 +366,6 @@ DisplacedPatch::Frame DisplacedPatch::vertexFrame(RowContext& r, float u, Vec3& 
     atU = (ref[1].p - ref[0].p) * (1.0f / (ua - u));
     atV = (ref[2].p - ref[0].p) * (1.0f / (r.va - v));
   }
-  return f;
 }
 
 SurfacePoint DisplacedPatch::displaced(const Frame& f, const HeightSample& s) const {
@@ -306,8 +379,9 @@ SurfacePoint DisplacedPatch::displaced(const Frame& f, const HeightSample& s) co
 
 SurfacePoint DisplacedPatch::evaluate(float u, float v) const {
   RowContext r = rowContext(v);
+  Frame f;
   Vec3 at, atU, atV;
-  const Frame f = vertexFrame(r, u, at, atU, atV);
+  rowFrames(r, 1, &u, &f, &at, &atU, &atV);
   return displaced(f, displacement_->sample(at, atU, atV, u, v));
 }
 
@@ -322,14 +396,11 @@ void DisplacedPatch::dice(int level, Vec3* positions, Vec3* normals) const {
   std::vector<Vec3> at(size_t(n) + 1), atU(size_t(n) + 1), atV(size_t(n) + 1);
   std::vector<float> us(size_t(n) + 1);
   std::vector<HeightSample> heights(size_t(n) + 1);
+  for (int i = 0; i <= n; ++i) us[size_t(i)] = float(i) / fn;
   for (int j = 0; j <= n; ++j) {
     const float v = float(j) / fn;
     RowContext r = rowContext(v);
-    for (int i = 0; i <= n; ++i) {
-      const size_t k = size_t(i);
-      us[k] = float(i) / fn;
-      frames[k] = vertexFrame(r, us[k], at[k], atU[k], atV[k]);
-    }
+    rowFrames(r, n + 1, us.data(), frames.data(), at.data(), atU.data(), atV.data());
     displacement_->sampleRow(n + 1, at.data(), atU.data(), atV.data(), us.data(), v, heights.data());
     for (int i = 0; i <= n; ++i) {
       const SurfacePoint sp = displaced(frames[size_t(i)], heights[size_t(i)]);

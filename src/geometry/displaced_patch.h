@@ -79,13 +79,13 @@ class DisplacedPatch final : public Patch {
   // reference's rows at v, and the rows at v's difference point once a vertex needs them.
   struct RowContext;
   RowContext rowContext(float v) const;
-  // The frame at (u, row v), and in (at, atU, atV) the point and derivatives the displacement
-  // is sampled at: the reference's (the base's when there is none). dice() and evaluate() both
-  // call this, which is what makes them equal bit for bit.
-  Frame vertexFrame(RowContext& row, float u, Vec3& at, Vec3& atU, Vec3& atV) const;
-  // The frame from the base's point and analytic derivatives; false where they cannot give one
-  // (degenerate or overflowing base normal), and the caller takes differences instead.
-  bool analyticFrame(const SurfacePoint& c, const SurfaceDerivatives& d, Frame& f) const;
+  // The frames of `count` vertices of the row at r.v, at parameters us[0..count), and in (at,
+  // atU, atV) the points and derivatives the displacement is sampled at: the reference's (the
+  // base's when there is none). dice() calls it per grid row, evaluate() with count 1: the same
+  // code, which is what makes them equal bit for bit. Analytic for Bézier and bilinear bases
+  // (vectorised across the row), differences where those degenerate and for other kinds.
+  void rowFrames(RowContext& row, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU, Vec3* atV) const;
+  void referenceAt(const RowContext& row, float u, const Frame& f, Vec3& at, Vec3& atU, Vec3& atV) const;
   Frame differenceFrame(RowContext& row, const SurfacePoint& c, float u) const;
   SurfacePoint displaced(const Frame& f, const HeightSample& h) const;
   PatchPtr base_;

@@ -33,6 +33,10 @@ inline void cubicBasis(float t, float b[4]) {
   b[3] = t * t * t;
 }
 
+// The Bernstein blend of four points with weights b (cubicBasis): one expression for every
+// caller, so rows, positions and derivatives computed in different places round alike.
+inline Vec3 bernsteinBlend(const Vec3 p[4], const float b[4]) { return p[0] * b[0] + p[1] * b[1] + p[2] * b[2] + p[3] * b[3]; }
+
 // Derivative of a cubic Bézier in hodograph form, 3 * sum_k B2_k(t) (p[k+1] - p[k]): exactly
 // zero on a collapsed row (a pole), where the weighted sum sum_k B3'_k(t) p[k] would leave
 // rounding noise large enough to pass for a real (and wrong) normal.
