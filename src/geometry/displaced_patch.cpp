@@ -275,6 +275,15 @@ struct FrameChunk {
   float a[Arrays][kChunk];
   bool valid[kChunk];
   void put(int k, int i, Vec3 v) { a[k][i] = v.x; a[k + 1][i] = v.y; a[k + 2][i] = v.z; }
+  void putFrame(int i, const SurfaceDerivatives& d, const AnalyticFrame& f) {
+    put(Pu, i, d.pu);
+    put(Pv, i, d.pv);
+    put(Raw, i, f.raw);
+    put(N, i, f.n);
+    put(Nu, i, f.nu);
+    put(Nv, i, f.nv);
+    valid[i] = f.valid;
+  }
   Vec3 get(int k, int i) const { return {a[k][i], a[k + 1][i], a[k + 2][i]}; }
 };
 
@@ -295,27 +304,13 @@ void DisplacedPatch::rowFrames(RowContext& r, int count, const float* us, Frame*
         float b[4];
         detail::cubicBasis(u[i], b);
         const SurfaceDerivatives d = BezierPatch::derivativesOnRow(row, u[i]);
-        const AnalyticFrame f = analyticFrame(d, tinyNormal_);
         chunk.put(FrameChunk::P, i, bz.interiorPointOnRow(row, b));
-        chunk.put(FrameChunk::Pu, i, d.pu);
-        chunk.put(FrameChunk::Pv, i, d.pv);
-        chunk.put(FrameChunk::Raw, i, f.raw);
-        chunk.put(FrameChunk::N, i, f.n);
-        chunk.put(FrameChunk::Nu, i, f.nu);
-        chunk.put(FrameChunk::Nv, i, f.nv);
-        chunk.valid[i] = f.valid;
+        chunk.putFrame(i, d, analyticFrame(d, tinyNormal_));
       }
     } else if (bilinearBase_) {
       for (int i = 0; i < n; ++i) {
         const SurfaceDerivatives d = bilinearBase_->derivatives(u[i], v);
-        const AnalyticFrame f = analyticFrame(d, tinyNormal_);
-        chunk.put(FrameChunk::Pu, i, d.pu);
-        chunk.put(FrameChunk::Pv, i, d.pv);
-        chunk.put(FrameChunk::Raw, i, f.raw);
-        chunk.put(FrameChunk::N, i, f.n);
-        chunk.put(FrameChunk::Nu, i, f.nu);
-        chunk.put(FrameChunk::Nv, i, f.nv);
-        chunk.valid[i] = f.valid;
+        chunk.putFrame(i, d, analyticFrame(d, tinyNormal_));
       }
     }
     for (int i = 0; i < n; ++i) {
