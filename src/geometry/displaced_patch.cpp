@@ -81,7 +81,9 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
     const auto& cp = bz->controlPoints();
     Box3 box;
     for (const Vec3& p : cp) box.extend(p);
-    tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
+    // The base's own threshold: rowFrames() takes a frame as analytic exactly where the base
+    // did not nudge its normal.
+    tinyNormal_ = bz->degenerateNormalThreshold();
     // P_u and P_v are Bézier patches themselves (hodographs): 3 x the control point
     // differences along u (3 x 4 points) and along v (4 x 3). Made once here: the border
     // bounds restrict them to hundreds of pieces per dicing.
@@ -104,6 +106,7 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
     corners_[3] = base_->evaluate(1, 1).p;
     Box3 box;
     for (const Vec3& p : corners_) box.extend(p);
+    // BilinearPatch's own threshold: the same formula on the same (exact) corners.
     tinyNormal_ = detail::degenerateNormalThreshold(box.longestSide());
   } else {
     tinyNormal_ = detail::degenerateNormalThreshold(base_->bounds().longestSide());

@@ -22,6 +22,7 @@
 // subgrid of a level-m dicing is a level-k dicing, normals included (invariant 2). Where the
 // displaced cross product is not finite or vanishes, the base normal is used. Positions use
 // only the base point and unit normal, which are the base's own evaluate() bits.
+//
 // Seams: h of a noise displacement is a function of the base POSITION, so it is bit-identical
 // on both sides of a shared border; the displaced border vertices are then bit-identical only
 // where the two bases' unit normals are too. See tests/dicing/displace_patch_test.cpp for what
