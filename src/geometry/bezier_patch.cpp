@@ -78,8 +78,7 @@ Vec3 BezierPatch::borderPoint(float u, float v) const {
 }
 
 inline Vec3 BezierPatch::positionOnRow(const RowAtV& row, const float b[4], float u, float v) const {
-  if (u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f) return borderPoint(u, v);
-  return interiorPointOnRow(row, b);
+  return onBorder(u, v) ? borderPoint(u, v) : interiorPointOnRow(row, b);
 }
 
 Vec3 BezierPatch::positionOnRow(const RowAtV& row, float u, float v) const {

@@ -53,6 +53,8 @@ class BezierPatch final : public Patch {
   };
   RowAtV rowAt(float v) const;
   SurfacePoint pointOnRow(const RowAtV& row, float u, float v) const;
+  // u or v exactly 0 or 1: where a point is the canonical border curve's (see the top).
+  static bool onBorder(float u, float v) { return u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f; }
   // pointOnRow's p alone (the same bits), for callers that need no normal.
   Vec3 positionOnRow(const RowAtV& row, float u, float v) const;
   // The partial derivatives at u on the row; cross(pu, pv) is pointOnRow's normal wherever

@@ -76,7 +76,6 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
   bezierReference_ = dynamic_cast<const BezierPatch*>(reference_.get());
   bilinearReference_ = dynamic_cast<const BilinearPatch*>(reference_.get());
   if (const auto* bz = dynamic_cast<const BezierPatch*>(base_.get())) {
-    baseKind_ = BaseKind::Bezier;
     bezierBase_ = bz;
     const auto& cp = bz->controlPoints();
     Box3 box;
@@ -97,7 +96,6 @@ DisplacedPatch::DisplacedPatch(PatchPtr base, DisplacementPtr displacement, Patc
     // and not of the distance from the origin).
     hodographCancellation_ = 2e-5f * maxComponent(box.extent()) + 1e-30f;
   } else if (const auto* bl = dynamic_cast<const BilinearPatch*>(base_.get())) {
-    baseKind_ = BaseKind::Bilinear;
     bilinearBase_ = bl;
     // A bilinear patch's corners come out of evaluate() exactly (lerp weights 1 and 0).
     corners_[0] = base_->evaluate(0, 0).p;
@@ -124,7 +122,7 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
   if (v0 > v1) std::swap(v0, v1);
   u0 = std::clamp(u0, 0.0f, 1.0f); u1 = std::clamp(u1, 0.0f, 1.0f);
   v0 = std::clamp(v0, 0.0f, 1.0f); v1 = std::clamp(v1, 0.0f, 1.0f);
-  if (baseKind_ == BaseKind::Bezier) {
+  if (bezierBase_) {
     // The hodographs restricted to the rectangle: their control boxes bound the derivatives
     // there -- also over a degenerate rectangle (a border piece, u0 == u1 or v0 == v1).
     Box3 du = detail::restrictedHull<3, 4>(hodographU_, u0, u1, v0, v1),
@@ -140,7 +138,7 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
     n = {widened(n.x, evalError), widened(n.y, evalError), widened(n.z, evalError)};
     return unitRange(n, 2.0 * tinyNormal_);
   }
-  if (baseKind_ == BaseKind::Bilinear) {
+  if (bilinearBase_) {
     const Vec3 &p00 = corners_[0], &p10 = corners_[1], &p01 = corners_[2], &p11 = corners_[3];
     // P_u = lerp(p10 - p00, p11 - p01, v) and P_v = lerp(p01 - p00, p11 - p10, u): linear.
     Box3 du, dv, cb;
@@ -323,7 +321,7 @@ void DisplacedPatch::rowFrames(RowContext& r, int count, const float* us, Frame*
         // The base point: a Bézier interior point from the chunk, borders (canonical curves)
         // and bilinear points from the base itself.
         if (!bezierBase_) f.p = base_->evaluate(u[i], v).p;
-        else if (u[i] == 0.0f || u[i] == 1.0f || v == 0.0f || v == 1.0f) f.p = bezierBase_->positionOnRow(r.row, u[i], v);
+        else if (BezierPatch::onBorder(u[i], v)) f.p = bezierBase_->positionOnRow(r.row, u[i], v);
         else f.p = chunk.get(FrameChunk::P, i);
         f.baseNormal = chunk.get(FrameChunk::Raw, i);  // the base's own normal there, bit for bit
         f.n = chunk.get(FrameChunk::N, i);

@@ -71,7 +71,6 @@ class DisplacedPatch final : public Patch {
   static constexpr float kDifferenceStep = 1.0f / 1024.0f;
 
  private:
-  enum class BaseKind { Bezier, Bilinear, Other };
   // The base at one vertex: its point, unit normal and their derivatives along u and v.
   struct Frame {
     Vec3 p, n, baseNormal, pu, pv, nu, nv;
@@ -93,8 +92,8 @@ class DisplacedPatch final : public Patch {
   DisplacementPtr displacement_;
   PatchPtr reference_;       // never null (the base when none was given)
   std::string kind_;
-  BaseKind baseKind_ = BaseKind::Other;
-  // The base's and reference's kinds where they have analytic derivatives (else null).
+  // The base's and reference's kinds where they have analytic derivatives and normal ranges
+  // (else null).
   const BezierPatch* bezierBase_ = nullptr;
   const BezierPatch* bezierReference_ = nullptr;
   const BilinearPatch* bilinearBase_ = nullptr;
