@@ -41,7 +41,7 @@ double radiusFrom(double worst2) { return std::sqrt(worst2) * (1.0 + 1e-9); }
 
 }  // namespace
 
-Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample, bool share) const {
+Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
   BorderSegment* seg = !moving_ && i <= maxLevel_ ? &segments_[borderOffset(e, i, j) / 6] : nullptr;
   if (seg && seg->boxStamp.load(std::memory_order_acquire) == stamp_) {
     Box3 b;
@@ -52,7 +52,7 @@ Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample, bool share) cons
     return b;
   }
   const BorderBoundCache::Key key{shared_.leaf, BorderBoundCache::Kind::CurveBox, e, i, j};
-  share = share && seg && shared_.cache;
+  const bool share = seg && shared_.cache;
   Box3 b;
   if (!share || !shared_.cache->find(key, b)) {
     const float inv = 1.0f / float(1u << i);  // a power of two: j * inv is exact
@@ -76,7 +76,7 @@ Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample, bool share) cons
 }
 
 Box3 DiceBuffer::regionBox(int e, int i, uint32_t j) const {
-  Box3 b = curveBox(e, i, j, 0, true);
+  Box3 b = curveBox(e, i, j, 0);
   size_t v0, v1;
   chordEnds(e, i, j, level_, v0, v1);
   b.extend(a_.positions[v0]);
@@ -123,27 +123,38 @@ void DiceBuffer::buildBorders(int sample, const Sample& s, std::vector<float>& o
 // true distance by about a piece's size, so a static dicing's region takes pieces of level
 // k + radiusSplit(k) = max(k + 3, 7) (at most 128): coarse segments, which secondary rays
 // with wide footprints use, would otherwise make curved objects visibly fatter for them (a
-// moving dicing, computed per query: k + 3). Its pieces are curveBox entries, so the coarse
-// levels' radii share their level-7 pieces within a dicing. (Tried: branch and bound,
-// splitting only the piece that reaches farthest; on displaced borders every piece's box
-// reaches about as far, so it split nearly all and made up to twice the boundsOver calls.)
+// moving dicing, computed per query: k + 3). The pieces come from the patch in one call
+// (Patch::borderPieceBoundsAt: a Bézier border is restricted once and halved, not restricted
+// from the whole patch per piece, which was a third of a forest render's time); they are not
+// the region boxes (curveBox), whose bits differ. (Tried: branch and bound, splitting only the
+// piece that reaches farthest; on displaced borders every piece's box reaches about as far,
+// so it split nearly all and made up to twice the boundsOver calls.)
 double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0,
                                 float w1) const {
   const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
   const double len2 = ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2];
   if (!(len2 > 0)) return 0.0;  // rayCylinder ignores the radius of a degenerate chord
-  const uint32_t pieces = 1u << split;
-  double worst = 0;
-  for (uint32_t i = 0; i < pieces; ++i) {
-    Box3 box = curveBox(e, k + split, j * pieces + i, sampleA_);
-    if (blend) {
-      const Box3 other = curveBox(e, k + split, j * pieces + i, sampleA_ + 1);
-      box.lo = lerpPoint(box.lo, other.lo, w0, w1);
-      box.hi = lerpPoint(box.hi, other.hi, w0, w1);
+  // Box3 arrays are initialised: a coarse radius's 8 pieces should not pay for 128.
+  auto farthest = [&](auto& boxes, auto& other) {
+    patch_->borderPieceBoundsAt(sampleA_, e, k, j, split, boxes);
+    if (blend) patch_->borderPieceBoundsAt(sampleA_ + 1, e, k, j, split, other);
+    double worst = 0;
+    for (uint32_t i = 0; i < (1u << split); ++i) {
+      Box3 box = boxes[i];
+      if (blend) {
+        box.lo = lerpPoint(box.lo, other[i].lo, w0, w1);
+        box.hi = lerpPoint(box.hi, other[i].hi, w0, w1);
+      }
+      worst = std::max(worst, farthestCorner2(box, a, ax, len2));
     }
-    worst = std::max(worst, farthestCorner2(box, a, ax, len2));
+    return worst;
+  };
+  if (split <= 3) {
+    Box3 boxes[8], other[8];
+    return radiusFrom(farthest(boxes, other));
   }
-  return radiusFrom(worst);
+  Box3 boxes[1u << Patch::kMaxPieceSplit], other[1u << Patch::kMaxPieceSplit];
+  return radiusFrom(farthest(boxes, other));
 }
 
 double DiceBuffer::cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const {

@@ -170,9 +170,9 @@ class DiceBuffer {
                        float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const;
   // The box of the true border curve over segment j of border e at level i, of time sample
   // `sample` (Patch::boundsOverAt on the degenerate rectangle); of a static dicing's sample,
-  // cached for i <= maxLevel (with `share`, also in the shared table: the region boxes, not the
-  // radii's finer pieces, which would crowd it out).
-  Box3 curveBox(int e, int i, uint32_t j, int sample, bool share = false) const;
+  // cached for i <= maxLevel in the dicing and in the shared table. (The radii's pieces are
+  // Patch::borderPieceBoundsAt's, not these.)
+  Box3 curveBox(int e, int i, uint32_t j, int sample) const;
   // A static dicing's region box of segment j of border e at level i <= level(): curveBox and
   // the chord's two grid vertices.
   Box3 regionBox(int e, int i, uint32_t j) const;

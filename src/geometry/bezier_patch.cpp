@@ -126,5 +126,16 @@ Box3 BezierPatch::boundsOver(float u0, float u1, float v0, float v1) const {
   return box.grownBy(gammaBound(48) * anchoredMagnitude_ + detail::anchoredEvaluationError(anchoredMagnitude_));
 }
 
+void BezierPatch::borderPieceBoundsAt(int, int e, int k, uint32_t j, int split, Box3* out) const {
+  Vec3 curve[4];
+  const int n = detail::borderCurve<4, 4>(local_.data(), e, curve);
+  const float inv = 1.0f / float(1u << k);  // a power of two: the segment's ends are exact
+  detail::borderPieceHulls(curve, n, float(j) * inv, float(j + 1) * inv, split, out);
+  // As boundsOver: the anchored hull's rounding, and the diced vertices' evaluation error.
+  const float pad = gammaBound(detail::borderPieceRoundings(split)) * anchoredMagnitude_ +
+                    detail::anchoredEvaluationError(anchoredMagnitude_);
+  for (uint32_t i = 0; i < (1u << split); ++i) out[i] = Box3{anchor_ + out[i].lo, anchor_ + out[i].hi}.grownBy(pad);
+}
+
 }  // namespace rayes
 

@@ -39,6 +39,8 @@ class BezierPatch final : public Patch {
   // The box of the sub-patch's control points (de Casteljau restriction to the rectangle),
   // grown by its rounding: conservative by the convex hull property.
   Box3 boundsOver(float u0, float u1, float v0, float v1) const override;
+  // One restriction of the border curve, halved `split` times (bezier_restriction.h).
+  void borderPieceBoundsAt(int sample, int e, int k, uint32_t j, int split, Box3* out) const override;
 
   const std::array<Vec3, 16>& controlPoints() const { return cp_; }
 

@@ -11,6 +11,11 @@
 // compute what remains with the same operations in the same order, so every box has the values
 // the two full splits give (a split at t = 0 can turn a -0 coordinate into +0, nothing else;
 // tests/geometry/bezier_restriction_test.cpp).
+//
+// A crack-closing region's radius needs the boxes of up to 128 consecutive pieces of one border
+// (DiceBuffer::borderRadius). borderPieceHulls makes them all from one restriction of the
+// border curve, halving it `split` times, instead of two splits of the whole patch per piece:
+// other bits than restrictedHull's, with a rounding bound of its own (borderPieceRoundings).
 #pragma once
 #include <algorithm>
 #include "core/box.h"
@@ -88,6 +93,68 @@ Box3 restrictedHull(const Vec3* c, float u0, float u1, float v0, float v1) {
     for (int j = 0; j < nv; ++j) box.extend(out[j]);
   }
   return box;
+}
+
+// The border curve of the tensor-product patch with (nu x nv) control points c[j * nu + i]:
+// border e (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0, each with its parameter increasing along u
+// or v) is the Bézier curve of the patch's edge row or column, copied exactly. Returns its
+// number of control points.
+template <int nu, int nv>
+int borderCurve(const Vec3* c, int e, Vec3 out[4]) {
+  static_assert(nu <= 4 && nv <= 4);
+  if (e == 0 || e == 2) {
+    const int j = e == 0 ? 0 : nv - 1;
+    for (int i = 0; i < nu; ++i) out[i] = c[j * nu + i];
+    return nu;
+  }
+  const int i = e == 3 ? 0 : nu - 1;
+  for (int j = 0; j < nv; ++j) out[j] = c[j * nu + i];
+  return nv;
+}
+
+// Roundings (each of the control points' magnitude) that separate a borderPieceHulls box from
+// the exact control points' hull: the restriction to [a, b], two splits of 3 levels of 3
+// roundings with the rounded parameter (24, as restrictedHull's per direction), and 9 per
+// halving (3 levels; the product by 1/2 is exact). The border curve itself is exact.
+constexpr int borderPieceRoundings(int split) { return 24 + 9 * split; }
+
+// The boxes of the 2^split equal pieces of the degree-(n-1) curve `in` restricted to [a, b],
+// in order along the curve: out[i] holds the control points of the i-th piece.
+template <int n>
+void borderPieceHulls(const Vec3 in[n], float a, float b, int split, Box3* out) {
+  Vec3 segment[n];
+  restrictCurve<n>(in, a, b, segment);
+  // Depth first, left before right, so that out[] comes in order; the stack holds the right
+  // halves still to do, at most one per level.
+  struct Pending { Vec3 p[n]; int depth; };
+  Pending stack[16];
+  int sp = 0;
+  Pending cur;
+  for (int i = 0; i < n; ++i) cur.p[i] = segment[i];
+  cur.depth = 0;
+  int next = 0;
+  for (;;) {
+    while (cur.depth < split) {
+      Pending right;
+      splitCurve<n>(cur.p, 0.5f, cur.p, right.p);
+      right.depth = ++cur.depth;
+      stack[sp++] = right;
+    }
+    Box3 box;
+    for (int i = 0; i < n; ++i) box.extend(cur.p[i]);
+    out[next++] = box;
+    if (sp == 0) return;
+    cur = stack[--sp];
+  }
+}
+
+// Dispatch on the number of control points of a border curve (borderCurve's result).
+inline void borderPieceHulls(const Vec3* in, int n, float a, float b, int split, Box3* out) {
+  switch (n) {
+    case 2: borderPieceHulls<2>(in, a, b, split, out); break;
+    case 3: borderPieceHulls<3>(in, a, b, split, out); break;
+    default: borderPieceHulls<4>(in, a, b, split, out); break;
+  }
 }
 
 }  // namespace rayes::detail

@@ -125,18 +125,8 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
   if (bezierBase_) {
     // The hodographs restricted to the rectangle: their control boxes bound the derivatives
     // there -- also over a degenerate rectangle (a border piece, u0 == u1 or v0 == v1).
-    Box3 du = detail::restrictedHull<3, 4>(hodographU_, u0, u1, v0, v1),
-         dv = detail::restrictedHull<4, 3>(hodographV_, u0, u1, v0, v1);
-    // Widened for the cancellation in evaluate()'s derivatives (see the constructor) and for
-    // the float restriction, a few ulps of the derivative's magnitude.
-    const float cancellation = hodographCancellation_;
-    du = widenedBox(du, 1e-5f * du.magnitude() + cancellation);
-    dv = widenedBox(dv, 1e-5f * dv.magnitude() + cancellation);
-    IVec3 n = cross(toIntervals(du), toIntervals(dv));
-    // evaluate() computes dP/du x dP/dv in float: off by a few ulps of |P_u| |P_v|.
-    const float evalError = 1e-5f * (length(vmax(vabs(du.lo), vabs(du.hi))) * length(vmax(vabs(dv.lo), vabs(dv.hi))));
-    n = {widened(n.x, evalError), widened(n.y, evalError), widened(n.z, evalError)};
-    return unitRange(n, 2.0 * tinyNormal_);
+    return normalRangeFromHodographs(detail::restrictedHull<3, 4>(hodographU_, u0, u1, v0, v1),
+                                     detail::restrictedHull<4, 3>(hodographV_, u0, u1, v0, v1), 0.0f);
   }
   if (bilinearBase_) {
     const Vec3 &p00 = corners_[0], &p10 = corners_[1], &p01 = corners_[2], &p11 = corners_[3];
@@ -158,11 +148,29 @@ Box3 DisplacedPatch::normalRangeOver(float u0, float u1, float v0, float v1) con
   return allDirections();
 }
 
+Box3 DisplacedPatch::normalRangeFromHodographs(Box3 du, Box3 dv, float restrictionError) const {
+  // Widened for the cancellation in evaluate()'s derivatives (see the constructor) and for
+  // the float restriction, a few ulps of the derivative's magnitude (and what the caller's
+  // restriction adds beyond that).
+  const float cancellation = hodographCancellation_ + restrictionError;
+  du = widenedBox(du, 1e-5f * du.magnitude() + cancellation);
+  dv = widenedBox(dv, 1e-5f * dv.magnitude() + cancellation);
+  IVec3 n = cross(toIntervals(du), toIntervals(dv));
+  // evaluate() computes dP/du x dP/dv in float: off by a few ulps of |P_u| |P_v|.
+  const float evalError = 1e-5f * (length(vmax(vabs(du.lo), vabs(du.hi))) * length(vmax(vabs(dv.lo), vabs(dv.hi))));
+  n = {widened(n.x, evalError), widened(n.y, evalError), widened(n.z, evalError)};
+  return unitRange(n, 2.0 * tinyNormal_);
+}
+
 Box3 DisplacedPatch::boundsOver(float u0, float u1, float v0, float v1) const {
   const Box3 b = base_->boundsOver(u0, u1, v0, v1);
   const Box3 rb = reference_ == base_ ? b : reference_->boundsOver(u0, u1, v0, v1);
   const Interval h = displacement_->range(rb, std::min(u0, u1), std::max(u0, u1), std::min(v0, v1), std::max(v0, v1));
-  const Box3 nr = normalRangeOver(u0, u1, v0, v1);
+  return displacedBox(b, normalRangeOver(u0, u1, v0, v1), h);
+}
+
+// P + N h over a piece whose base lies in b, unit normal in nr and height in h.
+Box3 DisplacedPatch::displacedBox(const Box3& b, const Box3& nr, Interval h) {
   Box3 r;
   for (int a = 0; a < 3; ++a) {
     const Interval c = Interval(b.lo[a], b.hi[a]) + Interval(nr.lo[a], nr.hi[a]) * h;
@@ -173,6 +181,51 @@ Box3 DisplacedPatch::boundsOver(float u0, float u1, float v0, float v1) const {
   // sum (the sum's half ulp of the point is grownBy's own term); N's normalisation errs by a
   // few roundings of |h|, outside the normal range: gamma(8) |h| covers all three.
   return r.grownBy(gammaBound(8) * std::max(std::fabs(h.lo), std::fabs(h.hi)));
+}
+
+// boundsOver's composition per piece, from the pieces of the base's (and reference's) border
+// curve and of the hodographs' border curves, each restricted once and halved (Bézier bases;
+// the others take the default, boundsOver per piece).
+void DisplacedPatch::borderPieceBoundsAt(int, int e, int k, uint32_t j, int split, Box3* out) const {
+  if (!bezierBase_) {
+    Patch::borderPieceBoundsAt(0, e, k, j, split, out);
+    return;
+  }
+  if (split <= 3) {  // Box3 arrays are initialised: a coarse radius's 8 pieces should not pay for 128
+    Box3 reference[8], du[8], dv[8];
+    displacedPieces(e, k, j, split, out, reference, du, dv);
+  } else {
+    Box3 reference[1u << kMaxPieceSplit], du[1u << kMaxPieceSplit], dv[1u << kMaxPieceSplit];
+    displacedPieces(e, k, j, split, out, reference, du, dv);
+  }
+}
+
+void DisplacedPatch::displacedPieces(int e, int k, uint32_t j, int split, Box3* out, Box3* reference, Box3* du,
+                                     Box3* dv) const {
+  const uint32_t pieces = 1u << split;
+  base_->borderPieceBoundsAt(0, e, k, j, split, out);
+  if (reference_ != base_) reference_->borderPieceBoundsAt(0, e, k, j, split, reference);
+  const Box3* rb = reference_ == base_ ? out : reference;
+  const float inv = 1.0f / float(1u << k);  // powers of two: every piece's ends are exact
+  Vec3 curve[4];
+  int n = detail::borderCurve<3, 4>(hodographU_, e, curve);
+  detail::borderPieceHulls(curve, n, float(j) * inv, float(j + 1) * inv, split, du);
+  n = detail::borderCurve<4, 3>(hodographV_, e, curve);
+  detail::borderPieceHulls(curve, n, float(j) * inv, float(j + 1) * inv, split, dv);
+  // The restriction's rounding is of the whole hodograph's magnitude, not the piece's.
+  float magnitude = 0;
+  for (int i = 0; i < 12; ++i)
+    magnitude = std::max({magnitude, maxComponent(vabs(hodographU_[i])), maxComponent(vabs(hodographV_[i]))});
+  const float restrictionError = gammaBound(detail::borderPieceRoundings(split)) * magnitude;
+  const float pieceInv = 1.0f / float(1u << (k + split));
+  for (uint32_t i = 0; i < pieces; ++i) {
+    const float t0 = float(j * pieces + i) * pieceInv, t1 = float(j * pieces + i + 1) * pieceInv;
+    const bool alongU = e == 0 || e == 2;
+    const float fixed = e == 1 || e == 2 ? 1.0f : 0.0f;
+    const Interval h = alongU ? displacement_->range(rb[i], t0, t1, fixed, fixed)
+                              : displacement_->range(rb[i], fixed, fixed, t0, t1);
+    out[i] = displacedBox(out[i], normalRangeFromHodographs(du[i], dv[i], restrictionError), h);
+  }
 }
 
 // The step of the one-sided differences at u: forward, backward where it would leave the patch.

@@ -47,6 +47,7 @@ class DisplacedPatch final : public Patch {
 
   Box3 bounds() const override { return bounds_; }
   Box3 boundsOver(float u0, float u1, float v0, float v1) const override;
+  void borderPieceBoundsAt(int sample, int e, int k, uint32_t j, int split, Box3* out) const override;
   // The base's size lengthened by the displacement's mean slope (per unit length and per unit
   // parameter) and by max|h| times the spread of the base normal (an offset surface of a
   // curved base is longer): strongly displaced patches are diced finer. An estimate for LOD,
@@ -88,6 +89,13 @@ class DisplacedPatch final : public Patch {
   void referenceAt(const RowContext& row, float u, const Frame& f, Vec3& at, Vec3& atU, Vec3& atV) const;
   Frame differenceFrame(RowContext& row, const SurfacePoint& c, float u) const;
   SurfacePoint displaced(const Frame& f, const HeightSample& h) const;
+  // The unit normal's range from boxes of P_u and P_v over a piece (a Bézier base's restricted
+  // hodographs), widened by the restriction's rounding beyond a few ulps of the boxes.
+  Box3 normalRangeFromHodographs(Box3 du, Box3 dv, float restrictionError) const;
+  static Box3 displacedBox(const Box3& b, const Box3& nr, Interval h);
+  // borderPieceBoundsAt over a Bézier base, with scratch for 2^split pieces of the reference
+  // and the two hodographs.
+  void displacedPieces(int e, int k, uint32_t j, int split, Box3* out, Box3* reference, Box3* du, Box3* dv) const;
   PatchPtr base_;
   DisplacementPtr displacement_;
   PatchPtr reference_;       // never null (the base when none was given)

@@ -40,6 +40,9 @@ class MovingPatch final : public Patch {
   Box3 boundsOverAt(int s, float u0, float u1, float v0, float v1) const override {
     return samples_[size_t(s)]->boundsOver(u0, u1, v0, v1);
   }
+  void borderPieceBoundsAt(int s, int e, int k, uint32_t j, int split, Box3* out) const override {
+    samples_[size_t(s)]->borderPieceBoundsAt(0, e, k, j, split, out);
+  }
 
   const Patch& sample(int s) const { return *samples_[size_t(s)]; }
 

@@ -97,6 +97,17 @@ class Patch {
   // border): it must bound the true border curve piece. A displaced kind must answer true
   // (its default does, through a positive dicingErrorCoefficient()).
   virtual bool needsBorderClosure() const { return dicingErrorCoefficient() > 0.0f; }
+
+  // Bounds of the true border curve over the 2^split equal pieces of segment j of border e at
+  // level k, of time sample `sample`, in order along the border: piece i covers the parameter
+  // interval [(j 2^split + i) / 2^(k+split), (j 2^split + i + 1) / 2^(k+split)] of border e
+  // (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0; the parameter is u on borders 0 and 2, v on 1
+  // and 3). Each box holds what boundsOverAt on the piece's degenerate rectangle must hold,
+  // but need not have its bits: crack-closing regions take their radii from these
+  // (DiceBuffer::borderRadius), up to 128 pieces at a time. The default is boundsOverAt per
+  // piece; Bézier kinds restrict the border curve once and halve it. split <= kMaxPieceSplit.
+  static constexpr int kMaxPieceSplit = 7;
+  virtual void borderPieceBoundsAt(int sample, int e, int k, uint32_t j, int split, Box3* out) const;
 };
 
 using PatchPtr = std::shared_ptr<const Patch>;
