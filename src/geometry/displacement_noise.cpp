@@ -28,6 +28,9 @@ inline float clampCoordinate(float x) {
   return x < kCoordinateLimit ? x : kCoordinateLimit;
 }
 
+// A coordinate p of an octave of frequency f whose lattice is shifted by `shift`.
+inline float octaveAxis(float p, float f, float shift) { return clampCoordinate(p * f + shift); }
+
 inline float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
 inline float fadeDerivative(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
 inline double fadeExact(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }
@@ -288,7 +291,7 @@ NoiseDisplacement::NoiseDisplacement(const NoiseParams& p) : params_(p) {
 Vec3 NoiseDisplacement::octaveCoordinate(int k, Vec3 p) const {
   const float f = freq_[size_t(k)];
   const Vec3 s = shift_[size_t(k)];
-  return {clampCoordinate(p.x * f + s.x), clampCoordinate(p.y * f + s.y), clampCoordinate(p.z * f + s.z)};
+  return {octaveAxis(p.x, f, s.x), octaveAxis(p.y, f, s.y), octaveAxis(p.z, f, s.z)};
 }
 
 HeightSample NoiseDisplacement::sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const {
@@ -303,19 +306,27 @@ void NoiseDisplacement::sampleRow(int count, const Vec3* p, const Vec3* pu, cons
                                   HeightSample* out) const {
   constexpr int kChunk = 64;
   alignas(16) float x[kChunk], y[kChunk], z[kChunk], n[kChunk], gx[kChunk], gy[kChunk], gz[kChunk];
-  alignas(16) float acc[kChunk], ax[kChunk], ay[kChunk], az[kChunk];
+  alignas(16) float acc[kChunk], ax[kChunk], ay[kChunk], az[kChunk], px[kChunk], py[kChunk], pz[kChunk];
   for (int start = 0; start < count; start += kChunk) {
     const int m = std::min(kChunk, count - start);
     std::fill(acc, acc + m, 0.0f);
     std::fill(ax, ax + m, 0.0f);
     std::fill(ay, ay + m, 0.0f);
     std::fill(az, az + m, 0.0f);
+    // The points as structure of arrays once, so that each octave's coordinates (octaveCoordinate
+    // per axis) vectorise.
+    for (int i = 0; i < m; ++i) {
+      px[i] = p[start + i].x;
+      py[i] = p[start + i].y;
+      pz[i] = p[start + i].z;
+    }
     for (int k = 0; k < params_.octaves; ++k) {
+      const float f = freq_[size_t(k)];
+      const Vec3 sh = shift_[size_t(k)];
       for (int i = 0; i < m; ++i) {
-        const Vec3 c = octaveCoordinate(k, p[start + i]);
-        x[i] = c.x;
-        y[i] = c.y;
-        z[i] = c.z;
+        x[i] = octaveAxis(px[i], f, sh.x);
+        y[i] = octaveAxis(py[i], f, sh.y);
+        z[i] = octaveAxis(pz[i], f, sh.z);
       }
       octaves_[size_t(k)].evalRow(m, x, y, z, n, gx, gy, gz);
       const float w = weight_[size_t(k)], wf = w * freq_[size_t(k)];
