@@ -1,6 +1,7 @@
 #include "app/stats_json.h"
 #include "core/error.h"
 #include "core/memory.h"
+#include "core/vector_isa.h"
 
 namespace rayes {
 
@@ -21,7 +22,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"dice_cache_entries", options.diceCacheEntries},
                    {"grid_cache_bytes", options.gridCacheBytes},
                    {"progressive", s.progressive},
-                   {"ray_memory_bytes", options.rayMemoryBytes}};
+                   {"ray_memory_bytes", options.rayMemoryBytes},
+                   {"vector_isa", vectorIsaName(vectorIsa())}};
 
   json gens = json::array();
   uint64_t diced = 0, created = 0, rays = 0, shadow = 0;

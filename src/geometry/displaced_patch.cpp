@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <vector>
 #include "core/interval.h"
+#include "core/vector_isa.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
 #include "geometry/bezier_restriction.h"
@@ -343,8 +344,8 @@ struct FrameChunk {
 
 }  // namespace
 
-void DisplacedPatch::rowFrames(RowContext& r, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU,
-                               Vec3* atV) const {
+RAYES_KERNEL_BODY void DisplacedPatch::rowFramesBody(RowContext& r, int count, const float* us, Frame* frames,
+                                                     Vec3* at, Vec3* atU, Vec3* atV) const {
   const float v = r.v;
   const bool analytic = bezierBase_ || bilinearBase_;
   FrameChunk chunk;
@@ -389,6 +390,22 @@ void DisplacedPatch::rowFrames(RowContext& r, int count, const float* us, Frame*
       referenceAt(r, u[i], f, at[k], atU[k], atV[k]);
     }
   }
+}
+
+void DisplacedPatch::rowFrames(RowContext& r, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU,
+                               Vec3* atV) const {
+  if (vectorIsa() == VectorIsa::Avx2) rowFramesAvx2(r, count, us, frames, at, atU, atV);
+  else rowFramesBaseline(r, count, us, frames, at, atU, atV);
+}
+
+void DisplacedPatch::rowFramesAvx2(RowContext& r, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU,
+                                   Vec3* atV) const {
+  rowFramesBody(r, count, us, frames, at, atU, atV);
+}
+
+void DisplacedPatch::rowFramesBaseline(RowContext& r, int count, const float* us, Frame* frames, Vec3* at,
+                                       Vec3* atU, Vec3* atV) const {
+  rowFramesBody(r, count, us, frames, at, atU, atV);
 }
 
 void DisplacedPatch::referenceAt(const RowContext& r, float u, const Frame& f, Vec3& at, Vec3& atU, Vec3& atV) const {

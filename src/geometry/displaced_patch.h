@@ -29,6 +29,7 @@
 // the teapot does (its shared borders differ by rounding in the normal).
 #pragma once
 #include <string>
+#include "core/vector_isa.h"
 #include "geometry/displacement.h"
 #include "geometry/patch.h"
 
@@ -86,6 +87,14 @@ class DisplacedPatch final : public Patch {
   // code, which is what makes them equal bit for bit. Analytic for Bézier and bilinear bases
   // (vectorised across the row), differences where those degenerate and for other kinds.
   void rowFrames(RowContext& row, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU, Vec3* atV) const;
+  // rowFrames' body and its version per instruction set (core/vector_isa.h): rowFrames calls the
+  // one vectorIsa() names.
+  void rowFramesBody(RowContext& row, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU,
+                     Vec3* atV) const;
+  RAYES_TARGET_AVX2 void rowFramesAvx2(RowContext& row, int count, const float* us, Frame* frames, Vec3* at,
+                                       Vec3* atU, Vec3* atV) const;
+  void rowFramesBaseline(RowContext& row, int count, const float* us, Frame* frames, Vec3* at, Vec3* atU,
+                         Vec3* atV) const;
   void referenceAt(const RowContext& row, float u, const Frame& f, Vec3& at, Vec3& atU, Vec3& atV) const;
   Frame differenceFrame(RowContext& row, const SurfacePoint& c, float u) const;
   SurfacePoint displaced(const Frame& f, const HeightSample& h) const;

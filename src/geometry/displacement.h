@@ -22,6 +22,7 @@
 #include "core/box.h"
 #include "core/interval.h"
 #include "core/vec.h"
+#include "core/vector_isa.h"
 
 namespace rayes {
 
@@ -114,6 +115,10 @@ class NoiseDisplacement final : public Displacement {
   Interval fractalRange(const Box3& pBox) const;
 
  private:
+  // sampleRow's body and its version per instruction set (core/vector_isa.h).
+  void sampleRowBody(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, HeightSample* out) const;
+  RAYES_TARGET_AVX2 void sampleRowAvx2(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, HeightSample* out) const;
+  void sampleRowBaseline(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, HeightSample* out) const;
   NoiseParams params_;
   std::vector<ValueNoise> octaves_;
   std::vector<float> freq_, weight_;

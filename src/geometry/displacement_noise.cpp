@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 #include "core/rng.h"
+#include "core/vector_isa.h"
 #include "geometry/displacement.h"
 
 namespace rayes {
@@ -121,13 +122,16 @@ float ValueNoise::eval(float x, float y, float z, Vec3* gradient) const {
   return value;
 }
 
+namespace {
+
+// ValueNoise::evalRow's body, compiled once per instruction set (core/vector_isa.h).
 // Three passes over chunks of a row: the cells and fade weights (vectorised), the corners'
 // lattice values copied per point from the cell they share with their neighbours (scalar: a
 // cell spans many points of a row at all but the finest octaves), and the trilinear blend
 // and its gradient (vectorised). Per point the same float operations as a point at a time,
 // in the same order, so the row's values are eval()'s bit for bit -- eval() is this for n = 1.
-void ValueNoise::evalRow(int count, const float* xs, const float* ys, const float* zs, float* value, float* gx,
-                         float* gy, float* gz) const {
+RAYES_KERNEL_BODY void evalRowBody(const ValueNoise& noise, int count, const float* xs, const float* ys,
+                                   const float* zs, float* value, float* gx, float* gy, float* gz) {
   constexpr int kChunk = 64;
   alignas(16) float tx[kChunk], ty[kChunk], tz[kChunk];
   alignas(16) int32_t cx[kChunk], cy[kChunk], cz[kChunk];
@@ -146,7 +150,7 @@ void ValueNoise::evalRow(int count, const float* xs, const float* ys, const floa
     float cur[8];
     int32_t lastX = cx[0], lastY = cy[0], lastZ = cz[0];
     {
-      const float* first = &cellCorners(*this, lastX, lastY, lastZ)[0][0][0];
+      const float* first = &cellCorners(noise, lastX, lastY, lastZ)[0][0][0];
       std::copy(first, first + 8, cur);
     }
     for (int i = 0; i < m; ++i) {
@@ -166,7 +170,7 @@ void ValueNoise::evalRow(int count, const float* xs, const float* ys, const floa
           }
         }
         for (int k = 0; k < 8; ++k)
-          if (fresh & (1 << k)) cur[k] = cornerValue(*this, cx[i], cy[i], cz[i], k);
+          if (fresh & (1 << k)) cur[k] = cornerValue(noise, cx[i], cy[i], cz[i], k);
         lastX = cx[i];
         lastY = cy[i];
         lastZ = cz[i];
@@ -188,6 +192,24 @@ void ValueNoise::evalRow(int count, const float* xs, const float* ys, const floa
       dz[i] = fadeDerivative(tz[i]) * (b1 - b0);
     }
   }
+}
+
+RAYES_TARGET_AVX2 void evalRowAvx2(const ValueNoise& noise, int count, const float* xs, const float* ys,
+                                   const float* zs, float* value, float* gx, float* gy, float* gz) {
+  evalRowBody(noise, count, xs, ys, zs, value, gx, gy, gz);
+}
+
+void evalRowBaseline(const ValueNoise& noise, int count, const float* xs, const float* ys, const float* zs,
+                     float* value, float* gx, float* gy, float* gz) {
+  evalRowBody(noise, count, xs, ys, zs, value, gx, gy, gz);
+}
+
+}  // namespace
+
+void ValueNoise::evalRow(int count, const float* xs, const float* ys, const float* zs, float* value, float* gx,
+                         float* gy, float* gz) const {
+  if (vectorIsa() == VectorIsa::Avx2) evalRowAvx2(*this, count, xs, ys, zs, value, gx, gy, gz);
+  else evalRowBaseline(*this, count, xs, ys, zs, value, gx, gy, gz);
 }
 
 Interval ValueNoise::range(Vec3 lo, Vec3 hi) const {
@@ -302,8 +324,8 @@ HeightSample NoiseDisplacement::sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float 
 
 // Octave by octave over chunks of the row (per point the octaves' sum in the same order as a
 // point at a time, so the same bits), so that ValueNoise::evalRow sees a row.
-void NoiseDisplacement::sampleRow(int count, const Vec3* p, const Vec3* pu, const Vec3* pv, const float*, float,
-                                  HeightSample* out) const {
+RAYES_KERNEL_BODY void NoiseDisplacement::sampleRowBody(int count, const Vec3* p, const Vec3* pu, const Vec3* pv,
+                                                        HeightSample* out) const {
   constexpr int kChunk = 64;
   alignas(16) float x[kChunk], y[kChunk], z[kChunk], n[kChunk], gx[kChunk], gy[kChunk], gz[kChunk];
   alignas(16) float acc[kChunk], ax[kChunk], ay[kChunk], az[kChunk], px[kChunk], py[kChunk], pz[kChunk];
@@ -351,6 +373,22 @@ void NoiseDisplacement::sampleRow(int count, const Vec3* p, const Vec3* pu, cons
       s.hv = dot(gp, pv[start + i]);
     }
   }
+}
+
+void NoiseDisplacement::sampleRowAvx2(int count, const Vec3* p, const Vec3* pu, const Vec3* pv,
+                                      HeightSample* out) const {
+  sampleRowBody(count, p, pu, pv, out);
+}
+
+void NoiseDisplacement::sampleRowBaseline(int count, const Vec3* p, const Vec3* pu, const Vec3* pv,
+                                          HeightSample* out) const {
+  sampleRowBody(count, p, pu, pv, out);
+}
+
+void NoiseDisplacement::sampleRow(int count, const Vec3* p, const Vec3* pu, const Vec3* pv, const float*, float,
+                                  HeightSample* out) const {
+  if (vectorIsa() == VectorIsa::Avx2) sampleRowAvx2(count, p, pu, pv, out);
+  else sampleRowBaseline(count, p, pu, pv, out);
 }
 
 Interval NoiseDisplacement::fractalRange(const Box3& b) const {

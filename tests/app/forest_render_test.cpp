@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include "core/vector_isa.h"
 #include "dicing/border_bound_cache.h"
 #include "dicing/dice_buffer.h"
 #include "geometry/forest_leaves.h"
@@ -74,6 +76,20 @@ TEST(ForestRender, BothEnginesRenderForest1WithTheSameMean) {
 
 TEST(ForestRender, ImageIsTheSameOnAnyThreadCountAndBudget) {
   testing::expectOrderIndependent(smallForest(1), 97);
+}
+
+// The row kernels (value noise, displaced base frames) run on AVX2 or on the baseline
+// (core/vector_isa.h): the image is the same bits on both, so it does not depend on the CPU.
+TEST(ForestRender, ImageIsTheSameOnEveryInstructionSet) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU runs the baseline kernels only";
+  const Scene scene = smallForest(1);
+  auto render = [&](VectorIsa isa) {
+    ScopedVectorIsa scoped(isa);
+    return testing::renderBeauty(scene, RenderOptions{}, 2);
+  };
+  const std::vector<float> base = render(VectorIsa::Baseline), avx2 = render(VectorIsa::Avx2);
+  ASSERT_EQ(base.size(), avx2.size());
+  EXPECT_EQ(0, std::memcmp(base.data(), avx2.data(), base.size() * sizeof(float)));
 }
 
 // Memory by owner: a forest of 6 trees against one, at the same image settings. What a render

@@ -10,7 +10,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <utility>
 #include <vector>
+#include "core/vector_isa.h"
 #include "geometry/bilinear_patch.h"
 #include "dicing/dice_buffer.h"
 #include "geometry/patch_math.h"
@@ -165,6 +168,35 @@ TEST(DisplacedPatch, DiceEqualsEvaluateBitForBitAndLevelsNest) {
 // a row of 129 vertices spans several of the noise's chunks; with a reference surface as the
 // forest's terrain has (a bilinear base and reference) and its bark (Bézier), the grid is
 // still evaluate()'s, bit for bit.
+// The base frames and the noise run on AVX2 or on the baseline (core/vector_isa.h): a dicing
+// is the same bits on both, for every base (a pole's difference fallback included), every
+// displacement, a reference surface, and rows longer than a kernel's chunk.
+TEST(DisplacedPatch, DiceIsTheSameOnEveryInstructionSet) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU runs the baseline kernels only";
+  auto diced = [](const Patch& patch, int m, VectorIsa isa) {
+    ScopedVectorIsa scoped(isa);
+    const size_t count = size_t((1 << m) + 1) * size_t((1 << m) + 1);
+    std::vector<Vec3> out(2 * count);
+    patch.dice(m, out.data(), out.data() + count);
+    return out;
+  };
+  std::vector<std::pair<std::string, PatchPtr>> cases;
+  for (const Shape& s : testShapes())
+    for (const Displaced& d : testDisplacements(2.0f))
+      cases.push_back({std::string(s.name) + ", " + d.name, std::make_shared<DisplacedPatch>(s.patch, d.d)});
+  const auto teapot = test::loadTeapot();
+  cases.push_back({"teapot body with a moved reference",
+                   std::make_shared<DisplacedPatch>(
+                       std::make_shared<BezierPatch>(test::transformed(teapot[0], 1.0f, {40, 0, 0})),
+                       testDisplacements(2.0f)[0].d, std::make_shared<BezierPatch>(teapot[0]))});
+  for (const auto& [name, patch] : cases) {
+    const std::vector<Vec3> base = diced(*patch, 7, VectorIsa::Baseline), avx2 = diced(*patch, 7, VectorIsa::Avx2);
+    for (size_t k = 0; k < base.size(); ++k)
+      ASSERT_TRUE(sameBits(base[k], avx2[k])) << name << ": " << (k < base.size() / 2 ? "position " : "normal ")
+                                              << k % (base.size() / 2);
+  }
+}
+
 TEST(DisplacedPatch, RowsLongerThanTheNoiseChunkStillEqualEvaluate) {
   const auto teapot = test::loadTeapot();
   NoiseParams np;

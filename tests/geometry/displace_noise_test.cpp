@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <iterator>
+#include <limits>
 #include <cstring>
 #include <thread>
 #include <vector>
 #include "core/interval.h"
+#include "core/vector_isa.h"
 #include "geometry/displacement.h"
 #include "support/patch_test_util.h"
 
@@ -364,6 +366,78 @@ TEST(NoiseDisplacement, SampleRowEqualsOnePointAtATime) {
     for (int i = 0; i < n; ++i) {
       const HeightSample one = disp.sample(p[size_t(i)], pu[size_t(i)], pv[size_t(i)], u[size_t(i)], 0.5f);
       const float a[3] = {row[size_t(i)].h, row[size_t(i)].hu, row[size_t(i)].hv}, b[3] = {one.h, one.hu, one.hv};
+      ASSERT_EQ(0, std::memcmp(a, b, sizeof a)) << (ridged ? "ridged" : "plain") << " point " << i;
+    }
+  }
+}
+
+// The row kernels run on AVX2 or on the baseline (core/vector_isa.h); both must give the same
+// bits, so that an image does not depend on the CPU. Rows that step along and across cells,
+// and the edge values of the cell and clamp arithmetic: -0.0, integers and the float just
+// below them, denormals, values past 2^24 and past the 2^30 clamp, infinities and NaN.
+TEST(ValueNoise, RowIsTheSameOnEveryInstructionSet) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU runs the baseline kernels only";
+  const ValueNoise noise(77);
+  Random rng(21);
+  const float inf = std::numeric_limits<float>::infinity();
+  const float edges[] = {0.0f, -0.0f, 1.0f, -1.0f, std::nextafter(1.0f, 0.0f), std::nextafter(-1.0f, -2.0f),
+                         1e-40f, -1e-40f, 16777217.0f, -16777219.0f, 1073741824.0f, 3e9f, -3e9f,
+                         inf, -inf, std::numeric_limits<float>::quiet_NaN(), 0.5f, 12345.678f};
+  const int n = 300;
+  std::vector<float> x(n), y(n), z(n);
+  for (int i = 0; i < n; ++i) {
+    if (i < 100) {  // every edge value on every axis
+      x[size_t(i)] = edges[size_t(i) % std::size(edges)];
+      y[size_t(i)] = edges[size_t(i / 3) % std::size(edges)];
+      z[size_t(i)] = edges[size_t(i / 7) % std::size(edges)];
+    } else {  // a walk with steps of a few hundredths to a few cells
+      const float s = i < 200 ? 0.03f : 1.7f;
+      x[size_t(i)] = x[size_t(i - 1)] * (i == 100 ? 0.0f : 1.0f) + s * rng.uniform(-1, 1);
+      y[size_t(i)] = y[size_t(i - 1)] * (i == 100 ? 0.0f : 1.0f) + 0.5f * s * rng.uniform(-1, 1);
+      z[size_t(i)] = z[size_t(i - 1)] * (i == 100 ? 0.0f : 1.0f) + 0.2f * s;
+    }
+  }
+  auto run = [&](VectorIsa isa) {
+    ScopedVectorIsa scoped(isa);
+    std::vector<float> out(4 * size_t(n));
+    noise.evalRow(n, x.data(), y.data(), z.data(), out.data(), out.data() + n, out.data() + 2 * n,
+                  out.data() + 3 * n);
+    return out;
+  };
+  const std::vector<float> base = run(VectorIsa::Baseline), avx2 = run(VectorIsa::Avx2);
+  for (int k = 0; k < 4 * n; ++k)
+    ASSERT_EQ(0, std::memcmp(&base[size_t(k)], &avx2[size_t(k)], sizeof(float)))
+        << "output " << k / n << " (value, gx, gy, gz) of point " << k % n;
+}
+
+TEST(NoiseDisplacement, SampleRowIsTheSameOnEveryInstructionSet) {
+  if (!cpuHasAvx2()) GTEST_SKIP() << "this CPU runs the baseline kernels only";
+  for (const bool ridged : {false, true}) {
+    NoiseParams np;
+    np.amplitude = 0.7f;
+    np.frequency = 40.0f;
+    np.octaves = 8;
+    np.ridged = ridged;
+    const NoiseDisplacement disp(np);
+    Random rng(ridged ? 5 : 6);
+    const int n = 257;
+    std::vector<Vec3> p(n), pu(n), pv(n);
+    for (int i = 0; i < n; ++i) {
+      p[size_t(i)] = {0.004f * float(i), rng.uniform(-1, 1), 3.0f};
+      pu[size_t(i)] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+      pv[size_t(i)] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    }
+    std::vector<float> u(n, 0.0f);
+    auto run = [&](VectorIsa isa) {
+      ScopedVectorIsa scoped(isa);
+      std::vector<HeightSample> out(n);
+      disp.sampleRow(n, p.data(), pu.data(), pv.data(), u.data(), 0.5f, out.data());
+      return out;
+    };
+    const std::vector<HeightSample> base = run(VectorIsa::Baseline), avx2 = run(VectorIsa::Avx2);
+    for (int i = 0; i < n; ++i) {
+      const float a[3] = {base[size_t(i)].h, base[size_t(i)].hu, base[size_t(i)].hv};
+      const float b[3] = {avx2[size_t(i)].h, avx2[size_t(i)].hu, avx2[size_t(i)].hv};
       ASSERT_EQ(0, std::memcmp(a, b, sizeof a)) << (ridged ? "ridged" : "plain") << " point " << i;
     }
   }
