@@ -1,7 +1,6 @@
 #include "shading/light_tracer.h"
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -14,8 +13,6 @@
 
 namespace rayes {
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
 // Random-number dimensions of one light-path vertex (apart from the path tracer's): 2D ones
 // (kLightPoint, kLightDir, kLens, kBsdf) are scrambled Sobol pairs, the others 1D.
 // The lens point of a connection (2D); the path's other dimensions are light_path.cpp's.

@@ -37,7 +37,9 @@ TEST(LightEmission, EveryWeightIsTheTotalPowerWhenPickedByPower) {
     ASSERT_TRUE(isFinite(e.weight) && isFinite(e.dir) && isFinite(e.org)) << i;
     EXPECT_NEAR(length(e.dir), 1.0f, 1e-6f) << i;
     EXPECT_NEAR(e.weight.x, power, power * 8 * 1.2e-7) << i;
-    if (e.onSurface) EXPECT_GT(dot(e.dir, e.normal), 0.0f) << "one-sided: leaves on the normal's side";
+    if (e.onSurface) {
+      EXPECT_GT(dot(e.dir, e.normal), 0.0f) << "one-sided: leaves on the normal's side";
+    }
   }
   EXPECT_EQ(emitted, 2000);
 }
