@@ -93,16 +93,27 @@ const float (&cellCorners(const ValueNoise& noise, int64_t ix, int64_t iy, int64
 }
 
 // Where x lies on the lattice: its cell floor(x) and its position t = x - floor(x) in [0, 1].
-// Written with a truncation instead of std::floor so that evalRow's first loop vectorises (SSE2
-// has no floor); the same float as std::floor for every x within the coordinate limit, -0.0
-// included (the + 0.0f turns t's -0.0 there into the +0.0 of -0.0 - -0.0).
+// Two spellings of one function, for the two kernels (core/vector_isa.h), because GCC vectorises
+// each only on its own target: SSE2 has no vector floor, so the baseline truncates and steps
+// down below negative non-integers; AVX2 has one (vroundps), but there GCC turns the truncation
+// back into a scalar trunc with a branch, while std::floor vectorises. For every x within the
+// coordinate limit both give std::floor's float (the truncation is exact for |x| <= 2^30), -0.0
+// included (the + 0.0f turns t's -0.0 there into the +0.0 of -0.0 - -0.0), so the same bits:
+// ValueNoise.RowIsTheSameOnEveryInstructionSet.
+template <bool kVectorFloor>
 inline void cellOf(float x, int32_t& cell, float& t) {
   x = clampCoordinate(x);
-  const int32_t i = int32_t(x);
-  const float fi = float(i);                  // exact: |x| <= 2^30
-  const bool below = fi > x;                  // only when x is not an integer
-  const float f = below ? fi - 1.0f : fi;     // exact
-  cell = below ? i - 1 : i;
+  float f;
+  if constexpr (kVectorFloor) {
+    f = std::floor(x);
+    cell = int32_t(f);                        // exact: |f| <= 2^30
+  } else {
+    const int32_t i = int32_t(x);
+    const float fi = float(i);                // exact: |x| <= 2^30
+    const bool below = fi > x;                // only when x is not an integer
+    f = below ? fi - 1.0f : fi;               // exact
+    cell = below ? i - 1 : i;
+  }
   const float d = (x - f) + 0.0f;
   t = d < 1.0f ? (d > 0.0f ? d : 0.0f) : 1.0f;  // std::clamp(d, 0, 1) for the d here (never NaN)
 }
@@ -130,6 +141,7 @@ namespace {
 // cell spans many points of a row at all but the finest octaves), and the trilinear blend
 // and its gradient (vectorised). Per point the same float operations as a point at a time,
 // in the same order, so the row's values are eval()'s bit for bit -- eval() is this for n = 1.
+template <bool kVectorFloor>
 RAYES_KERNEL_BODY void evalRowBody(const ValueNoise& noise, int count, const float* xs, const float* ys,
                                    const float* zs, float* value, float* gx, float* gy, float* gz) {
   constexpr int kChunk = 64;
@@ -139,9 +151,9 @@ RAYES_KERNEL_BODY void evalRowBody(const ValueNoise& noise, int count, const flo
   for (int start = 0; start < count; start += kChunk) {
     const int m = std::min(kChunk, count - start);
     for (int i = 0; i < m; ++i) {
-      cellOf(xs[start + i], cx[i], tx[i]);
-      cellOf(ys[start + i], cy[i], ty[i]);
-      cellOf(zs[start + i], cz[i], tz[i]);
+      cellOf<kVectorFloor>(xs[start + i], cx[i], tx[i]);
+      cellOf<kVectorFloor>(ys[start + i], cy[i], ty[i]);
+      cellOf<kVectorFloor>(zs[start + i], cz[i], tz[i]);
     }
     // The corners of the current cell, c[dz * 4 + dy * 2 + dx]. A step to a cell that shares
     // a face with it (the common step along a row) keeps that face's four values and hashes
@@ -196,12 +208,12 @@ RAYES_KERNEL_BODY void evalRowBody(const ValueNoise& noise, int count, const flo
 
 RAYES_TARGET_AVX2 void evalRowAvx2(const ValueNoise& noise, int count, const float* xs, const float* ys,
                                    const float* zs, float* value, float* gx, float* gy, float* gz) {
-  evalRowBody(noise, count, xs, ys, zs, value, gx, gy, gz);
+  evalRowBody<true>(noise, count, xs, ys, zs, value, gx, gy, gz);
 }
 
 void evalRowBaseline(const ValueNoise& noise, int count, const float* xs, const float* ys, const float* zs,
                      float* value, float* gx, float* gy, float* gz) {
-  evalRowBody(noise, count, xs, ys, zs, value, gx, gy, gz);
+  evalRowBody<false>(noise, count, xs, ys, zs, value, gx, gy, gz);
 }
 
 }  // namespace
