@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <nlohmann/json.hpp>
 #include "app/command_line.h"
+#include "core/vector_isa.h"
 #include "render_fixtures.h"
 #include "support/temp_folder.h"
 
@@ -56,6 +57,8 @@ TEST_F(CommandLine, RenderWritesExrPngAndStats) {
   EXPECT_EQ(t["micropolygons_potential"].get<uint64_t>(), 39ull << 20);  // 39 leaves at 4^10
   EXPECT_LT(t["micropolygons_created"].get<uint64_t>(), t["micropolygons_potential"].get<uint64_t>());
   EXPECT_TRUE(j["skipped"].contains("volumes"));
+  // Which row kernels ran (core/vector_isa.h): the image does not depend on it, the time does.
+  EXPECT_EQ(j["settings"]["vector_isa"].get<std::string>(), vectorIsaName(vectorIsa()));
 }
 
 TEST_F(CommandLine, ReportIsReadableHtmlOfTheSameStats) {
@@ -68,6 +71,7 @@ TEST_F(CommandLine, ReportIsReadableHtmlOfTheSameStats) {
     EXPECT_THAT(html, HasSubstr(section));
   EXPECT_THAT(html, HasSubstr("src=\"img/t.png\""));  // the preview, relative to the report
   EXPECT_THAT(html, HasSubstr("skipped: volumes"));
+  EXPECT_THAT(html, HasSubstr("row kernels " + vectorIsaName(vectorIsa())));
   EXPECT_EQ(html.find("<script"), std::string::npos);
 }
 
