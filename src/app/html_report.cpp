@@ -77,7 +77,7 @@ std::string htmlReport(const json& s, const std::string& preview) {
   o << "<h1>rayes: " << escape(s["scene"]["file"].get<std::string>()) << "</h1>";
   o << "<p>" << s["scene"]["resolution"][0].get<int>() << "&times;" << s["scene"]["resolution"][1].get<int>()
     << ", " << s["scene"]["spp"].get<int>() << " spp, " << s["settings"]["threads"].get<int>() << " threads, "
-    << "row kernels " << escape(s["settings"].value("vector_isa", std::string("baseline"))) << ", "
+    << "row kernels " << escape(s["settings"]["vector_isa"].get<std::string>()) << ", "
     << number(get(ts, "total")) << " s render (" << number(get(ts, "wall")) << " s wall), "
     << count(t["rays"].get<uint64_t>()) << " rays (" << number(get(t, "mrays_per_s")) << " Mrays/s), peak memory "
     << bytes(t["peak_rss_bytes"].get<uint64_t>()) << ".</p>";

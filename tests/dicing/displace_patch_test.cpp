@@ -164,10 +164,6 @@ TEST(DisplacedPatch, DiceEqualsEvaluateBitForBitAndLevelsNest) {
   }
 }
 
-// dice() evaluates the displacement a grid row at a time (Displacement::sampleRow): at level 7
-// a row of 129 vertices spans several of the noise's chunks; with a reference surface as the
-// forest's terrain has (a bilinear base and reference) and its bark (Bézier), the grid is
-// still evaluate()'s, bit for bit.
 // The base frames and the noise run on AVX2 or on the baseline (core/vector_isa.h): a dicing
 // is the same bits on both, for every base (a pole's difference fallback included), every
 // displacement, a reference surface, and rows longer than a kernel's chunk.
@@ -197,6 +193,10 @@ TEST(DisplacedPatch, DiceIsTheSameOnEveryInstructionSet) {
   }
 }
 
+// dice() evaluates the displacement a grid row at a time (Displacement::sampleRow): at level 7
+// a row of 129 vertices spans several of the noise's chunks; with a reference surface as the
+// forest's terrain has (a bilinear base and reference) and its bark (Bézier), the grid is
+// still evaluate()'s, bit for bit.
 TEST(DisplacedPatch, RowsLongerThanTheNoiseChunkStillEqualEvaluate) {
   const auto teapot = test::loadTeapot();
   NoiseParams np;
