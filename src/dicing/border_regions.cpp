@@ -121,9 +121,12 @@ void DiceBuffer::buildBorders(int sample, const Sample& s, std::vector<float>& o
 // blend of both samples' boxes at time weights w0, w1, which holds the blended curve), and its
 // distance from the line is at most their farthest corner's. The radius exceeds the curve's
 // true distance by about a piece's size, so a static dicing's region takes pieces of level
-// k + radiusSplit(k) = max(k + 3, 7) (at most 128): coarse segments, which secondary rays
+// k + radiusSplit(k) = max(k + 3, 6) (at most 64): coarse segments, which secondary rays
 // with wide footprints use, would otherwise make curved objects visibly fatter for them (a
-// moving dicing, computed per query: k + 3). The pieces come from the patch in one call
+// moving dicing, computed per query: k + 3). Level 6, not 7: a level-0 radius of a displaced
+// forest leaf from 128 pieces cost more than dicing the leaf, and such radii were a fifth of
+// a forest render; 64 pieces fatten a level-0 region by 1/64 of the patch instead of 1/128
+// (bench/RESULTS.md, "Border radii from pieces of level 6"). The pieces come from the patch in one call
 // (Patch::borderPieceBoundsAt: a Bézier border is restricted once and halved, not restricted
 // from the whole patch per piece, which was a third of a forest render's time); they are not
 // the region boxes (curveBox), whose bits differ. (Tried: branch and bound, splitting only the

@@ -180,8 +180,8 @@ class DiceBuffer {
   // border e at level k, from its pieces of level k + split (with `blend`, the pieces blended
   // at time weights w0, w1): see border_regions.cpp.
   double borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0, float w1) const;
-  // A static region's pieces are of level k + radiusSplit(k) = max(k + 3, 7).
-  static int radiusSplit(int k) { return std::max(3, 7 - k); }
+  // A static region's pieces are of level k + radiusSplit(k) = max(k + 3, 6).
+  static int radiusSplit(int k) { return std::max(3, 6 - k); }
   // The same at time weight 0, with split 3 (`coarse`) or radiusSplit(k), cached per dicing.
   double cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const;
   size_t borderOffset(int e, int level, uint32_t j) const {

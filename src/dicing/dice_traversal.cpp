@@ -488,7 +488,7 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
           radius = borderRadius(e, k, n.j, a, b, 3, true, w0, w1);
         } else {
           // The radius is the smaller of two bounds, from 8 pieces and from the finer pieces of
-          // radiusSplit(k) (<= 128): the first is cheap, and a ray that misses its cylinder, or
+          // radiusSplit(k) (<= 64): the first is cheap, and a ray that misses its cylinder, or
           // enters it after the best hit, misses the region whatever the second (shrinking the
           // cylinder only delays the entry and advances the exit), so most rays near a coarse
           // segment never need the second. The region is the same function of (k, j) either way.

@@ -104,7 +104,7 @@ class Patch {
   // (0: v = 0, 1: u = 1, 2: v = 1, 3: u = 0; the parameter is u on borders 0 and 2, v on 1
   // and 3). Each box holds what boundsOverAt on the piece's degenerate rectangle must hold,
   // but need not have its bits: crack-closing regions take their radii from these
-  // (DiceBuffer::borderRadius), up to 128 pieces at a time. The default is boundsOverAt per
+  // (DiceBuffer::borderRadius), up to 64 pieces at a time. The default is boundsOverAt per
   // piece; Bézier kinds restrict the border curve once and halve it. split <= kMaxPieceSplit.
   static constexpr int kMaxPieceSplit = 7;
   virtual void borderPieceBoundsAt(int sample, int e, int k, uint32_t j, int split, Box3* out) const;
