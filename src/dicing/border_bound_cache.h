@@ -3,7 +3,9 @@
 //
 // Contract:
 // - What it holds: per (leaf, border e, level, segment j) the box of the true border curve over
-//   the segment and the two radii of its region (DiceBuffer::curveBox, cachedRadius). Each is a
+//   the segment and the two radii of its region (DiceBuffer::curveBox, cachedRadius), and per
+//   (leaf, border, level) the gap to a displaced neighbour's border vertices (Tracer::seamGap,
+//   segment 0). Each is a
 //   pure function of its key (the leaf's patch is generated the same way every time), so a hit
 //   returns exactly the value a recomputation would give: images do not depend on the table,
 //   its capacity or which thread filled an entry (docs/design.md, invariant on determinism).
@@ -26,7 +28,7 @@ namespace rayes {
 
 class BorderBoundCache {
  public:
-  enum class Kind : uint32_t { CurveBox = 0, CoarseRadius = 1, FineRadius = 2 };
+  enum class Kind : uint32_t { CurveBox = 0, CoarseRadius = 1, FineRadius = 2, SeamGap = 3 };
   struct Key {
     uint32_t leaf = 0;
     Kind kind = Kind::CurveBox;

@@ -67,6 +67,14 @@ struct BottomQuery {
                               // the Tracer sets it (Tracer::closeBordersFor)
   uint8_t skipBorders = 0;    // with closeBorders: bit e set = not border e (its neighbour's
                               // coarser or equal dicing closes that seam for this ray)
+  // With closeBorders, for a border not skipped: bit e set = border e's region is thin, a
+  // cylinder of radius thinRadius[e] about each chord at the ray's level, for a seam whose
+  // neighbour is seen at the same level with border vertices at most that far from this
+  // dicing's (the slit between the two polylines lies within it; the Tracer measures it).
+  // Only static dicings at levels <= kMaxThinLevel have thin regions (the walk is linear).
+  uint8_t thinBorders = 0;
+  double thinRadius[4] = {0, 0, 0, 0};
+  static constexpr int kMaxThinLevel = 6;
 };
 
 // Where a static dicing keeps its border bounds beyond itself: the render's shared table and
@@ -162,12 +170,20 @@ class DiceBuffer {
   void diceSample(const Patch& patch, int sample, int level, Sample& out);
   void buildTree(const std::vector<Vec3>& positions, std::vector<float>& nodes) const;
   void buildBorders(int sample, const Sample& s, std::vector<float>& borders) const;  // reads patch_
+  // The borders a query tests: bit e of `mask` for border e, of `thin` for a thin region
+  // (BottomQuery::thinBorders) of radius thinRadius[e].
+  struct BorderRegions {
+    unsigned mask = 0, thin = 0;
+    const double* thinRadius = nullptr;
+  };
+  // The query's borders; thin regions only on a static dicing.
+  static BorderRegions regionsOf(const BottomQuery& q, bool moving);
   template <bool AnyHit, bool Moving>
-  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, unsigned borderMask,
+  bool traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha, const BorderRegions& regions,
                 GridHit* hit) const;
   template <bool AnyHit, bool Moving>
   bool traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
-                       float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const;
+                       float tmax, int k, float w0, float w1, const BorderRegions& regions, Best& best) const;
   // The box of the true border curve over segment j of border e at level i, of time sample
   // `sample` (Patch::boundsOverAt on the degenerate rectangle); of a static dicing's sample,
   // cached for i <= maxLevel in the dicing and in the shared table. (The radii's pieces are

@@ -189,7 +189,7 @@ struct DiceBuffer::Best {
 
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha,
-                          unsigned borderMask, GridHit* out) const {
+                          const BorderRegions& regions, GridHit* out) const {
   if (!(tmin < tmax)) return false;
   WatertightRay wray;
   if (!makeWatertightRay(org, dir, wray)) return false;
@@ -369,8 +369,8 @@ borders:
   best.s = bestQuadHit.s;
   best.r = bestQuadHit.r;
   best.ng = bestQuadHit.ng;
-  if (borderMask && borders_) {
-    if (traverseBorders<AnyHit, Moving>(query, dir, pad, watertightError, tmin, tmax, k, w0, w1, borderMask, best) &&
+  if (regions.mask && borders_) {
+    if (traverseBorders<AnyHit, Moving>(query, dir, pad, watertightError, tmin, tmax, k, w0, w1, regions, best) &&
         AnyHit)
       return true;
   }
@@ -399,7 +399,8 @@ borders:
 // Returns true when it improved `best` (for AnyHit: found any hit).
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad, float watertightError, float tmin,
-                                 float tmax, int k, float w0, float w1, unsigned borderMask, Best& best) const {
+                                 float tmax, int k, float w0, float w1, const BorderRegions& regions,
+                                 Best& best) const {
   const uint32_t stride = 1u << (level_ - k);
   const size_t res = size_t(resolution());
   const uint32_t last = (1u << k) - 1;
@@ -427,8 +428,119 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
     if constexpr (Moving) return lerpPoint(positions_[i], b_.positions[i], w0, w1);
     else return positions_[i];
   };
+  // One segment's region at level k, entered at t0 and left at t1 within its box: thin >= 0
+  // is a thin region's radius, else the radius that holds the curve. Returns true when an
+  // any-hit query is done.
+  auto region = [&](int e, uint32_t j, float t0, float t1, double thin) -> bool {
+    // The border micro-quad and its triangle that holds the segment (micro_quad.h's split).
+    uint32_t x, y;
+    switch (e) {
+      case 0: x = j; y = 0; break;
+      case 1: x = last; y = j; break;
+      case 2: x = j; y = last; break;
+      default: x = 0; y = j; break;
+    }
+    const size_t i00 = size_t(y) * stride * res + size_t(x) * stride;
+    const Vec3 p00 = vertex(i00), p10 = vertex(i00 + stride), p01 = vertex(i00 + stride * res),
+               p11 = vertex(i00 + stride * res + stride);
+    const bool first = e == 0 || e == 1;  // (p00, p10, p11) holds the v=0 and u=1 segments
+    Vec3 ng;
+    if (!detail::unitTriangleNormal(p00, first ? p10 : p11, first ? p11 : p01, ng) &&
+        !detail::unitTriangleNormal(p00, first ? p11 : p10, first ? p01 : p11, ng))
+      ng = Vec3{0, 0, 0};
+    const Vec3 a = e == 0 || e == 3 ? p00 : e == 1 ? p10 : p01;
+    const Vec3 b = e == 0 ? p10 : e == 3 ? p01 : p11;
+    // The region is the box cut down to the cylinder about the chord's line that holds the
+    // true curve (a box alone, about a diagonal chord, would reach far off the surface).
+    // Its entry must come after the ray's start: a ray starting inside is not stopped.
+    {
+      double c0, c1;
+      double radius;
+      if (thin >= 0) {
+        radius = thin;
+      } else if constexpr (Moving) {
+        radius = borderRadius(e, k, j, a, b, 3, true, w0, w1);
+      } else {
+        // The radius is the smaller of two bounds, from 8 pieces and from the finer pieces of
+        // radiusSplit(k) (<= 64): the first is cheap, and a ray that misses its cylinder, or
+        // enters it after the best hit, misses the region whatever the second (shrinking the
+        // cylinder only delays the entry and advances the exit), so most rays near a coarse
+        // segment never need the second. The region is the same function of (k, j) either way.
+        radius = cachedRadius(e, k, j, a, b, true);
+        if (radiusSplit(k) > 3) {
+          if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1)) return false;
+          const float entry = std::max(t0, roundDown(c0));
+          if (!(entry <= std::min(t1, roundUp(c1))) || entry > best.t) return false;
+          radius = std::min(radius, cachedRadius(e, k, j, a, b, false));
+        }
+      }
+      // The cylinder is tested in double: only the watertight test's rounding is added to
+      // the radius, not the ulps that keep float box bounds moving (a region at a silhouette
+      // would widen it by them).
+      if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1))
+        return false;
+      t0 = std::max(t0, roundDown(c0));
+      t1 = std::min(t1, roundUp(c1));
+      if (!(t0 <= t1) || !(t0 > tmin) || t0 > best.t) return false;
+    }
+    // The crossing of the triangle's plane, kept inside the box.
+    float t = t0;
+    if (!(ng == Vec3{0, 0, 0})) {
+      const float tp = dot(a - q.org, ng) / dot(dir, ng);
+      if (std::isfinite(tp)) t = std::clamp(tp, t0, std::max(t0, t1));
+    }
+    if (!(t < tmax)) return false;
+    const Vec3 hitPoint = q.org + dir * t;
+    const Vec3 chord = b - a;
+    const float len2 = dot(chord, chord);
+    float lambda = len2 > 0 ? dot(hitPoint - a, chord) / len2 : 0.0f;
+    lambda = std::isfinite(lambda) ? std::clamp(lambda, 0.0f, 1.0f) : 0.0f;
+    const float s = e == 3 ? 0.0f : e == 1 ? 1.0f : lambda;
+    const float r = e == 0 ? 0.0f : e == 2 ? 1.0f : lambda;
+    if (ng == Vec3{0, 0, 0}) {
+      ng = quadNormal<Moving>(normals_, b_.normals.data(), i00, stride, res, w0, w1, s, r);
+      if (ng == Vec3{0, 0, 0}) return false;
+    }
+    if constexpr (AnyHit) return true;
+    const uint32_t quad = (y << k) | x;
+    if (t < best.t || (t == best.t && quad < best.quad)) {
+      best.t = t;
+      best.quad = quad;
+      best.x = x;
+      best.y = y;
+      best.s = s;
+      best.r = r;
+      best.ng = ng;
+      best.border = true;
+      found = true;
+    }
+    return false;
+  };
   for (int e = 0; e < 4; ++e) {
-    if (!(borderMask & (1u << e))) continue;
+    if (!(regions.mask & (1u << e))) continue;
+    if (regions.thin & (1u << e)) {
+      // A thin region: every segment's chord at level k, in a box of its ends grown by the
+      // radius (the slit lies within the radius of the chord); linear in 2^k, so only for
+      // k <= BottomQuery::kMaxThinLevel, which the Tracer keeps to.
+      const double radius = regions.thinRadius[e];
+      const float grow = float(radius) * (1.0f + 1e-6f);
+      for (uint32_t j = 0; j <= last; ++j) {
+        uint32_t x0, y0, x1, y1;
+        switch (e) {
+          case 0: x0 = j; y0 = 0; x1 = j + 1; y1 = 0; break;
+          case 1: x0 = last + 1; y0 = j; x1 = last + 1; y1 = j + 1; break;
+          case 2: x0 = j; y0 = last + 1; x1 = j + 1; y1 = last + 1; break;
+          default: x0 = 0; y0 = j; x1 = 0; y1 = j + 1; break;
+        }
+        const Vec3 a = vertex(size_t(y0) * stride * res + size_t(x0) * stride),
+                   b = vertex(size_t(y1) * stride * res + size_t(x1) * stride);
+        const Vec3 g{grow, grow, grow};
+        float t0, t1;
+        if (!intersectBox(q, vmin(a, b) - g - pad, vmax(a, b) + g + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
+        if (region(e, j, t0, t1, radius) && AnyHit) return true;
+      }
+      continue;
+    }
     BorderEntry stack[2 * 13];
     int sp = 0;
     {
@@ -460,106 +572,32 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
       box(e, k, n.j, lo, hi);
       float t0, t1;
       if (!intersectBox(q, lo - pad, hi + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
-      // The border micro-quad and its triangle that holds the segment (micro_quad.h's split).
-      uint32_t x, y;
-      switch (e) {
-        case 0: x = n.j; y = 0; break;
-        case 1: x = last; y = n.j; break;
-        case 2: x = n.j; y = last; break;
-        default: x = 0; y = n.j; break;
-      }
-      const size_t i00 = size_t(y) * stride * res + size_t(x) * stride;
-      const Vec3 p00 = vertex(i00), p10 = vertex(i00 + stride), p01 = vertex(i00 + stride * res),
-                 p11 = vertex(i00 + stride * res + stride);
-      const bool first = e == 0 || e == 1;  // (p00, p10, p11) holds the v=0 and u=1 segments
-      Vec3 ng;
-      if (!detail::unitTriangleNormal(p00, first ? p10 : p11, first ? p11 : p01, ng) &&
-          !detail::unitTriangleNormal(p00, first ? p11 : p10, first ? p01 : p11, ng))
-        ng = Vec3{0, 0, 0};
-      const Vec3 a = e == 0 || e == 3 ? p00 : e == 1 ? p10 : p01;
-      const Vec3 b = e == 0 ? p10 : e == 3 ? p01 : p11;
-      // The region is the box cut down to the cylinder about the chord's line that holds the
-      // true curve (a box alone, about a diagonal chord, would reach far off the surface).
-      // Its entry must come after the ray's start: a ray starting inside is not stopped.
-      {
-        double c0, c1;
-        double radius;
-        if constexpr (Moving) {
-          radius = borderRadius(e, k, n.j, a, b, 3, true, w0, w1);
-        } else {
-          // The radius is the smaller of two bounds, from 8 pieces and from the finer pieces of
-          // radiusSplit(k) (<= 64): the first is cheap, and a ray that misses its cylinder, or
-          // enters it after the best hit, misses the region whatever the second (shrinking the
-          // cylinder only delays the entry and advances the exit), so most rays near a coarse
-          // segment never need the second. The region is the same function of (k, j) either way.
-          radius = cachedRadius(e, k, n.j, a, b, true);
-          if (radiusSplit(k) > 3) {
-            if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1)) continue;
-            const float entry = std::max(t0, roundDown(c0));
-            if (!(entry <= std::min(t1, roundUp(c1))) || entry > best.t) continue;
-            radius = std::min(radius, cachedRadius(e, k, n.j, a, b, false));
-          }
-        }
-        // The cylinder is tested in double: only the watertight test's rounding is added to
-        // the radius, not the ulps that keep float box bounds moving (a region at a silhouette
-        // would widen it by them).
-        if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1))
-          continue;
-        t0 = std::max(t0, roundDown(c0));
-        t1 = std::min(t1, roundUp(c1));
-        if (!(t0 <= t1) || !(t0 > tmin) || t0 > best.t) continue;
-      }
-      // The crossing of the triangle's plane, kept inside the box.
-      float t = t0;
-      if (!(ng == Vec3{0, 0, 0})) {
-        const float tp = dot(a - q.org, ng) / dot(dir, ng);
-        if (std::isfinite(tp)) t = std::clamp(tp, t0, std::max(t0, t1));
-      }
-      if (!(t < tmax)) continue;
-      const Vec3 hitPoint = q.org + dir * t;
-      const Vec3 chord = b - a;
-      const float len2 = dot(chord, chord);
-      float lambda = len2 > 0 ? dot(hitPoint - a, chord) / len2 : 0.0f;
-      lambda = std::isfinite(lambda) ? std::clamp(lambda, 0.0f, 1.0f) : 0.0f;
-      const float s = e == 3 ? 0.0f : e == 1 ? 1.0f : lambda;
-      const float r = e == 0 ? 0.0f : e == 2 ? 1.0f : lambda;
-      if (ng == Vec3{0, 0, 0}) {
-        ng = quadNormal<Moving>(normals_, b_.normals.data(), i00, stride, res, w0, w1, s, r);
-        if (ng == Vec3{0, 0, 0}) continue;
-      }
-      if constexpr (AnyHit) return true;
-      const uint32_t quad = (y << k) | x;
-      if (t < best.t || (t == best.t && quad < best.quad)) {
-        best.t = t;
-        best.quad = quad;
-        best.x = x;
-        best.y = y;
-        best.s = s;
-        best.r = r;
-        best.ng = ng;
-        best.border = true;
-        found = true;
-      }
+      if (region(e, n.j, t0, t1, -1.0) && AnyHit) return true;
     }
   }
   return found;
 }
 
-namespace {
-unsigned borderMask(const BottomQuery& q) { return q.closeBorders ? ~unsigned(q.skipBorders) & 0xfu : 0u; }
-}  // namespace
+DiceBuffer::BorderRegions DiceBuffer::regionsOf(const BottomQuery& q, bool moving) {
+  DiceBuffer::BorderRegions r;
+  if (!q.closeBorders) return r;
+  r.mask = ~unsigned(q.skipBorders) & 0xfu;
+  if (!moving) r.thin = unsigned(q.thinBorders) & r.mask;
+  r.thinRadius = q.thinRadius;
+  return r;
+}
 
 bool DiceBuffer::intersect(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, GridHit& hit,
                            BottomQuery query) const {
   if (moving_ && query.alpha != 0.0f)
-    return traverse<false, true>(org, dir, tmin, tmax, rayLevel, query.alpha, borderMask(query), &hit);
-  return traverse<false, false>(org, dir, tmin, tmax, rayLevel, 0.0f, borderMask(query), &hit);
+    return traverse<false, true>(org, dir, tmin, tmax, rayLevel, query.alpha, regionsOf(query, true), &hit);
+  return traverse<false, false>(org, dir, tmin, tmax, rayLevel, 0.0f, regionsOf(query, moving_), &hit);
 }
 
 bool DiceBuffer::occluded(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, BottomQuery query) const {
   if (moving_ && query.alpha != 0.0f)
-    return traverse<true, true>(org, dir, tmin, tmax, rayLevel, query.alpha, borderMask(query), nullptr);
-  return traverse<true, false>(org, dir, tmin, tmax, rayLevel, 0.0f, borderMask(query), nullptr);
+    return traverse<true, true>(org, dir, tmin, tmax, rayLevel, query.alpha, regionsOf(query, true), nullptr);
+  return traverse<true, false>(org, dir, tmin, tmax, rayLevel, 0.0f, regionsOf(query, moving_), nullptr);
 }
 
 }  // namespace rayes

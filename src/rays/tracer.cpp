@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include "geometry/displaced_patch.h"
 #include "geometry/moving_patch.h"
 
 namespace rayes {
@@ -63,38 +64,59 @@ Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSett
       leafBox_[i] = leaves.bounds(i);
     }
   });
-  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top);
+  if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top, &borderSide_);
 }
 
 // Two static Bézier leaves share border e and e' when the border curves have the same end
 // points (in either order) and the same midpoint: canonical border evaluation makes these
 // bits equal exactly when the border control rows are the same. A border with no partner or
 // more than one keeps its regions, unless it is free (no other leaf's box meets its box).
-std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves,
-                                                              const TopLevelBvh& top) {
+std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
+                                                              std::vector<std::array<uint8_t, 4>>* sideOut) {
   using Key = std::array<float, 9>;
-  std::map<Key, std::vector<std::pair<uint32_t, int>>> borders;
+  struct Side {
+    uint32_t leaf;
+    int e;
+    bool reversed;   // the key's first point is the border's end, not its start
+    bool displaced;
+  };
+  std::map<Key, std::vector<Side>> borders;
   const float corner[4][4] = {{0, 0, 1, 0}, {1, 0, 1, 1}, {0, 1, 1, 1}, {0, 0, 0, 1}};  // (u0, v0, u1, v1)
   for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf) {
     const LeafFacts f = leaves.facts(leaf);
-    if (f.timeSamples != 1 || std::strcmp(f.kind, "bezier") != 0 || !f.borderClosure) continue;
+    const bool displaced = std::strcmp(f.kind, "displaced-bezier") == 0;
+    if (f.timeSamples != 1 || (!displaced && std::strcmp(f.kind, "bezier") != 0) || !f.borderClosure) continue;
     const PatchPtr patch = leaves.patch(leaf);
-    const Patch& p = *patch;
+    // A displaced leaf is paired by its base: P and (for noise of position) h agree across
+    // the seam where the bases' borders do.
+    const Patch& p = displaced ? static_cast<const DisplacedPatch&>(*patch).base() : *patch;
     for (int e = 0; e < 4; ++e) {
       const float* c = corner[e];
       Vec3 a = p.evaluate(c[0], c[1]).p, z = p.evaluate(c[2], c[3]).p;
       const Vec3 mid = p.evaluate(0.5f * (c[0] + c[2]), 0.5f * (c[1] + c[3])).p;
-      if (std::tie(z.x, z.y, z.z) < std::tie(a.x, a.y, a.z)) std::swap(a, z);
-      borders[Key{a.x, a.y, a.z, mid.x, mid.y, mid.z, z.x, z.y, z.z}].push_back({leaf, e});
+      const bool reversed = std::tie(z.x, z.y, z.z) < std::tie(a.x, a.y, a.z);
+      if (reversed) std::swap(a, z);
+      borders[Key{a.x, a.y, a.z, mid.x, mid.y, mid.z, z.x, z.y, z.z}].push_back({leaf, e, reversed, displaced});
     }
   }
   std::vector<std::array<uint32_t, 4>> out;
+  std::vector<std::array<uint8_t, 4>> sideOf;
   for (const auto& [key, sides] : borders) {
-    if (sides.size() != 2 || sides[0].first == sides[1].first) continue;
-    if (out.empty()) out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
-    out[sides[0].first][sides[0].second] = sides[1].first;
-    out[sides[1].first][sides[1].second] = sides[0].first;
+    // A pair of one kind: a plain and a displaced patch on one base border do not meet.
+    if (sides.size() != 2 || sides[0].leaf == sides[1].leaf || sides[0].displaced != sides[1].displaced) continue;
+    if (out.empty()) {
+      out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
+      sideOf.assign(leaves.size(), {0, 0, 0, 0});
+    }
+    for (int s = 0; s < 2; ++s) {
+      const Side& me = sides[size_t(s)];
+      const Side& other = sides[size_t(1 - s)];
+      out[me.leaf][size_t(me.e)] = other.leaf;
+      sideOf[me.leaf][size_t(me.e)] = uint8_t(other.e | (me.reversed != other.reversed ? kReversedSeam : 0) |
+                                              (me.displaced ? kDisplacedSeam : 0));
+    }
   }
+  if (sideOut) *sideOut = sideOf;
   // Free borders, found in parallel (a generated leaf's patch is made for it and dropped):
   // bit e of freeBorders[leaf] for border e.
   std::vector<uint8_t> freeBorders(leaves.size());
@@ -118,6 +140,7 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
       if (!(freeBorders[leaf] >> e & 1u)) continue;
       if (out.empty()) out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
       out[leaf][e] = kFreeBorder;
+      if (sideOut && sideOut->empty()) sideOut->assign(leaves.size(), {0, 0, 0, 0});
     }
   return out;
 }
@@ -134,22 +157,64 @@ int Tracer::levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
   return levelFor(b, ray, leaf, leafEntry(b, ray, leaf));
 }
 
-uint8_t Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level) const {
-  if (borderNeighbour_.empty()) return 0;
-  uint8_t skip = 0;
+void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
+                                       BottomQuery& query) const {
+  if (borderNeighbour_.empty()) return;
   const RayBoxQuery q(b.org[i], b.dir[i]);
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = borderNeighbour_[leaf][e];
     if (nb == kFreeBorder) {
-      skip |= uint8_t(1u << e);
+      query.skipBorders |= uint8_t(1u << e);
       continue;
     }
     if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
     float t0, t1;
     if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, b.tmin[i], kInf, t0, t1)) continue;
-    if (levelOn(b, i, nb) <= level) skip |= uint8_t(1u << e);
+    const int other = levelOn(b, i, nb);
+    if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
+      if (other <= level) query.skipBorders |= uint8_t(1u << e);
+    } else if (other == level && level <= BottomQuery::kMaxThinLevel) {
+      query.thinBorders |= uint8_t(1u << e);
+      query.thinRadius[e] = seamGap(leaf, patch, e, level);
+    }
   }
-  return skip;
+}
+
+namespace {
+// The parameters of the point at t along border e (DiceBuffer's numbering).
+std::pair<float, float> borderPoint(int e, float t) {
+  switch (e) {
+    case 0: return {t, 0.0f};
+    case 1: return {1.0f, t};
+    case 2: return {t, 1.0f};
+    default: return {0.0f, t};
+  }
+}
+}  // namespace
+
+double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+  const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
+  double gap;
+  const bool cached = settings_.borderBoundEntries > 0;
+  if (cached && borderBounds_.find(key, gap)) return gap;
+  const uint32_t nb = borderNeighbour_[leaf][size_t(e)];
+  const uint8_t side = borderSide_[leaf][size_t(e)];
+  const int eb = side & 3;
+  const bool reversed = (side & kReversedSeam) != 0;
+  const PatchPtr other = leaves_.patch(nb);
+  const uint32_t n = 1u << k;
+  double worst = 0;
+  for (uint32_t v = 0; v <= n; ++v) {
+    const float t = float(v) / float(n), tb = reversed ? float(n - v) / float(n) : t;  // exact: n is a power of two
+    const auto [u0, v0] = borderPoint(e, t);
+    const auto [u1, v1] = borderPoint(eb, tb);
+    const Vec3 a = patch.evaluate(u0, v0).p, c = other->evaluate(u1, v1).p;
+    const double dx = double(a.x) - c.x, dy = double(a.y) - c.y, dz = double(a.z) - c.z;
+    worst = std::max(worst, dx * dx + dy * dy + dz * dz);
+  }
+  gap = std::sqrt(worst) * (1.0 + 1e-9);  // the rounding of the sum and the root (double, on float inputs)
+  if (cached) borderBounds_.insert(key, gap);
+  return gap;
 }
 
 size_t Tracer::diceBufferBytes() const {
@@ -223,7 +288,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
-  if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
+  if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, query);
   if (b.kind[i] == RayKind::Shadow) {
     if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
       RayHit occluder;
@@ -542,7 +607,7 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
       BottomQuery query;
       query.alpha = when.alpha;
       query.closeBorders = closeBordersFor(b, i, leaf);
-      if (query.closeBorders) query.skipBorders = bordersClosedByNeighbours(b, i, leaf, level);
+      if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, query);
       if (b.kind[i] == RayKind::Shadow) {
         if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);

@@ -87,9 +87,13 @@ class Tracer : public RayEngine {
   // outline: no neighbour can leave a crack there, so its regions would only widen the
   // silhouette); else kNoLeaf (other kinds, moving leaves, borders shared in other ways).
   // Empty when no leaf has a neighbour or a free border. `top` is built over the leaves' boxes.
+  // Displaced Bézier leaves are paired by their bases' borders. With `sides`, per leaf and
+  // border the neighbour's border (bits 0-1), whether it runs the other way (bit 2) and whether
+  // the pair is displaced (bit 3); 0 where there is no neighbour.
   static constexpr uint32_t kFreeBorder = 0xfffffffeu;  // leaf ids stay below 2^31
-  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves,
-                                                               const TopLevelBvh& top);
+  static constexpr uint8_t kReversedSeam = 4, kDisplacedSeam = 8;
+  static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
+                                                               std::vector<std::array<uint8_t, 4>>* sides = nullptr);
   // Per ray: resume entry and leaf, next entry, best t of the previous iterations, candidate
   // count, hit lock.
   static constexpr size_t bytesPerRayState() {
@@ -151,12 +155,22 @@ class Tracer : public RayEngine {
   // the slab test misses), one function of (ray, leaf) whichever leaf asks, so two neighbours
   // agree on each other's level (see bordersClosedByNeighbours).
   int levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
-  // Borders of `leaf` whose regions ray i need not test at `level` (BottomQuery::skipBorders):
-  // free borders need none; of a seam only the coarser side does (its regions hold the finer side's chord), and
-  // Bézier neighbours at equal levels share their border vertices bit for bit. A border is
-  // skipped only when its neighbour is known (borderNeighbour_), reachable by the ray, tests its
-  // own regions (not the ray's origin or ignored leaf) and is seen at a level no finer.
-  uint8_t bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level) const;
+  // Borders of `leaf` whose regions ray i need not test at `level` (BottomQuery::skipBorders),
+  // and those whose regions can be thin (thinBorders): free borders need none; of a Bézier seam
+  // only the coarser side does (its regions hold the finer side's chord), and Bézier neighbours
+  // at equal levels share their border vertices bit for bit. A displaced seam keeps its regions
+  // unless both sides are seen at the same level (<= BottomQuery::kMaxThinLevel): then its
+  // vertices lie within seamGap of the neighbour's, and a region of that radius closes the slit
+  // (P and h agree across it, the normal N of P + N h does not, and the forest's rings are only
+  // nearly G1). A border is treated so only when its neighbour is known (borderNeighbour_),
+  // reachable by the ray and tests its own regions (not the ray's origin or ignored leaf).
+  void bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
+                                 BottomQuery& query) const;
+  // The largest distance between the level-k vertices of border e of `leaf` (its `patch`) and
+  // those of its displaced neighbour across it at the same parameters, from both patches'
+  // evaluate(), which their dicings equal bit for bit (Patch contract): a pure function of
+  // (leaf, e, k), kept in the border-bound table. The neighbour's patch is made for it.
+  double seamGap(uint32_t leaf, const Patch& patch, int e, int k) const;
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
@@ -172,6 +186,7 @@ class Tracer : public RayEngine {
   std::vector<Box3> leafBox_;    // LeafSource::bounds per leaf, for levelOn
   std::vector<uint8_t> leafMoving_;  // more than one time sample: diced per time interval
   std::vector<std::array<uint32_t, 4>> borderNeighbour_;  // borderNeighbours(leaves), per-ray LOD only
+  std::vector<std::array<uint8_t, 4>> borderSide_;        // its `sides`
 
   CandidateBuffer cand_;
   CandidateSort sort_;
@@ -189,7 +204,9 @@ class Tracer : public RayEngine {
   };
   tbb::enumerable_thread_specific<IntervalScratch> intervals_;
   GridCache cache_;
-  BorderBoundCache borderBounds_;
+  // Mutable: seamGap fills it from const queries (the table is lock-free and its values are
+  // pure functions of their keys).
+  mutable BorderBoundCache borderBounds_;
   SharedBorderBounds sharedBorders(uint32_t leaf) {
     return {settings_.borderBoundEntries ? &borderBounds_ : nullptr, leaf};
   }

@@ -8,6 +8,8 @@
 #include "core/rng.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
+#include "geometry/displaced_patch.h"
+#include "geometry/displacement.h"
 #include "rays/tracer.h"
 #include "rays/teapot_on_floor.h"
 
@@ -219,6 +221,58 @@ TEST(Tracer, BordersNoOtherLeafMeetsAreFree) {
   ASSERT_EQ(neighbours().size(), 2u);
   EXPECT_EQ(neighbours()[0], (std::array<uint32_t, 4>{kNoLeaf, F, F, F}));
   EXPECT_EQ(neighbours()[1], (std::array<uint32_t, 4>{kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf}));  // flat: no regions
+}
+
+// Displaced Bézier leaves are paired by their bases' borders, with the neighbour's border and
+// direction (Tracer::borderNeighbours' sides): the seam's regions can then be thin where both
+// sides are seen at one level (crack_test.cpp). A plain and a displaced patch over one base
+// border are not a pair: their border vertices are not alike.
+TEST(Tracer, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
+  // A curved patch over [x0, x0 + 1] x [0, 1]; `flipV` runs its v the other way.
+  auto base = [](float x0, bool flipV) {
+    std::array<Vec3, 16> cp;
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const int jj = flipV ? 3 - j : j;
+        cp[j * 4 + i] = {x0 + i / 3.0f, jj / 3.0f, (i % 3 != 0 && jj % 3 != 0) ? 0.5f : 0.0f};
+      }
+    return std::make_shared<BezierPatch>(cp);
+  };
+  NoiseParams noise;
+  noise.amplitude = 0.05f;
+  const auto displacement = std::make_shared<NoiseDisplacement>(noise);
+  auto pairs = [](const std::vector<PatchPtr>& leaves) {
+    std::vector<Box3> boxes;
+    for (const auto& l : leaves) boxes.push_back(l->bounds());
+    TopLevelBvh top;
+    top.build(boxes);
+    std::vector<std::array<uint8_t, 4>> sides;
+    auto out = Tracer::borderNeighbours(StoredLeaves(leaves), top, &sides);
+    return std::make_pair(out, sides);
+  };
+  const uint8_t D = Tracer::kDisplacedSeam, R = Tracer::kReversedSeam;
+  {  // u = 1 of the first against u = 0 of the second, both running up in v
+    const auto [nb, sides] = pairs({std::make_shared<DisplacedPatch>(base(0, false), displacement),
+                                    std::make_shared<DisplacedPatch>(base(1, false), displacement)});
+    ASSERT_EQ(nb.size(), 2u);
+    EXPECT_EQ(nb[0][1], 1u);
+    EXPECT_EQ(nb[1][3], 0u);
+    EXPECT_EQ(sides[0][1], uint8_t(3 | D));
+    EXPECT_EQ(sides[1][3], uint8_t(1 | D));
+  }
+  {  // the second runs down in v: the seam is reversed, seen from either side
+    const auto [nb, sides] = pairs({std::make_shared<DisplacedPatch>(base(0, false), displacement),
+                                    std::make_shared<DisplacedPatch>(base(1, true), displacement)});
+    ASSERT_EQ(nb.size(), 2u);
+    EXPECT_EQ(nb[0][1], 1u);
+    EXPECT_EQ(sides[0][1], uint8_t(3 | D | R));
+    EXPECT_EQ(sides[1][3], uint8_t(1 | D | R));
+  }
+  {  // plain against displaced: no pair
+    const auto [nb, sides] = pairs({base(0, false), std::make_shared<DisplacedPatch>(base(1, false), displacement)});
+    for (const auto& leaf : nb) EXPECT_NE(leaf[1], 1u);
+    if (!nb.empty()) EXPECT_NE(nb[1][3], 0u);
+  }
 }
 
 TEST(Tracer, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
