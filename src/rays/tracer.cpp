@@ -174,8 +174,10 @@ void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t l
     if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
       if (other <= level) query.skipBorders |= uint8_t(1u << e);
     } else if (other == level && level <= BottomQuery::kMaxThinLevel) {
+      const double gap = seamGap(leaf, patch, e, level);
+      if (!std::isfinite(gap)) continue;  // a vertex that is not finite: the full region stays
       query.thinBorders |= uint8_t(1u << e);
-      query.thinRadius[e] = seamGap(leaf, patch, e, level);
+      query.thinRadius[e] = gap;
     }
   }
 }
@@ -210,7 +212,8 @@ double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
     const auto [u1, v1] = borderPoint(eb, tb);
     const Vec3 a = patch.evaluate(u0, v0).p, c = other->evaluate(u1, v1).p;
     const double dx = double(a.x) - c.x, dy = double(a.y) - c.y, dz = double(a.z) - c.z;
-    worst = std::max(worst, dx * dx + dy * dy + dz * dz);
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    worst = d2 > worst || std::isnan(d2) ? d2 : worst;  // a NaN stays: the caller keeps the full region
   }
   gap = std::sqrt(worst) * (1.0 + 1e-9);  // the rounding of the sum and the root (double, on float inputs)
   if (cached) borderBounds_.insert(key, gap);

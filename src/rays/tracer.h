@@ -169,7 +169,8 @@ class Tracer : public RayEngine {
   // The largest distance between the level-k vertices of border e of `leaf` (its `patch`) and
   // those of its displaced neighbour across it at the same parameters, from both patches'
   // evaluate(), which their dicings equal bit for bit (Patch contract): a pure function of
-  // (leaf, e, k), kept in the border-bound table. The neighbour's patch is made for it.
+  // (leaf, e, k), kept in the border-bound table. The neighbour's patch is made for it. Not
+  // finite when a vertex is not (then the seam keeps its full region).
   double seamGap(uint32_t leaf, const Patch& patch, int e, int k) const;
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).

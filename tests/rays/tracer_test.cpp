@@ -271,7 +271,9 @@ TEST(Tracer, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
   {  // plain against displaced: no pair
     const auto [nb, sides] = pairs({base(0, false), std::make_shared<DisplacedPatch>(base(1, false), displacement)});
     for (const auto& leaf : nb) EXPECT_NE(leaf[1], 1u);
-    if (!nb.empty()) EXPECT_NE(nb[1][3], 0u);
+    if (!nb.empty()) {
+      EXPECT_NE(nb[1][3], 0u);
+    }
   }
 }
 
