@@ -195,10 +195,26 @@ std::pair<float, float> borderPoint(int e, float t) {
 }  // namespace
 
 double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+  SeamGapMemo& memo = seamGapMemo_.local();
+  if (memo.leaf != leaf) {
+    memo.leaf = leaf;
+    memo.known = 0;
+  }
+  const uint32_t bit = 1u << (e * 8 + k);
+  if (memo.known & bit) return memo.gap[e][k];
   const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
   double gap;
   const bool cached = settings_.borderBoundEntries > 0;
-  if (cached && borderBounds_.find(key, gap)) return gap;
+  if (!(cached && borderBounds_.find(key, gap))) gap = measuredSeamGap(leaf, patch, e, k);
+  memo.gap[e][k] = gap;
+  memo.known |= bit;
+  return gap;
+}
+
+double Tracer::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+  const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
+  double gap;
+  const bool cached = settings_.borderBoundEntries > 0;
   const uint32_t nb = borderNeighbour_[leaf][size_t(e)];
   const uint8_t side = borderSide_[leaf][size_t(e)];
   const int eb = side & 3;
