@@ -64,6 +64,16 @@ inline std::vector<PatchPtr> bumpySphere(int n, float amplitude) {
   return out;
 }
 
+// Fractal noise of position (3 octaves) for the displaced surfaces below.
+inline DisplacementPtr surfaceNoise(float amplitude, float frequency, uint32_t seed) {
+  NoiseParams noise;
+  noise.amplitude = amplitude;
+  noise.frequency = frequency;
+  noise.octaves = 3;
+  noise.seed = seed;
+  return std::make_shared<NoiseDisplacement>(noise);
+}
+
 // The surface: a closed Catmull-Clark mesh (the surface of a cube cut into n x n
 // faces per side, swirled like bumpySphere so no border is a plane curve), its limit surface
 // displaced along the normal by fractal noise of the given amplitude.
@@ -94,12 +104,7 @@ inline std::vector<PatchPtr> displacedSubdivBlob(int n, float amplitude) {
           desc.faceSizes.push_back(4);
           for (int k = 0; k < 4; ++k) desc.faceVertices.push_back(quad[sign > 0 ? k : 3 - k]);
         }
-  NoiseParams noise;
-  noise.amplitude = amplitude;
-  noise.frequency = 2.0f;
-  noise.octaves = 3;
-  noise.seed = 7;
-  const auto displacement = std::make_shared<NoiseDisplacement>(noise);
+  const DisplacementPtr displacement = surfaceNoise(amplitude, 2.0f, 7);
   std::vector<PatchPtr> out;
   for (const auto& base : makeSubdivPatches(desc)) out.push_back(std::make_shared<DisplacedPatch>(base, displacement));
   return out;
@@ -126,12 +131,7 @@ inline std::vector<PatchPtr> displacedBezierTorus(float amplitude) {
   };
   const float R = 1.0f, r = 0.45f;
   const Vec3 centre = kInside - Vec3{R, 0, 0};
-  NoiseParams noise;
-  noise.amplitude = amplitude;
-  noise.frequency = 3.0f;
-  noise.octaves = 3;
-  noise.seed = 11;
-  const auto displacement = std::make_shared<NoiseDisplacement>(noise);
+  const DisplacementPtr displacement = surfaceNoise(amplitude, 3.0f, 11);
   std::vector<PatchPtr> out;
   for (int qu = 0; qu < 4; ++qu)
     for (int qv = 0; qv < 4; ++qv) {
@@ -154,12 +154,7 @@ inline std::vector<PatchPtr> displacedBezierTorus(float amplitude) {
 // border vertices (Tracer::seamGap). Not in closedSurfaces(): at different levels nothing
 // closes it (crack_test.cpp).
 inline std::vector<PatchPtr> displacedBezierSphere(int n, float amplitude) {
-  NoiseParams noise;
-  noise.amplitude = amplitude;
-  noise.frequency = 3.0f;
-  noise.octaves = 3;
-  noise.seed = 11;
-  const auto displacement = std::make_shared<NoiseDisplacement>(noise);
+  const DisplacementPtr displacement = surfaceNoise(amplitude, 3.0f, 11);
   std::vector<PatchPtr> out;
   for (const auto& base : bumpySphere(n, 0.25f)) out.push_back(std::make_shared<DisplacedPatch>(base, displacement));
   return out;
