@@ -7,10 +7,7 @@
 
 namespace rayes {
 
-namespace {
-
-// Grid indices of the two ends of segment j of border e at level i of a level-m grid.
-void chordEnds(int e, int i, uint32_t j, int m, size_t& v0, size_t& v1) {
+void DiceBuffer::chordEnds(int e, int i, uint32_t j, int m, size_t& v0, size_t& v1) {
   const size_t res = (size_t(1) << m) + 1;
   const size_t stride = size_t(1) << (m - i);
   switch (e) {
@@ -20,6 +17,8 @@ void chordEnds(int e, int i, uint32_t j, int m, size_t& v0, size_t& v1) {
     default: v0 = j * stride * res; v1 = v0 + stride * res; break;
   }
 }
+
+namespace {
 
 // Largest squared distance of a box's corners from the line through a along axis (|axis|^2 =
 // len2 > 0): the distance to a line is convex, so over the box it is largest at a corner.

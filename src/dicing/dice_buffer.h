@@ -200,6 +200,8 @@ class DiceBuffer {
   static int radiusSplit(int k) { return std::max(3, 6 - k); }
   // The same at time weight 0, with split 3 (`coarse`) or radiusSplit(k), cached per dicing.
   double cachedRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, bool coarse) const;
+  // Grid indices of the two ends of segment j of border e at level i of a level-m grid.
+  static void chordEnds(int e, int i, uint32_t j, int m, size_t& v0, size_t& v1);
   size_t borderOffset(int e, int level, uint32_t j) const {
     return 6 * (size_t(e) * ((size_t(2) << maxLevel_) - 1) + ((size_t(1) << level) - 1) + j);
   }

@@ -525,15 +525,9 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
       const double radius = regions.thinRadius[e];
       const float grow = float(radius) * (1.0f + 1e-6f);
       for (uint32_t j = 0; j <= last; ++j) {
-        uint32_t x0, y0, x1, y1;
-        switch (e) {
-          case 0: x0 = j; y0 = 0; x1 = j + 1; y1 = 0; break;
-          case 1: x0 = last + 1; y0 = j; x1 = last + 1; y1 = j + 1; break;
-          case 2: x0 = j; y0 = last + 1; x1 = j + 1; y1 = last + 1; break;
-          default: x0 = 0; y0 = j; x1 = 0; y1 = j + 1; break;
-        }
-        const Vec3 a = vertex(size_t(y0) * stride * res + size_t(x0) * stride),
-                   b = vertex(size_t(y1) * stride * res + size_t(x1) * stride);
+        size_t v0, v1;
+        chordEnds(e, k, j, level_, v0, v1);
+        const Vec3 a = vertex(v0), b = vertex(v1);
         const Vec3 g{grow, grow, grow};
         float t0, t1;
         if (!intersectBox(q, vmin(a, b) - g - pad, vmax(a, b) + g + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;

@@ -116,7 +116,6 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
                                               (me.displaced ? kDisplacedSeam : 0));
     }
   }
-  if (sideOut) *sideOut = sideOf;
   // Free borders, found in parallel (a generated leaf's patch is made for it and dropped):
   // bit e of freeBorders[leaf] for border e.
   std::vector<uint8_t> freeBorders(leaves.size());
@@ -138,10 +137,13 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
   for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf)
     for (int e = 0; e < 4; ++e) {
       if (!(freeBorders[leaf] >> e & 1u)) continue;
-      if (out.empty()) out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
+      if (out.empty()) {
+        out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
+        sideOf.assign(leaves.size(), {0, 0, 0, 0});
+      }
       out[leaf][e] = kFreeBorder;
-      if (sideOut && sideOut->empty()) sideOut->assign(leaves.size(), {0, 0, 0, 0});
     }
+  if (sideOut) *sideOut = std::move(sideOf);
   return out;
 }
 
@@ -205,16 +207,16 @@ double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
   const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
   double gap;
   const bool cached = settings_.borderBoundEntries > 0;
-  if (!(cached && borderBounds_.find(key, gap))) gap = measuredSeamGap(leaf, patch, e, k);
+  if (!(cached && borderBounds_.find(key, gap))) {
+    gap = measuredSeamGap(leaf, patch, e, k);
+    if (cached) borderBounds_.insert(key, gap);
+  }
   memo.gap[e][k] = gap;
   memo.known |= bit;
   return gap;
 }
 
 double Tracer::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
-  const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
-  double gap;
-  const bool cached = settings_.borderBoundEntries > 0;
   const uint32_t nb = borderNeighbour_[leaf][size_t(e)];
   const uint8_t side = borderSide_[leaf][size_t(e)];
   const int eb = side & 3;
@@ -231,9 +233,7 @@ double Tracer::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) 
     const double d2 = dx * dx + dy * dy + dz * dz;
     worst = d2 > worst || std::isnan(d2) ? d2 : worst;  // a NaN stays: the caller keeps the full region
   }
-  gap = std::sqrt(worst) * (1.0 + 1e-9);  // the rounding of the sum and the root (double, on float inputs)
-  if (cached) borderBounds_.insert(key, gap);
-  return gap;
+  return std::sqrt(worst) * (1.0 + 1e-9);  // the rounding of the sum and the root (double, on float inputs)
 }
 
 size_t Tracer::diceBufferBytes() const {

@@ -172,7 +172,7 @@ class Tracer : public RayEngine {
   // (leaf, e, k), kept in the border-bound table. The neighbour's patch is made for it. Not
   // finite when a vertex is not (then the seam keeps its full region).
   double seamGap(uint32_t leaf, const Patch& patch, int e, int k) const;
-  double measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const;  // seamGap's computation
+  double measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const;  // seamGap without the table
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
@@ -209,8 +209,8 @@ class Tracer : public RayEngine {
   // Mutable: seamGap fills it from const queries (the table is lock-free and its values are
   // pure functions of their keys).
   mutable BorderBoundCache borderBounds_;
-  // Per thread, the seam gaps of the last leaf asked (a run's rays all ask about one leaf): the
-  // table's random reads per ray and border were 4 % of a forest render.
+  // Per thread, the seam gaps of the last leaf asked: a run's rays all ask about one leaf, so
+  // they need not each read the table (a random access) per border.
   struct SeamGapMemo {
     uint32_t leaf = kNoLeaf;
     uint32_t known = 0;  // bit e * 8 + k
