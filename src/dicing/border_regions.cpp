@@ -123,8 +123,8 @@ void DiceBuffer::buildBorders(int sample, const Sample& s, std::vector<float>& o
 // k + radiusSplit(k) = max(k + 3, 6) (at most 64): coarse segments, which secondary rays
 // with wide footprints use, would otherwise make curved objects visibly fatter for them (a
 // moving dicing, computed per query: k + 3). Level 6, not 7: a level-0 radius of a displaced
-// forest leaf from 128 pieces cost more than dicing the leaf, and such radii were a fifth of
-// a forest render; 64 pieces fatten a level-0 region by 1/64 of the patch instead of 1/128
+// forest leaf from 128 pieces cost about twice a level-5 dicing of it (estimated), and such
+// radii were about a quarter of a forest render's profile; 64 pieces fatten a level-0 region by 1/64 of the patch instead of 1/128
 // (bench/RESULTS.md, "Border radii from pieces of level 6"). The pieces come from the patch in one call
 // (Patch::borderPieceBoundsAt: a Bézier border is restricted once and halved, not restricted
 // from the whole patch per piece, which was a third of a forest render's time); they are not
