@@ -23,6 +23,32 @@ double dotD(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 D3 crossD(D3 a, D3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
 double lengthD(D3 a) { return std::sqrt(dotD(a, a)); }
 double cross2(FlatPoint a, FlatPoint b) { return a.x * b.y - a.y * b.x; }
+void store(double (&out)[3], D3 v) { out[0] = v.x, out[1] = v.y, out[2] = v.z; }
+D3 load(const double (&in)[3]) { return {in[0], in[1], in[2]}; }
+
+// Whether x (the flux plane's origin), outside the flux triangle a, lies so far beyond one
+// edge's line that the lobe's mass over the angular triangle is below Q(kLobeReach): the test
+// the footprint integral would make on the angular corners, made before their three atan2.
+// The bound: let n be that edge's unit normal towards the triangle, h = min_k a_k·n > 0 the
+// line's distance from x. A corner maps to φ_k = atan(ρ_k/r)/ρ_k · a_k (ρ_k = |a_k|), and
+// atan(z)/z falls with z while atan(z) ≥ z/(1+z), so φ_k·n ≥ h·atan(ρmax/r)/ρmax ≥ h/(r+ρmax):
+// the angular triangle lies beyond a line h/(r+ρmax) from the lobe's centre, whose far side
+// holds mass Q(h/((r+ρmax)σ)). At σ = 0.001 about 99 % of the gathers that reach the
+// footprint integral end here (lbt-discoball, lbt-ring; bench/RESULTS.md).
+bool farOutsideLobe(const FlatPoint (&a)[3], double area2, double r, double sigma) {
+  if (!(area2 != 0)) return false;
+  double rhoMax2 = 0;
+  for (const FlatPoint& p : a) rhoMax2 = std::max(rhoMax2, p.x * p.x + p.y * p.y);
+  const double reach = kLobeReach * sigma * (r + std::sqrt(rhoMax2));
+  for (int i = 0; i < 3; ++i) {
+    const FlatPoint p = a[i], q = a[(i + 1) % 3];
+    const FlatPoint t{q.x - p.x, q.y - p.y};
+    // cross(p, t) is x's signed distance inside the edge's line times |t| (for area2 > 0).
+    const double outside = area2 > 0 ? -cross2(p, t) : cross2(p, t);
+    if (outside > 0 && outside * outside >= reach * reach * (t.x * t.x + t.y * t.y)) return true;
+  }
+  return false;
+}
 }  // namespace
 
 Box3 beamBounds(const BeamSegment& s) {
@@ -39,6 +65,77 @@ Box3 beamBounds(const BeamSegment& s) {
     box.hi += Vec3{pad, pad, pad};
   }
   return box;
+}
+
+BeamEnvelope beamEnvelope(const BeamSegment& s) {
+  BeamEnvelope v;
+  D3 d[3], o[3];
+  for (int i = 0; i < 3; ++i) d[i] = d3(s.d[i]), o[i] = d3(s.o[i]);
+  const D3 sum = add(add(d[0], d[1]), d[2]);
+  const double len = lengthD(sum);
+  if (!(len > 0) || !std::isfinite(len)) return v.never = true, v;
+  const D3 c = mul(sum, 1 / len);  // as beamIrradiance's Ψ̄, to the bit
+  const D3 origin = mul(add(add(o[0], o[1]), o[2]), 1.0 / 3);
+  double cosMin = 1;
+  D3 start[3], slope[3];  // corner i's offset from the axis at axial distance t: start + slope·t
+  for (int i = 0; i < 3; ++i) {
+    const double ci = dotD(d[i], c);
+    if (!(ci >= kCoaxialCos)) return v.never = true, v;
+    cosMin = std::min(cosMin, ci);
+    const D3 rel = sub(o[i], origin);
+    const double l = dotD(rel, c);
+    slope[i] = mul(sub(d[i], mul(c, ci)), 1 / ci);
+    start[i] = sub(sub(rel, mul(c, l)), mul(slope[i], l));
+    v.spreadSlope = std::max(v.spreadSlope, lengthD(slope[i]));
+    v.axialOffset = std::max(v.axialOffset, std::fabs(l));
+    v.axialEnd = std::max(v.axialEnd, l + ci * double(s.t[i]));
+  }
+  if (!std::isfinite(v.axialEnd)) v.axialEnd = 0;
+  for (int i = 0; i < 3; ++i) {
+    v.spreadStart = std::max(v.spreadStart, lengthD(start[i]));
+    v.spreadEnd = std::max(v.spreadEnd, lengthD(add(start[i], mul(slope[i], v.axialEnd))));
+  }
+  v.invCosMin = 1 / cosMin;
+  v.lobeReach = s.sigma > 0 ? kLobeReach * double(s.sigma) : 0;
+  store(v.origin, origin);
+  store(v.axis, c);
+  // The cap: beamIrradiance's end plane, taken whenever it would be for the largest cap.
+  const double tMax = std::max({double(s.t[0]), double(s.t[1]), double(s.t[2])});
+  D3 end[3];
+  for (int i = 0; i < 3; ++i) end[i] = add(o[i], mul(d[i], double(s.t[i])));
+  D3 endNormal = crossD(sub(end[1], end[0]), sub(end[2], end[0]));
+  const double endLen = lengthD(endNormal);
+  // (cap ≤ max t_i up to rounding, which the factor 1 + 1e-9 covers here and in excludes.)
+  if (endLen > kFocusArea * tMax * tMax * (1 + 1e-9) && std::isfinite(endLen) && std::isfinite(tMax)) {
+    endNormal = mul(endNormal, dotD(endNormal, c) < 0 ? -1 / endLen : 1 / endLen);
+    store(v.capNormal, endNormal);
+    store(v.capPoint, end[0]);
+    v.capLimit = kCapSlack * tMax;
+  }
+  return v;
+}
+
+bool BeamEnvelope::excludes(Vec3 xf) const {
+  if (never) return true;
+  constexpr double kMargin = 1e-6;
+  const D3 x = d3(xf);
+  // The same arithmetic as the gather's cap test, so only cap ≤ max t_i needs a margin.
+  if (capLimit >= 0) {
+    if (dotD(sub(x, load(capPoint)), load(capNormal)) > capLimit * (1 + 1e-9)) return true;
+  }
+  const D3 c = load(axis);
+  const D3 rel = sub(x, load(origin));
+  const double t = dotD(rel, c);
+  const double w = lengthD(sub(rel, mul(c, t)));
+  // Each corner's distance from the axis is convex in t: below its chord between the axial
+  // levels 0 and axialEnd, and growing at most by spreadSlope per unit beyond them.
+  const double spread = t <= 0               ? spreadStart - spreadSlope * t
+                        : t >= axialEnd      ? spreadEnd + spreadSlope * (t - axialEnd)
+                                             : spreadStart + (spreadEnd - spreadStart) * (t / axialEnd);
+  const double outside = w - spread;
+  const double need = lobeReach * ((std::fabs(t) + axialOffset) * invCosMin + w + spread);
+  // NaN compares false: not excluded.
+  return outside > need + kMargin * (w + spread + std::fabs(t) + axialOffset);
 }
 
 Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
@@ -94,6 +191,7 @@ Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
     dir = add(dir, mul(d[i], clamped[i]));
   }
   if (!(r > 0)) return {};
+  if (s.sigma > 0 && !inside && farOutsideLobe(a, area2, r, s.sigma)) return {};
   D3 end[3];
   for (int i = 0; i < 3; ++i) end[i] = add(o[i], mul(d[i], double(s.t[i])));
   D3 endNormal = crossD(sub(end[1], end[0]), sub(end[2], end[0]));

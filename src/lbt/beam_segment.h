@@ -48,4 +48,29 @@ Box3 beamBounds(const BeamSegment& s);
 // The gather; psi receives the light's direction at x (Ψ̄ when nothing arrives).
 Rgb beamIrradiance(const BeamSegment& s, Vec3 x, Vec3 n, Vec3& psi);
 
+// Where a segment's gather can be nonzero, as two tests made before the gather's own set-up
+// (about 97 % of the gathers a bin offers are 0 on the caustic scenes: bench/RESULTS.md):
+//  - the spread: the flux triangle at axial distance t from the corners' centroid O (along Ψ̄)
+//    lies within S(t) of the axis (S: each corner's offset is linear in t, so its length is
+//    convex: below the chord between the levels 0 and the farthest end, growing at most V per
+//    unit beyond), so a point w from the axis is at least D = w − S(t) outside it; for a glossy
+//    segment D must also exceed kLobeReach·σ times the bound on r + ρmax of beamIrradiance's
+//    lobe test ((|t| + L)/cos_min + w + S(t));
+//  - the cap: beyond the plane of the corner rays' ends by more than kCapSlack·max t_i (the
+//    gather's own cap test, with its interpolated t replaced by the largest).
+// excludes(x) ⇒ beamIrradiance(s, x, ·) is 0 for a specular segment and carries P ≤ Q(kLobeReach)
+// (a lobe mass the gather itself may drop) for a glossy one; a relative margin of 1e-6 covers the
+// gather's float flux-plane basis. Computed in double, as the gather is (168 bytes).
+struct BeamEnvelope {
+  double origin[3] = {0, 0, 0}, axis[3] = {0, 0, 1};
+  double spreadStart = 0, spreadEnd = 0, spreadSlope = 0;  // S(0), S(axialEnd), V
+  double axialEnd = 0;                    // the farthest corner end's axial distance
+  double axialOffset = 0, invCosMin = 1;  // L = max |(o_i − O)·Ψ̄|, 1 / min d_i·Ψ̄
+  double lobeReach = 0;                   // kLobeReach·σ (0: specular)
+  double capNormal[3] = {0, 0, 0}, capPoint[3] = {0, 0, 0}, capLimit = -1;  // < 0: no cap plane
+  bool never = false;                     // the gather is 0 everywhere (corners not coaxial)
+  bool excludes(Vec3 x) const;
+};
+BeamEnvelope beamEnvelope(const BeamSegment& s);
+
 }  // namespace rayes

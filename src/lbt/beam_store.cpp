@@ -180,6 +180,10 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
     offsets_ = {};
     return;
   }
+  envelopes_.resize(segments_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 1024), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) envelopes_[i] = beamEnvelope(segments_[i]);
+  });
   entries_.resize(total);
   std::vector<uint64_t> fill(offsets_.begin(), offsets_.end() - 1);
   for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });

@@ -16,7 +16,7 @@
 // leaf's task of its per-leaf stage during the next trace() (rays/tracer.cpp), and the path
 // adds the result after that trace, where the direct call used to add it (same bits).
 //
-// Memory: bytes() = segments + bin entries + cell offsets + leaf grids. The constructor refuses
+// Memory: bytes() = segments and their envelopes + bin entries + cell offsets + leaf grids. The constructor refuses
 // (InputError naming --beam-memory) a budget below minimumBytes (one beam); a store that needs
 // more than its budget keeps nothing and says so (fits() false, neededBytes()): the caller
 // processes its beams in batches (lbt/beam_batches.h). Immutable and thread-safe after
@@ -24,6 +24,8 @@
 // A gather counts a segment only where x, clamped into the leaf's box, lies in the segment's
 // reach (the boxes of its pieces, `reaches`), which its bins always cover: so what a gather
 // sums does not depend on how the grid was shaped, nor on which other segments share the store.
+// Before its irradiance, each segment's envelope (lbt/beam_segment.h, kept beside it) rules out
+// the points where it is dark: most of what a cell offers.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -57,7 +59,7 @@ class BeamStore final : public CausticRadiance {
     const Vec3 inside = vmin(vmax(x, box.lo), box.hi);
     for (uint64_t e = first; e != last; ++e) {
       const BeamSegment& s = segments_[entries_[e]];
-      if (!counts(s)) continue;
+      if (!counts(s) || envelopes_[entries_[e]].excludes(x)) continue;
       // The reach test after the irradiance: its eight boxes (a tan each) cost about as much as
       // the irradiance's early outs, and most points in a segment's cell are in its reach.
       Vec3 psi;
@@ -88,7 +90,8 @@ class BeamStore final : public CausticRadiance {
     return bytesFor(segments_.size(), entries_.size(), offsets_.size()) + grids_.size() * sizeof(LeafGrid);
   }
   static size_t bytesFor(size_t segments, size_t entries, size_t cells) {
-    return segments * sizeof(BeamSegment) + entries * sizeof(uint32_t) + cells * sizeof(uint64_t);
+    return segments * (sizeof(BeamSegment) + sizeof(BeamEnvelope)) + entries * sizeof(uint32_t) +
+           cells * sizeof(uint64_t);
   }
   std::span<const BeamSegment> segments() const { return segments_; }
 
@@ -102,6 +105,7 @@ class BeamStore final : public CausticRadiance {
  private:
   std::pair<uint64_t, uint64_t> cellRange(uint32_t leaf, Vec3 x) const;
   std::vector<BeamSegment> segments_;
+  std::vector<BeamEnvelope> envelopes_;  // per segment: the gather's cheap early out
   std::vector<LeafGrid> grids_;
   std::vector<uint64_t> offsets_;   // cell c's segments: entries_[offsets_[c], offsets_[c + 1])
   std::vector<uint32_t> entries_;
