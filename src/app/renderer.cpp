@@ -130,7 +130,7 @@ std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, B
 
 // --beam-resolution, or the glossy rule's coarser grid (lbt/beam_resolution.h) from a probe of
 // one bounce without splits at a resolution of at most kProbe.
-int Renderer::beamResolution(const BeamLights& lights, std::span<const Box3> scatterers) {
+int Renderer::beamResolution(const BeamLights& lights, std::span<const ScattererSurface> scatterers) {
   constexpr int kProbe = 16;
   const int requested = options_.beams.resolution;
   if (!(options_.beams.lobeCells > 0)) return requested;
@@ -148,10 +148,14 @@ int Renderer::beamResolution(const BeamLights& lights, std::span<const Box3> sca
 void Renderer::buildBeams() {
   const auto t0 = Clock::now();
   const ShadingScene& shading = data_.shading;
-  std::vector<Box3> scatterers;
+  // The scatterer leaves' surfaces, for their beam grids (their patches live while the beams
+  // are seeded: only caustic scatterers, not the scene's other leaves).
+  std::vector<ScattererSurface> scatterers;
   for (size_t l = 0; l < data_.leafBoxes.size(); ++l)
-    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty())
-      scatterers.push_back(data_.leafBoxes[l]);
+    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data_.leafBoxes[l].empty()) {
+      PatchPtr patch = scene_.leaves.patch(l);
+      scatterers.push_back({uint32_t(l), [patch](float u, float v) { return patch->evaluate(u, v).p; }});
+    }
   const BeamLights lights{scene_.pointLights, scene_.moreLights.spots, scene_.moreLights.distants,
                           options_.beams.areaSamples > 0 ? patchLightsOf(scene_) : std::vector<PatchLight>{},
                           options_.beams.areaSamples};

@@ -170,7 +170,7 @@ class Renderer {
   std::unique_ptr<BeamStore> traceBeamRange(size_t first, size_t last, BeamTraceStats& stats);
   BeamTraceOptions beamTraceOptions() const;
   std::vector<BeamSegment> traceBeamSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to, BeamTraceStats& stats);
-  int beamResolution(const BeamLights& lights, std::span<const Box3> scatterers);
+  int beamResolution(const BeamLights& lights, std::span<const ScattererSurface> scatterers);
   BeamSeeds beamSeeds_;
   std::vector<std::pair<size_t, size_t>> beamRanges_;
   std::unique_ptr<BeamBatches> beamBatches_;

@@ -2,58 +2,86 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace rayes {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr uint32_t kNoVertex = 0xffffffffu;
 
-struct Rect {
-  double u0 = kInf, u1 = -kInf, v0 = kInf, v1 = -kInf;
-  bool empty() const { return !(u0 <= u1 && v0 <= v1); }
-  void extend(double u, double v) { u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v); }
-  void extend(const Rect& r) { extend(r.u0, r.v0), extend(r.u1, r.v1); }
+// A grid vertex's (u or v) coordinate: i of m cells, inset from the borders.
+float gridCoord(int i, int m) { return kSeedInset + (1 - 2 * kSeedInset) * float(i) / float(m); }
+
+// A leaf's surface at the 5×5 points (0, ¼, ½, ¾, 1)², each with a neighbour a small step
+// along u and one along v (towards the inside), for the spans below.
+constexpr int kSampleSteps = 4;
+constexpr float kRateStep = 1.0f / 1024;
+struct Samples {
+  Vec3 p[kSampleSteps + 1][kSampleSteps + 1];  // [v][u]
+  Vec3 du[kSampleSteps + 1][kSampleSteps + 1], dv[kSampleSteps + 1][kSampleSteps + 1];
+  bool finite = true;
 };
-
-// Marks the cells of an N×N grid over [lo, lo + N·cell]² that a rectangle covers.
-void markCells(const Rect& r, double lo, double cell, int n, std::vector<uint8_t>& used) {
-  if (r.empty()) return;
-  const int i0 = std::clamp(int(std::floor((r.u0 - lo) / cell)), 0, n - 1);
-  const int i1 = std::clamp(int(std::floor((r.u1 - lo) / cell)), 0, n - 1);
-  const int j0 = std::clamp(int(std::floor((r.v0 - lo) / cell)), 0, n - 1);
-  const int j1 = std::clamp(int(std::floor((r.v1 - lo) / cell)), 0, n - 1);
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) used[size_t(j) * n + i] = 1;
+Samples samplesOf(const ScattererSurface& leaf) {
+  Samples s;
+  for (int j = 0; j <= kSampleSteps; ++j)
+    for (int i = 0; i <= kSampleSteps; ++i) {
+      const float u = float(i) / kSampleSteps, v = float(j) / kSampleSteps;
+      s.p[j][i] = leaf.position(u, v);
+      s.du[j][i] = leaf.position(u + (i < kSampleSteps ? kRateStep : -kRateStep), v);
+      s.dv[j][i] = leaf.position(u, v + (j < kSampleSteps ? kRateStep : -kRateStep));
+      s.finite = s.finite && isFinite(s.p[j][i]) && isFinite(s.du[j][i]) && isFinite(s.dv[j][i]);
+    }
+  return s;
 }
 
-Vec3 boxCorner(const Box3& b, int k) {
-  return {(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z};
+// What the leaf spans along u and along v if it were everywhere as dense as where it is densest
+// (`span(a, b)` per unit of u or v: the largest of the local rates at the samples and of the
+// chords between neighbouring samples): a uniform grid in (u, v) then keeps every cell near the
+// target, where the light sees the leaf at a slant as well as head-on (a wide plane under a
+// point light is densest at its foot).
+template <class Span>
+std::pair<double, double> spansOf(const Samples& s, Span span) {
+  double su = 0, sv = 0;
+  for (int k = 0; k <= kSampleSteps; ++k)
+    for (int m = 0; m <= kSampleSteps; ++m) {
+      su = std::max(su, span(s.p[k][m], s.du[k][m]) / kRateStep);
+      sv = std::max(sv, span(s.p[m][k], s.dv[m][k]) / kRateStep);
+      if (m == kSampleSteps) continue;
+      su = std::max(su, span(s.p[k][m], s.p[k][m + 1]) * kSampleSteps);
+      sv = std::max(sv, span(s.p[m][k], s.p[m + 1][k]) * kSampleSteps);
+    }
+  return {su, sv};
 }
 
-// Adds the corner rays and triangles of the used cells of one N×N grid. corner(i, j) gives a
-// grid vertex's ray; flux(a, b, c) a triangle's flux from its corner ray ids.
+int cellsFor(double span, double cell, int most) {
+  const double m = std::ceil(span / cell);
+  return m >= 1 ? int(std::min(m, double(most))) : 1;  // NaN: 1
+}
+
+// Adds one leaf's mu × mv grid: corner(p, o, d) gives the ray toward surface point p (false:
+// none); flux(a, b, c) a triangle's flux from its corner ray ids.
 template <class Corner, class Flux>
-void addGrid(int n, const std::vector<uint8_t>& used, float width, float spread, Corner corner, Flux flux,
-             BeamSeeds& seeds) {
-  std::vector<uint32_t> id(size_t(n + 1) * (n + 1), 0xffffffffu);
-  auto vertex = [&](int i, int j) {
-    uint32_t& v = id[size_t(j) * (n + 1) + i];
-    if (v == 0xffffffffu) {
+void addLeafGrid(const ScattererSurface& leaf, int mu, int mv, float width, float spread, Corner corner, Flux flux,
+                 BeamSeeds& seeds) {
+  std::vector<uint32_t> id(size_t(mu + 1) * (mv + 1), kNoVertex);
+  for (int j = 0; j <= mv; ++j)
+    for (int i = 0; i <= mu; ++i) {
+      const float u = gridCoord(i, mu), v = gridCoord(j, mv);
       Vec3 o, d;
-      corner(i, j, o, d);
-      v = uint32_t(seeds.org.size());
+      if (!corner(leaf.position(u, v), o, d)) continue;
+      id[size_t(j) * (mu + 1) + i] = uint32_t(seeds.org.size());
       seeds.org.push_back(o);
       seeds.dir.push_back(d);
       seeds.coneWidth.push_back(width);
       seeds.coneSpread.push_back(spread);
+      seeds.aim.push_back({leaf.leaf, u, v, 0.25f / float(mu), 0.25f / float(mv)});
     }
-    return v;
-  };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      if (!used[size_t(j) * n + i]) continue;
-      const uint32_t a = vertex(i, j), b = vertex(i + 1, j), c = vertex(i + 1, j + 1), d = vertex(i, j + 1);
+  for (int j = 0; j < mv; ++j)
+    for (int i = 0; i < mu; ++i) {
+      const auto at = [&](int di, int dj) { return id[size_t(j + dj) * (mu + 1) + i + di]; };
+      const uint32_t a = at(0, 0), b = at(1, 0), c = at(1, 1), d = at(0, 1);
       for (const std::array<uint32_t, 3> t : {std::array<uint32_t, 3>{a, b, c}, std::array<uint32_t, 3>{a, c, d}}) {
+        if (t[0] == kNoVertex || t[1] == kNoVertex || t[2] == kNoVertex) continue;
         const Rgb f = flux(t[0], t[1], t[2]);
         if (!(maxComponent(f) > 0)) continue;
         seeds.triangles.push_back(t);
@@ -62,94 +90,76 @@ void addGrid(int n, const std::vector<uint8_t>& used, float width, float spread,
     }
 }
 
-// The rectangle of a cube face (axis w, coordinates u, v in [-1, 1]) that a box covers as seen
-// from c: the projections of the box clipped to the half-space in front of the face (its
-// corners there and where its edges cross the plane just in front of c), clipped to the face.
-Rect projectOntoFace(const Box3& b, Vec3 c, Vec3 w, Vec3 u, Vec3 v) {
-  Rect r;
-  const double eps = 1e-6 * (double(b.longestSide()) + double(length(b.center() - c)));
-  auto add = [&](Vec3 p, double z) { r.extend(double(dot(p, u)) / z, double(dot(p, v)) / z); };
-  for (int k = 0; k < 8; ++k) {
-    const Vec3 p = boxCorner(b, k) - c;
-    const double z = dot(p, w);
-    if (z > eps) add(p, z);
-    for (int bit : {1, 2, 4}) {
-      if (k & bit) continue;
-      const Vec3 q = boxCorner(b, k | bit) - c;
-      const double zq = dot(q, w);
-      if ((z > eps) == (zq > eps)) continue;
-      const float a = float((eps - z) / (zq - z));  // the edge crosses z = eps here
-      add(p + (q - p) * a, eps);
-    }
-  }
-  if (r.empty()) return r;
-  return {std::max(r.u0, -1.0), std::min(r.u1, 1.0), std::max(r.v0, -1.0), std::min(r.v1, 1.0)};
-}
-
-// Point and spot lights, and the sample points of area lights: a cube map about the point;
-// intensity(unit direction) in W/sr.
+// Point and spot lights, and the sample points of area lights: intensity(unit direction) in W/sr.
 template <class Intensity>
-void seedFromPoint(Vec3 c, Intensity intensity, std::span<const Box3> boxes, int n, BeamSeeds& seeds) {
+void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface> leaves, int n, BeamSeeds& seeds) {
   const double cell = 2.0 / n;
-  for (int face = 0; face < 6; ++face) {
-    const int axis = face / 2;
-    const float sign = (face & 1) ? -1.0f : 1.0f;
-    Vec3 w{}, u{}, v{};
-    w[axis] = sign;
-    u[(axis + 1) % 3] = 1;
-    v[(axis + 2) % 3] = 1;
-    std::vector<uint8_t> used(size_t(n) * n, 0);
-    bool any = false;
-    for (const Box3& b : boxes) {
-      const Rect r = projectOntoFace(b, c, w, u, v);
-      if (!r.empty()) any = true;
-      markCells(r, -1, cell, n, used);
-    }
-    if (!any) continue;
-    auto corner = [&](int i, int j, Vec3& o, Vec3& d) {
+  const auto angle = [&](Vec3 a, Vec3 b) {
+    const Vec3 da = a - c, db = b - c;
+    return double(std::atan2(length(cross(da, db)), dot(da, db)));
+  };
+  for (const ScattererSurface& leaf : leaves) {
+    const Samples s = samplesOf(leaf);
+    if (!s.finite) continue;
+    const auto [su, sv] = spansOf(s, angle);
+    const int mu = cellsFor(su, cell, 4 * n), mv = cellsFor(sv, cell, 4 * n);
+    const float spread = float(std::max(su / mu, sv / mv));
+    auto corner = [&](Vec3 p, Vec3& o, Vec3& d) {
       o = c;
-      d = normalize(w + u * float(-1 + i * cell) + v * float(-1 + j * cell));
+      d = normalize(p - c);
+      return isFinite(d) && d != Vec3{};
     };
     auto flux = [&](uint32_t a, uint32_t b, uint32_t t) {
       const double omega = sphericalTriangleArea(seeds.dir[a], seeds.dir[b], seeds.dir[t]);
       return intensity(normalize(seeds.dir[a] + seeds.dir[b] + seeds.dir[t])) * float(omega);
     };
-    addGrid(n, used, 0.0f, float(cell), corner, flux, seeds);
+    addLeafGrid(leaf, mu, mv, 0.0f, std::isfinite(spread) ? spread : float(cell), corner, flux, seeds);
   }
 }
 
-void seedFromDistant(const DistantLight& light, std::span<const Box3> boxes, const Box3& scene, int n,
+void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface> leaves, const Box3& scene, int n,
                      BeamSeeds& seeds) {
   const Vec3 l = normalize(light.direction);
-  Vec3 u, v;
-  orthonormalBasis(l, u, v);
-  std::vector<Rect> rects;
-  Rect all;
-  for (const Box3& b : boxes) {
-    Rect r;
-    for (int k = 0; k < 8; ++k) r.extend(dot(boxCorner(b, k), u), dot(boxCorner(b, k), v));
-    rects.push_back(r);
-    all.extend(r);
+  Vec3 eu, ev;
+  orthonormalBasis(l, eu, ev);
+  // Lengths across the light: what a parallel beam's cross-section sees.
+  const auto across = [&](Vec3 a, Vec3 b) {
+    const Vec3 d = b - a;
+    return double(length(d - l * dot(d, l)));
+  };
+  std::vector<Samples> samples;
+  double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
+  for (const ScattererSurface& leaf : leaves) {
+    samples.push_back(samplesOf(leaf));
+    if (!samples.back().finite) continue;
+    for (const auto& row : samples.back().p)
+      for (const Vec3& p : row) {
+        u0 = std::min(u0, double(dot(p, eu))), u1 = std::max(u1, double(dot(p, eu)));
+        v0 = std::min(v0, double(dot(p, ev))), v1 = std::max(v1, double(dot(p, ev)));
+      }
   }
-  if (rects.empty()) return;
-  const double side = std::max(all.u1 - all.u0, all.v1 - all.v0);
-  if (!(side > 0)) return;
+  const double side = std::max(u1 - u0, v1 - v0);
+  if (!(side > 0) || !std::isfinite(side)) return;
   const double cell = side / n;
-  std::vector<uint8_t> used(size_t(n) * n, 0);
-  for (const Rect& r : rects) {
-    Rect shifted{r.u0 - all.u0, r.u1 - all.u0, r.v0 - all.v0, r.v1 - all.v0};
-    markCells(shifted, 0, cell, n, used);
-  }
   const Vec3 center = scene.center();
   const float start = length(scene.extent()) + 1.0f;  // outside the scene's bounding sphere
-  const Vec3 base = center - u * dot(center, u) - v * dot(center, v) + l * start;
-  auto corner = [&](int i, int j, Vec3& o, Vec3& d) {
-    o = base + u * float(all.u0 + i * cell) + v * float(all.v0 + j * cell);
-    d = -l;
-  };
-  const Rgb perTriangle = light.irradiance * float(cell * cell / 2);
-  auto flux = [&](uint32_t, uint32_t, uint32_t) { return perTriangle; };
-  addGrid(n, used, float(cell), 0.0f, corner, flux, seeds);
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    if (!samples[k].finite) continue;
+    const auto [su, sv] = spansOf(samples[k], across);
+    const int mu = cellsFor(su, cell, 4 * n), mv = cellsFor(sv, cell, 4 * n);
+    // Upstream of its surface point, on the plane `start` before the scene's centre.
+    auto corner = [&](Vec3 p, Vec3& o, Vec3& d) {
+      o = p + l * (dot(center - p, l) + start);
+      d = -l;
+      return isFinite(o);
+    };
+    auto flux = [&](uint32_t a, uint32_t b, uint32_t t) {
+      const Vec3 &pa = seeds.org[a], &pb = seeds.org[b], &pc = seeds.org[t];
+      const double area = std::fabs(double(dot(cross(pb - pa, pc - pa), l))) / 2;
+      return light.irradiance * float(area);
+    };
+    addLeafGrid(leaves[k], mu, mv, float(std::max(su / mu, sv / mv)), 0.0f, corner, flux, seeds);
+  }
 }
 
 }  // namespace
@@ -195,6 +205,7 @@ BeamSeeds BeamSeeds::range(size_t first, size_t last) const {
     out.dir.push_back(dir[v]);
     out.coneWidth.push_back(coneWidth[v]);
     out.coneSpread.push_back(coneSpread[v]);
+    out.aim.push_back(aim[v]);
   }
   for (size_t t = first; t < last; ++t) {
     out.triangles.push_back({id[triangles[t][0]], id[triangles[t][1]], id[triangles[t][2]]});
@@ -203,18 +214,19 @@ BeamSeeds BeamSeeds::range(size_t first, size_t last) const {
   return out;
 }
 
-BeamSeeds seedBeams(const BeamLights& lights, std::span<const Box3> boxes, const Box3& sceneBounds, int resolution) {
+BeamSeeds seedBeams(const BeamLights& lights, std::span<const ScattererSurface> leaves, const Box3& sceneBounds,
+                    int resolution) {
   BeamSeeds seeds;
-  if (boxes.empty() || resolution < 1) return seeds;
+  if (leaves.empty() || resolution < 1) return seeds;
   for (const PointLight& p : lights.points)
-    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, boxes, resolution, seeds);
+    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, leaves, resolution, seeds);
   for (const SpotLight& s : lights.spots)
-    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, boxes, resolution,
+    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, leaves, resolution,
                   seeds);
   for (const AreaLightPoint& a : areaLightPoints(lights.patches, lights.areaSamples, sceneBounds))
-    seedFromPoint(a.position, [&](Vec3 d) { return a.intensity * std::max(0.0f, dot(d, a.normal)); }, boxes,
+    seedFromPoint(a.position, [&](Vec3 d) { return a.intensity * std::max(0.0f, dot(d, a.normal)); }, leaves,
                   resolution, seeds);
-  for (const DistantLight& d : lights.distants) seedFromDistant(d, boxes, sceneBounds, resolution, seeds);
+  for (const DistantLight& d : lights.distants) seedFromDistant(d, leaves, sceneBounds, resolution, seeds);
   return seeds;
 }
 

@@ -1,24 +1,33 @@
 // The first corner rays of light beams (docs/design.md, "Light beam tracing"), seen from each
-// light: the light's view of every scatterer leaf (a leaf whose material reflects or refracts
-// caustics) is cut into a grid of cells, each cell two generator triangles of corner rays.
-// Neighbouring cells share their corner rays, so the beams tile the light's view without gaps.
-//   Point and spot lights: a cube map of directions about the light, N×N cells per face; a
-//     cell is used when the projection of a scatterer leaf's box covers it. Φ = I·Ω, Ω the
-//     solid angle of the triangle of corner directions (exact), I at its central direction
-//     (a spot's falloff there).
-//   Distant lights: a grid of parallel rays on a plane facing the light, square cells of side
-//     (extent of the scatterers' projection)/N; Φ = E·area. A sun disk is treated as its
-//     central direction.
-// The level of detail the surfaces are diced at follows from the corner rays' cones (one
-// cell's width), so the tracer dices scatterers at the light's resolution.
+// light: every scatterer leaf (a leaf whose material reflects or refracts caustics) is cut into
+// a grid over its own (u, v) square, at a level of detail chosen from the light's point of view,
+// and each grid cell is two generator triangles whose corner rays leave the light toward the
+// cell's corners on the surface. Neighbouring cells of a leaf share their corner rays, so its
+// beams tile it without gaps, and no beam spans two leaves (a facet's edge never cuts a beam).
+//   Point and spot lights: corner rays leave the light; a leaf's grid has m_u × m_v cells with
+//     m = ceil(angle the leaf spans from the light along u or v / (2/N)), N the resolution (2/N:
+//     the cell of an N×N cube-map face at its centre). Φ = I·Ω, Ω the solid angle of the
+//     triangle of corner directions (exact), I at its central direction (a spot's falloff there).
+//   Distant lights: parallel corner rays from outside the scene; cells of side about
+//     (extent of the scatterers' projection)/N; Φ = E·(the triangle's area across the light).
+//     A sun disk is treated as its central direction.
 //   Area lights (emissive patches): k×k points at the centres of a grid over the patch's (u, v)
 //     square, each a point light with a cosine lobe, I(ω) = L·A_i·max(0, cos(n, ω)) with A_i its
 //     stratum's area (exact for parallelograms, the midpoint rule otherwise), so Σ power = π·L·A.
 //     A soft caustic becomes k² sharp ones: a bias that falls as k grows (docs/design.md).
+// The aim points are inset by kSeedInset of (u, v) from the leaf's borders, so a corner ray does
+// not find the neighbouring leaf. A corner ray's first hit must be its own leaf within a quarter
+// cell of its aim in (u, v) (BeamSeeds::aim): where another surface is in front, or the leaf
+// folds over itself as the light sees it, those directions belong to the front surface's grid,
+// and the tracer drops (none on target) or splits (some) such a beam, so nothing is counted twice.
+// The level of detail the surfaces are diced at follows from the corner rays' cones (one
+// cell's width), so the tracer dices scatterers at the light's resolution.
 // Environment lights get no beams (their caustics stay with the path tracer).
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 #include "core/box.h"
@@ -43,10 +52,31 @@ struct AreaLightPoint {
 // The k×k points of each patch light (two-sided: one per side), lifted off the surface.
 std::vector<AreaLightPoint> areaLightPoints(std::span<const PatchLight> patches, int k, const Box3& sceneBounds);
 
+// A scatterer leaf as the seeding sees it: its surface point at (u, v) ∈ [0, 1]² (the patch's
+// parameters, those RayHit reports).
+struct ScattererSurface {
+  uint32_t leaf = 0;
+  std::function<Vec3(float u, float v)> position;
+};
+
+// How far (in u and v) a grid's aim points keep from the leaf's borders: flux lost ≤ 4·10⁻⁴ of
+// a leaf's.
+inline constexpr float kSeedInset = 1e-4f;
+
+// Where a first corner ray must land: its leaf, within `tol` of (u, v).
+struct SeedAim {
+  uint32_t leaf = 0xffffffffu;
+  float u = 0, v = 0, tolU = 0, tolV = 0;
+  bool hits(uint32_t hitLeaf, float hu, float hv) const {
+    return hitLeaf == leaf && std::fabs(hu - u) <= tolU && std::fabs(hv - v) <= tolV;
+  }
+};
+
 struct BeamSeeds {
-  // Corner rays: unit directions; the cone of a cell.
+  // Corner rays: unit directions; the cone of a cell; where each must land.
   std::vector<Vec3> org, dir;
   std::vector<float> coneWidth, coneSpread;
+  std::vector<SeedAim> aim;
   // Generator triangles (indices into the corner rays) and their flux.
   std::vector<std::array<uint32_t, 3>> triangles;
   std::vector<Rgb> flux;
@@ -56,9 +86,9 @@ struct BeamSeeds {
   BeamSeeds range(size_t first, size_t last) const;
 };
 
-// resolution N ≥ 1 (cells per face side, or per side of a distant light's grid);
-// sceneBounds holds every leaf (distant lights start outside it).
-BeamSeeds seedBeams(const BeamLights& lights, std::span<const Box3> scattererBoxes, const Box3& sceneBounds,
+// resolution N ≥ 1 (as above); sceneBounds holds every leaf (distant lights start outside it).
+// Triangles come light by light, leaf by leaf in the order given, row by row.
+BeamSeeds seedBeams(const BeamLights& lights, std::span<const ScattererSurface> scatterers, const Box3& sceneBounds,
                     int resolution);
 
 // Solid angle of the spherical triangle of unit directions a, b, c (Van Oosterom–Strackee);

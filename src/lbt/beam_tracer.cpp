@@ -23,6 +23,7 @@ struct Corner {
   uint32_t fromLeaf = kNoLeaf;
   uint8_t fromLevel = 0;
   uint32_t reflectAt = 0;
+  SeedAim aim;  // a first corner ray's target (lbt/beam_seeds.h); none after a scattering
 };
 
 // What a corner ray found and what it becomes.
@@ -31,6 +32,7 @@ struct Scatter {
   Event event = Event::Stop;
   uint32_t material = kNone;
   bool front = false;   // arrived on the geometric normal's side
+  bool onAim = false;   // landed on its aim (first corner rays)
   bool dielectric = false;
   Corner next;
   Rgb rho;
@@ -45,6 +47,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   const Vec3 ng = h.ng(), ns = h.ns();
   s.material = scene.leafMaterial[h.leaf];
   s.front = dot(ng, c.dir) < 0;
+  s.onAim = c.aim.hits(h.leaf, h.u, h.v);
   const Material& m = scene.materials[s.material];
   if (!isCausticScatterer(m) || !isFinite(p)) return s;
   const Vec3 w = -c.dir;  // toward where the light came from
@@ -85,7 +88,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   }
   const float offset = PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
   const SurfaceHit at{p, ng, offset};
-  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, c.reflectAt};
+  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, c.reflectAt, SeedAim{}};
   return s;
 }
 
@@ -145,6 +148,10 @@ Pass derive(const Pass& p, const std::vector<Derived>& derived) {
       c.width = std::min(ca.width, cb.width);
       c.spread = std::min(ca.spread, cb.spread);
       c.reflectAt = bits;
+      // Halfway between the aims in (u, v); the ray between the two directions lands there up
+      // to the surface's curvature over the cell, far inside the tolerance.
+      c.aim = {ca.aim.leaf == cb.aim.leaf ? ca.aim.leaf : kNoLeaf, (ca.aim.u + cb.aim.u) / 2, (ca.aim.v + cb.aim.v) / 2,
+               std::min(ca.aim.tolU, cb.aim.tolU), std::min(ca.aim.tolV, cb.aim.tolV)};
       out.corners.push_back(c);
     }
     return it->second;
@@ -247,10 +254,14 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
           emitted[t] = 1;
         }
         Outcome out = Outcome::Continue;
+        // First corner rays must land on their leaf's aims: none on target, the beam's
+        // directions belong to the surface in front (its own beams carry them); some, split.
+        const int onAim = s[0]->onAim + s[1]->onAim + s[2]->onAim;
         const bool allScatter = s[0]->event != Event::Stop && s[1]->event != Event::Stop && s[2]->event != Event::Stop;
         const bool sameMaterial = s[0]->material == s[1]->material && s[1]->material == s[2]->material;
         const bool sameSide = s[0]->front == s[1]->front && s[1]->front == s[2]->front;
-        if (g >= o.maxDepth) out = Outcome::End;
+        if (g >= o.maxDepth || (g == 0 && onAim == 0)) out = Outcome::End;
+        else if (g == 0 && onAim < 3) out = Outcome::Mixed;
         else if (!sameMaterial || !allScatter) out = sameMaterial && s[0]->event == Event::Stop && s[1]->event == Event::Stop &&
                                                          s[2]->event == Event::Stop ? Outcome::End : Outcome::Mixed;
         else if (!sameSide) out = Outcome::Silhouette;
@@ -289,10 +300,11 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
           derived.push_back({uint32_t(t), g, false, branch[t] != 0});
           ++stats.splits;
         } else {
-          // The part of the beam whose corners would have gone on is lost.
+          // The part of the beam whose corners would have gone on is lost (of a first beam,
+          // only what lands on its aims: the rest is another surface's, which has its own beams).
           const auto& v = pass.triangles[t];
           int going = 0;
-          for (uint32_t i : v) going += scatter[i].event != Event::Stop;
+          for (uint32_t i : v) going += scatter[i].event != Event::Stop && (g > 0 || scatter[i].onAim);
           const Rgb lost = power[t] * (float(going) / 3);
           stats.droppedFlux += (double(lost.x) + double(lost.y) + double(lost.z)) / 3;
           switch (out) {
@@ -322,7 +334,7 @@ std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& 
   Pass pass;
   pass.corners.resize(seeds.org.size());
   for (size_t i = 0; i < seeds.org.size(); ++i)
-    pass.corners[i] = {seeds.org[i], seeds.dir[i], seeds.coneWidth[i], seeds.coneSpread[i], kNoLeaf, 0, 0};
+    pass.corners[i] = {seeds.org[i], seeds.dir[i], seeds.coneWidth[i], seeds.coneSpread[i], kNoLeaf, 0, 0, seeds.aim[i]};
   pass.triangles = seeds.triangles;
   pass.flux = seeds.flux;
   pass.root.resize(nt);

@@ -6,7 +6,8 @@
 // neighbouring beams keep sharing corner rays. Each straight piece after the first scattering
 // is a BeamSegment. A beam stops (and is counted by reason) when its corners reach different
 // materials or a non-scatterer, straddle a silhouette or total internal reflection, stop being
-// coaxial, or after maxDepth scatterings. Flux: Φ = I·Ω (or E·A), times each bounce's
+// coaxial, or after maxDepth scatterings; a first beam whose corners miss their aims (another
+// surface in front of their leaf) ends there (none on target) or splits (some). Flux: Φ = I·Ω (or E·A), times each bounce's
 // reflectance averaged over the three corners; σ² adds up over glossy bounces.
 // Splitting: a beam that stops for one of those reasons is split into four (its first corner
 // rays subdivided at edge midpoints, flux in proportion) and the children are traced again
@@ -38,7 +39,7 @@ struct BeamTraceStats {
   uint64_t segments = 0;
   int generations = 0;
   // Beams stopped before maxDepth at a scatterer, by reason.
-  uint64_t stoppedMixed = 0;        // corners on different materials, or some on a non-scatterer
+  uint64_t stoppedMixed = 0;        // corners on different materials, some on a non-scatterer, or some first corners off their aim
   uint64_t stoppedSilhouette = 0;   // corners on both sides of a surface, or leaking through it
   uint64_t stoppedTir = 0;          // some corners refracted, others totally reflected
   uint64_t stoppedDivergent = 0;    // corner rays no longer roughly coaxial

@@ -51,7 +51,10 @@ TEST(AreaLightPoints, SeedBeamsFromThemCarryTheirCosineLobe) {
   BeamLights lights;
   lights.patches.push_back(rect({-0.1f, -0.1f, 1}, {0, 0.2f, 0}, {0.2f, 0, 0}, {1, 1, 1}, false));
   lights.areaSamples = 1;
-  const Box3 below{{-1, -1, 0}, {1, 1, 0}}, above{{-1, -1, 3}, {1, 1, 3}};
+  const auto square = [](float z) {
+    return ScattererSurface{0, [z](float u, float v) { return Vec3{-1 + 2 * u, -1 + 2 * v, z}; }};
+  };
+  const ScattererSurface below = square(0), above = square(3);
   const BeamSeeds seen = seedBeams(lights, std::span(&below, 1), scene, 8);
   EXPECT_FALSE(seen.triangles.empty());
   for (const Rgb& f : seen.flux) EXPECT_TRUE(isFinite(f) && f.x > 0);
