@@ -5,8 +5,11 @@
 #   NAME-ref-pt.exr  pt --caustic-paths without, PT_SPP samples (seed 1000): everything but caustic paths
 #   NAME-ref-lt.exr  lt --caustic-paths only, LT_SPP light paths per pixel (seed 1000): the caustic paths
 # plus NAME-ref-lt-check.exr (lt only, LT_SPP/4, seed 2000) to measure the reference's own noise:
-# RMSE(check, ref-lt)² = 5 · (RMSE of ref-lt)², and NAME-mask.exr (bench/lbt_error_mask_scene.py).
-# Stops (exit 1) when the two lt images differ by fireflies (bench/reference_fireflies.py).
+# RMSE(check, ref-lt)² = 5 · (RMSE of ref-lt)², and NAME-mask.exr: the pixels that see no
+# scatterer anywhere (bench/lbt_error_mask_scene.py renders NAME-coverage.exr, the fraction of
+# each pixel that does not; bench_app_mask_threshold keeps those at 1).
+# Stops (exit 1) when the two lt images differ by fireflies in the masked pixels
+# (bench/reference_fireflies.py).
 # Usage: bench/lbt_references.sh OUT RES PT_SPP LT_SPP SCENE...
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,11 +26,13 @@ for scene in "$@"; do
     "$scene" "${geometry[@]}" --method lt --caustic-paths only --spp "$ltspp" --seed 1000 -o "$out/$name-ref-lt.exr"
   [ -f "$out/$name-ref-lt-check.exr" ] || nice -n 5 build/bin/rayes render "$scene" "${geometry[@]}" --method lt \
     --caustic-paths only --spp $((ltspp / 4)) --seed 2000 -o "$out/$name-ref-lt-check.exr"
-  # A firefly in either image floors every method's RMSE: refuse it here, not after hours of curves.
-  python3 bench/reference_fireflies.py "$out/$name-ref-lt.exr" "$out/$name-ref-lt-check.exr"
   if [ ! -f "$out/$name-mask.exr" ]; then
     python3 bench/lbt_error_mask_scene.py "$scene" "$out/$name-mask.json"
-    nice -n 5 build/bin/rayes render "$out/$name-mask.json" "${geometry[@]}" --spp 16 --seed 1000 -o "$out/$name-mask.exr"
+    nice -n 5 build/bin/rayes render "$out/$name-mask.json" "${geometry[@]}" --spp 16 --seed 1000 \
+      -o "$out/$name-coverage.exr"
+    build/bin/bench_app_mask_threshold "$out/$name-coverage.exr" "$out/$name-mask.exr"
   fi
+  # A firefly in either image floors every method's RMSE: refuse it here, not after hours of curves.
+  python3 bench/reference_fireflies.py "$out/$name-ref-lt.exr" "$out/$name-ref-lt-check.exr" --mask "$out/$name-mask.exr"
 done
 uptime

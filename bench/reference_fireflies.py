@@ -10,7 +10,10 @@ a firefly, which floors every method's RMSE against the reference (bench/RESULTS
 largest differences); prints each such pixel, says which image holds it, and exits 1; exits 0
 when there is none.
 
-Usage: bench/reference_fireflies.py REFERENCE.exr CHECK.exr [SHARE_PERCENT]"""
+With --mask M.exr only the pixels the error counts are compared (those with non-zero red in M,
+as `rayes converge --error-mask`).
+
+Usage: bench/reference_fireflies.py REFERENCE.exr CHECK.exr [SHARE_PERCENT] [--mask M.exr]"""
 import os
 import re
 import subprocess
@@ -18,13 +21,21 @@ import sys
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
+    args = sys.argv[1:]
+    mask = []
+    if "--mask" in args:
+        k = args.index("--mask")
+        if k + 1 >= len(args):
+            sys.exit(__doc__)
+        mask = [args[k + 1]]
+        del args[k:k + 2]
+    if len(args) not in (2, 3):
         sys.exit(__doc__)
-    ref, check = sys.argv[1], sys.argv[2]
-    limit = float(sys.argv[3]) if len(sys.argv) == 4 else 5.0
+    ref, check = args[0], args[1]
+    limit = float(args[2]) if len(args) == 3 else 5.0
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     tool = os.environ.get("IMAGE_DIFF", os.path.join(root, "build", "bin", "bench_app_image_diff"))
-    out = subprocess.run([tool, ref, check], check=True, capture_output=True, text=True).stdout
+    out = subprocess.run([tool, ref, check] + mask, check=True, capture_output=True, text=True).stdout
     pixel = re.compile(r"pixel (\d+),(\d+) a ([-\d.e+]+) [-\d.e+]+ [-\d.e+]+ b ([-\d.e+]+) [-\d.e+]+ [-\d.e+]+ "
                        r"\(share of the squared error ([\d.]+) %\)")
     fireflies = []
