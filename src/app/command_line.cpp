@@ -343,9 +343,10 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                                       "per pass, radius shrinking per sample) or lbt (light beams: pt without "
                                       "caustic paths plus beams from point, spot, distant and area lights through "
                                       "mirrors, glass and glossy surfaces, gathered at diffuse surfaces)");
-  c->add_option("--beam-resolution", a.beamResolution, "lbt: cells per side of each light's grid of beams "
-                                                       "(cube-map face for point and spot lights), 1..4096 "
-                                                       "(default 128)");
+  c->add_option("--beam-resolution", a.beamResolution, "lbt: N, each scatterer leaf's grid of beams has cells at "
+                                                       "most 2/N rad wide as a light sees them (an N x N cube-map "
+                                                       "face; distant lights: the scatterers' extent / N), "
+                                                       "1..4096 (default 128)");
   c->add_option("--beam-depth", a.beamDepth, "lbt: most specular/glossy bounces a beam follows, 1..64 (default 4)");
   c->add_option("--beam-split-depth", a.beamSplitDepth, "lbt: times a beam whose corner rays part (another "
                                                         "material, a silhouette, total internal reflection, no "
