@@ -70,6 +70,7 @@ struct RenderArgs {
   std::optional<int> spp;
   int64_t photons = 20000;
   int photonK = 32;
+  float laterGathers = kLaterGatherProbability;
   float photonRadius = 0, photonAlpha = 2.0f / 3.0f;
   std::optional<int64_t> seed, diceCache;
   int lodBias = 0;
@@ -100,12 +101,15 @@ RenderOptions checkedOptions(const RenderArgs& a) {
                                             "are pt --caustic-paths without");
   if (a.photons < 1 || a.photons > (int64_t(1) << 32)) throw InputError("--photons", "", "must be in [1, 2^32]");
   if (a.photonK < 1 || a.photonK > 4096) throw InputError("--photon-k", "", "must be in [1, 4096]");
+  if (!(a.laterGathers >= 1.0f / 64 && a.laterGathers <= 1))
+    throw InputError("--later-gathers", "", "must be in [1/64, 1] (the probability of a caustic estimate after a path's first diffuse vertex)");
   if (!(a.photonRadius >= 0) || !std::isfinite(a.photonRadius))
     throw InputError("--photon-radius", "", "must be a finite radius >= 0 (0: chosen from the first photon map)");
   if (!(a.photonAlpha > 0 && a.photonAlpha < 1))
     throw InputError("--photon-alpha", "", "must lie in (0, 1): the radius shrinks as r² (i + alpha) / (i + 1)");
   options.integrator.photonsPerSample = uint64_t(a.photons);
   options.integrator.photonNeighbours = a.photonK;
+  options.integrator.laterGatherProbability = a.laterGathers;
   options.integrator.photonRadius = a.photonRadius;
   options.integrator.photonAlpha = a.photonAlpha;
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
@@ -366,6 +370,9 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--photons", a.photons, "pm, ppm: photons per sample per pixel of the render (default 20000): pm "
                                         "traces photons x spp into one map, ppm photons x the pass's samples per pass");
   c->add_option("--photon-k", a.photonK, "pm: neighbours of the k-nearest estimate, 1..4096 (default 32)");
+  c->add_option("--later-gathers", a.laterGathers, "lbt, pm, ppm: probability of a caustic estimate at a diffuse "
+                                                   "vertex after a path's first (counted 1/q: unbiased), 1/64..1 "
+                                                   "(default 1; 0.25 pays off where glossy gathers dominate)");
   c->add_option("--photon-radius", a.photonRadius, "ppm: first gather radius; pm: a quarter of the largest (default "
                                                    "0: the median distance to the k-th neighbour in the first map)");
   c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 2/3)");

@@ -218,7 +218,8 @@ void Renderer::buildBeams() {
       data_.shading, PathTracer::Options{.causticPaths = only ? CausticPaths::Only : CausticPaths::Without,
                                          .causticRadiance = caustics,
                                          .causticLights = only ? uint8_t(kAllLights & ~covered) : covered,
-                                         .gathersAsLeafQueries = !options_.beamGathersInShading});
+                                         .gathersAsLeafQueries = !options_.beamGathersInShading,
+                                         .laterGatherProbability = options_.integrator.laterGatherProbability});
   bs.built = true;
 }
 

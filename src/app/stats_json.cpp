@@ -57,6 +57,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"photons_traced", s.shade.photonsTraced.load()},
       {"photons_stored", s.shade.photonsStored.load()},
       {"photon_map_bytes", s.shade.photonMapBytes.load()},
+      {"caustic_gathers", s.shade.gathers.load()},
+      {"caustic_gathers_skipped", s.shade.gathersSkipped.load()},
       {"peak_rss_bytes", peakRssBytes()},
       {"time_s",
        {{"load", run.loadSeconds},

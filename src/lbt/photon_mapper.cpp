@@ -24,9 +24,11 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
         // Photons leave every kind of light: the estimate alone (Only) keeps no path-traced
         // caustic path, and Without leaves out those of every light.
         pt_(scene, options.causticPaths == CausticPaths::Only
-                       ? PathTracer::Options{.causticPaths = CausticPaths::Only, .causticRadiance = this, .causticLights = 0}
+                       ? PathTracer::Options{.causticPaths = CausticPaths::Only, .causticRadiance = this, .causticLights = 0,
+                                             .laterGatherProbability = options.laterGatherProbability}
                        : PathTracer::Options{.causticPaths = CausticPaths::Without, .causticRadiance = this,
-                                             .causticLights = kAllLights}) {}
+                                             .causticLights = kAllLights,
+                                             .laterGatherProbability = options.laterGatherProbability}) {}
 
   uint32_t raysPerPath() const override { return PathTracer::kRaysPerPath; }
   size_t bytesPerPath() const override {

@@ -44,6 +44,9 @@ struct ShadeStats {
       rouletteKills{0};
   std::atomic<uint64_t> splats{0};  // light tracing: connections to the camera that reached the film
   std::atomic<uint64_t> photonsTraced{0}, photonsStored{0}, photonMapBytes{0};  // photon mapping (bytes: peak)
+  // lbt, pm, ppm: caustic estimates taken at diffuse vertices, and those a later vertex's
+  // roulette left out (PathTracer::Options::laterGatherProbability).
+  std::atomic<uint64_t> gathers{0}, gathersSkipped{0};
   TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
 };
 
@@ -79,6 +82,13 @@ inline bool counts(CausticPaths which, bool causticPath) {
 CausticPaths causticPathsFromName(const std::string& name, const std::string& where);
 const char* causticPathsName(CausticPaths which);
 
+// The default roulette on caustic estimates at diffuse vertices after a path's first: none.
+// Measured (bench/RESULTS.md, "Fewer gathers after the first diffuse vertex"): q = 0.25 made
+// lbt on lbt-discoball-glossy 27 % more efficient (its glossy gathers are dear), but cost
+// lbt and pm on lbt-discoball (σ = 0.001) a third of theirs: cheap gathers save no time and
+// the room's indirect caustic light gets noisier.
+inline constexpr float kLaterGatherProbability = 1.0f;
+
 // What the methods take besides the scene. Photon counts are per sample per pixel of the
 // render, so doubling --spp doubles every method's effort (rayes converge relies on it).
 struct IntegratorOptions {
@@ -87,6 +97,9 @@ struct IntegratorOptions {
   int photonNeighbours = 32;           // pm: k of the k-nearest estimate
   float photonRadius = 0;              // ppm: first radius; 0: from the first map's k-nearest
   float photonAlpha = 2.0f / 3.0f;     // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
+  // lbt, pm, ppm: the probability a caustic estimate is taken at a diffuse vertex after the
+  // path's first (--later-gathers; PathTracer::Options::laterGatherProbability).
+  float laterGatherProbability = kLaterGatherProbability;
 };
 
 // "pt", "lt", "pm", "ppm", "lbt": the names of the command line and the stats.

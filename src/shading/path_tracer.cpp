@@ -19,7 +19,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // Random-number dimensions of one path vertex (core/rng.h): pixel, lens, light and BSDF
 // positions are 2D low-discrepancy samples, the others 1D.
 enum Dim : uint32_t { kPixel = 0, kLightPick = 2, kLight = 3, kBsdf = 5, kRoulette = 7, kLens = 8, kTime = 10,
-                      kBsdfLobe = 11 };
+                      kBsdfLobe = 11, kGather = 12 };
 
 struct PathIds { uint32_t pixel, sample; };
 PathIds idsOf(uint64_t id, uint32_t pixels) {
@@ -277,13 +277,18 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   // 4. Caustic paths: where this vertex puts the path, and the caustic estimate at a diffuse one.
   uint8_t& run = paths.causticRun[k];
   if (!isCausticScatterer(*v.mat)) {
+    // After the first diffuse vertex, the gather survives a roulette (Options::laterGatherProbability).
+    const float q = run == kNoDiffuseYet ? 1.0f : options_.laterGatherProbability;
     run = kAfterDiffuse;
-    if (options_.causticRadiance && options_.gathersAsLeafQueries) {
+    const bool gathers = options_.causticRadiance && (q >= 1 || sample1D(key, kGather) < q);
+    if (options_.causticRadiance) (gathers ? stats.gathers : stats.gathersSkipped).fetch_add(1, std::memory_order_relaxed);
+    const Rgb weight = q >= 1 ? paths.throughput[k] : paths.throughput[k] * (1 / q);
+    if (gathers && options_.gathersAsLeafQueries) {
       paths.gatherQueries.leaf[k] = h.leaf;
-      paths.gathers[k] = {p, ng, wo, woL, frame.n, v.bsdf, ids.sample, bounce, paths.throughput[k], Rgb{}};
-    } else if (options_.causticRadiance) {
+      paths.gathers[k] = {p, ng, wo, woL, frame.n, v.bsdf, ids.sample, bounce, weight, Rgb{}};
+    } else if (gathers) {
       const DiffuseVertex dv{p, ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce, uint32_t(k)};
-      addFinite(paths.radiance[k], paths.throughput[k] * options_.causticRadiance->radiance(dv), stats);
+      addFinite(paths.radiance[k], weight * options_.causticRadiance->radiance(dv), stats);
     }
   } else if (run != kNoDiffuseYet) {
     run = kInCausticChain;

@@ -112,6 +112,10 @@ class PathTracer final : public Integrator {
     // path adds throughput x radiance right after the vertex's emission and before anything of
     // the next vertex, so the image is the same bit for bit.
     bool gathersAsLeafQueries = false;
+    // Russian roulette on the caustic estimate after a path's first diffuse vertex: each later
+    // one gathers with this probability and counts 1/it (unbiased). Worth it where gathers are
+    // dear (glossy beams): their share of a pixel is small, their cost the first vertex's.
+    float laterGatherProbability = kLaterGatherProbability;
   };
   explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
   PathTracer(const ShadingScene& scene, Options options) : scene_(scene), options_(options) {}

@@ -422,6 +422,48 @@ TEST(Beams, EnvironmentLightCausticsStayWithThePathTracer) {
         << beams.se[b];
 }
 
+// The roulette on gathers after a path's first diffuse vertex (--later-gathers) keeps the mean.
+// The camera looks at the floor beside a mirror whose caustic lands on the ceiling: the floor's
+// own gathers find nothing, so the whole caustic arrives through later vertices (ceiling, then
+// floor), and a missing 1/q would take three quarters of it away.
+TEST(Beams, TheRouletteOnLaterGathersKeepsTheMean) {
+  TempFolder tmp;
+  const std::string path = tmp.path("later.json");
+  std::ofstream(path) << R"({
+    "camera": {"position": [3.2, 0, 1.5], "look_at": [3.2, 0.4, 0], "up": [0, 1, 0], "fov": 50},
+    "film": {"resolution": [16, 12], "spp": 4},
+    "integrator": {"max_depth": 4},
+    "materials": {"mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.02},
+      "room": {"type": "diffuse", "albedo": [0.7, 0.7, 0.7]}},
+    "shapes": [
+      {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
+      {"type": "bilinear", "material": "room", "quads": [[[-6, -6, -0.01], [6, -6, -0.01], [-6, 6, -0.01], [6, 6, -0.01]]]},
+      {"type": "bilinear", "material": "room", "quads": [[[-6, 6, 2], [6, 6, 2], [-6, -6, 2], [6, -6, 2]]]}],
+    "lights": [{"type": "point", "position": [0.13, 0.07, 1], "intensity": [10, 10, 10]}]})";
+  const Scene scene = loadScene(path);
+  constexpr int kSeeds = 24;
+  RenderOptions all = lbtOptions(16), roulette = lbtOptions(16), without;
+  all.integrator.laterGatherProbability = 1;
+  roulette.integrator.laterGatherProbability = 0.25f;
+  without.integrator.causticPaths = CausticPaths::Without;
+  for (RenderOptions* o : {&all, &roulette, &without}) o->lod = LodRule::Fixed, o->maxLod = 3;
+  const BlockEstimate a = blockEstimate(scene, all, kSeeds), r = blockEstimate(scene, roulette, kSeeds),
+                      w = blockEstimate(scene, without, kSeeds);
+  const double caustic = a.mean.back() - w.mean.back(), se = std::hypot(a.se.back(), r.se.back());
+  EXPECT_GT(0.75 * caustic, 6 * se) << "the later vertices' caustic is too faint to test";
+  for (size_t b = 0; b < a.mean.size(); ++b)
+    EXPECT_LE(std::fabs(r.mean[b] - a.mean[b]), 4 * std::hypot(a.se[b], r.se[b]))
+        << "block " << b << ": every gather " << a.mean[b] << " ± " << a.se[b] << ", roulette " << r.mean[b] << " ± "
+        << r.se[b];
+  Renderer stats(scene, roulette);
+  stats.render();
+  EXPECT_GT(stats.stats().shade.gathersSkipped.load(), 0u);
+  Renderer byDefault(scene, lbtOptions(16));  // off unless asked
+  byDefault.render();
+  EXPECT_GT(byDefault.stats().shade.gathers.load(), 0u);
+  EXPECT_EQ(byDefault.stats().shade.gathersSkipped.load(), 0u);
+}
+
 // glass-caustic.json's light is a rect: lbt now traces beams through its glass.
 TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
   Scene scene = shippedScene("scenes/glass-caustic.json", 8, 6, 1);
@@ -529,10 +571,17 @@ TEST(Beams, BadOptionsAreRefusedWithExitCode2AndNoOutput) {
   EXPECT_NE(r.err.find("--beam-memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("one beam"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out));
-  for (const char* option : {"--beam-resolution", "--beam-split-depth", "--beam-area-samples", "--beam-lobe-cells"}) {
+  for (const char* option : {"--beam-resolution", "--beam-split-depth", "--beam-area-samples", "--beam-lobe-cells",
+                             "--later-gathers"}) {
     r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", option, "-1"});
     EXPECT_EQ(r.code, 2) << option;
     EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
+  for (const char* q : {"0", "1.5", "nan"}) {
+    r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", "--later-gathers", q});
+    EXPECT_EQ(r.code, 2) << q;
+    EXPECT_NE(r.err.find("--later-gathers"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(out));
   }
   // Without their caustic estimate the caustic methods would be the path tracer without caustic paths.
