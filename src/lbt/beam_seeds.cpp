@@ -1,7 +1,6 @@
 #include "lbt/beam_seeds.h"
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <utility>
 
 namespace rayes {
@@ -13,7 +12,8 @@ constexpr uint32_t kNoVertex = 0xffffffffu;
 float gridCoord(int i, int m) { return kSeedInset + (1 - 2 * kSeedInset) * float(i) / float(m); }
 
 // A leaf's surface at the 5×5 points (0, ¼, ½, ¾, 1)², each with a neighbour a small step
-// along u and one along v (towards the inside), for the spans below.
+// along u and one along v (towards the inside), for the spans below. Evaluated once per leaf
+// for every light (seedBeams).
 constexpr int kSampleSteps = 4;
 constexpr float kRateStep = 1.0f / 1024;
 struct Samples {
@@ -92,16 +92,16 @@ void addLeafGrid(const ScattererSurface& leaf, int mu, int mv, float width, floa
 
 // Point and spot lights, and the sample points of area lights: intensity(unit direction) in W/sr.
 template <class Intensity>
-void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface> leaves, int n, BeamSeeds& seeds) {
+void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface> leaves,
+                   std::span<const Samples> samples, int n, BeamSeeds& seeds) {
   const double cell = 2.0 / n;
   const auto angle = [&](Vec3 a, Vec3 b) {
     const Vec3 da = a - c, db = b - c;
     return double(std::atan2(length(cross(da, db)), dot(da, db)));
   };
-  for (const ScattererSurface& leaf : leaves) {
-    const Samples s = samplesOf(leaf);
-    if (!s.finite) continue;
-    const auto [su, sv] = spansOf(s, angle);
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    if (!samples[k].finite) continue;
+    const auto [su, sv] = spansOf(samples[k], angle);
     const int mu = cellsFor(su, cell, 4 * n), mv = cellsFor(sv, cell, 4 * n);
     const float spread = float(std::max(su / mu, sv / mv));
     auto corner = [&](Vec3 p, Vec3& o, Vec3& d) {
@@ -113,12 +113,12 @@ void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface
       const double omega = sphericalTriangleArea(seeds.dir[a], seeds.dir[b], seeds.dir[t]);
       return intensity(normalize(seeds.dir[a] + seeds.dir[b] + seeds.dir[t])) * float(omega);
     };
-    addLeafGrid(leaf, mu, mv, 0.0f, std::isfinite(spread) ? spread : float(cell), corner, flux, seeds);
+    addLeafGrid(leaves[k], mu, mv, 0.0f, std::isfinite(spread) ? spread : float(cell), corner, flux, seeds);
   }
 }
 
-void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface> leaves, const Box3& scene, int n,
-                     BeamSeeds& seeds) {
+void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface> leaves,
+                     std::span<const Samples> samples, const Box3& scene, int n, BeamSeeds& seeds) {
   const Vec3 l = normalize(light.direction);
   Vec3 eu, ev;
   orthonormalBasis(l, eu, ev);
@@ -127,12 +127,10 @@ void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface
     const Vec3 d = b - a;
     return double(length(d - l * dot(d, l)));
   };
-  std::vector<Samples> samples;
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
-  for (const ScattererSurface& leaf : leaves) {
-    samples.push_back(samplesOf(leaf));
-    if (!samples.back().finite) continue;
-    for (const auto& row : samples.back().p)
+  for (const Samples& leaf : samples) {
+    if (!leaf.finite) continue;
+    for (const auto& row : leaf.p)
       for (const Vec3& p : row) {
         u0 = std::min(u0, double(dot(p, eu))), u1 = std::max(u1, double(dot(p, eu)));
         v0 = std::min(v0, double(dot(p, ev))), v1 = std::max(v1, double(dot(p, ev)));
@@ -218,15 +216,18 @@ BeamSeeds seedBeams(const BeamLights& lights, std::span<const ScattererSurface> 
                     int resolution) {
   BeamSeeds seeds;
   if (leaves.empty() || resolution < 1) return seeds;
+  std::vector<Samples> samples;
+  samples.reserve(leaves.size());
+  for (const ScattererSurface& leaf : leaves) samples.push_back(samplesOf(leaf));
   for (const PointLight& p : lights.points)
-    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, leaves, resolution, seeds);
+    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, leaves, samples, resolution, seeds);
   for (const SpotLight& s : lights.spots)
-    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, leaves, resolution,
-                  seeds);
+    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, leaves, samples,
+                  resolution, seeds);
   for (const AreaLightPoint& a : areaLightPoints(lights.patches, lights.areaSamples, sceneBounds))
     seedFromPoint(a.position, [&](Vec3 d) { return a.intensity * std::max(0.0f, dot(d, a.normal)); }, leaves,
-                  resolution, seeds);
-  for (const DistantLight& d : lights.distants) seedFromDistant(d, leaves, sceneBounds, resolution, seeds);
+                  samples, resolution, seeds);
+  for (const DistantLight& d : lights.distants) seedFromDistant(d, leaves, samples, sceneBounds, resolution, seeds);
   return seeds;
 }
 
