@@ -280,15 +280,17 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     // After the first diffuse vertex, the gather survives a roulette (Options::laterGatherProbability).
     const float q = run == kNoDiffuseYet ? 1.0f : options_.laterGatherProbability;
     run = kAfterDiffuse;
-    const bool gathers = options_.causticRadiance && (q >= 1 || sample1D(key, kGather) < q);
-    if (options_.causticRadiance) (gathers ? stats.gathers : stats.gathersSkipped).fetch_add(1, std::memory_order_relaxed);
-    const Rgb weight = q >= 1 ? paths.throughput[k] : paths.throughput[k] * (1 / q);
-    if (gathers && options_.gathersAsLeafQueries) {
-      paths.gatherQueries.leaf[k] = h.leaf;
-      paths.gathers[k] = {p, ng, wo, woL, frame.n, v.bsdf, ids.sample, bounce, weight, Rgb{}};
-    } else if (gathers) {
-      const DiffuseVertex dv{p, ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce, uint32_t(k)};
-      addFinite(paths.radiance[k], weight * options_.causticRadiance->radiance(dv), stats);
+    if (options_.causticRadiance) {
+      const bool gathers = q >= 1 || sample1D(key, kGather) < q;
+      (gathers ? stats.gathers : stats.gathersSkipped).fetch_add(1, std::memory_order_relaxed);
+      const Rgb weight = q >= 1 ? paths.throughput[k] : paths.throughput[k] * (1 / q);
+      if (gathers && options_.gathersAsLeafQueries) {
+        paths.gatherQueries.leaf[k] = h.leaf;
+        paths.gathers[k] = {p, ng, wo, woL, frame.n, v.bsdf, ids.sample, bounce, weight, Rgb{}};
+      } else if (gathers) {
+        const DiffuseVertex dv{p, ng, wo, woL, &frame, &v.bsdf, ids.sample, h.leaf, bounce, uint32_t(k)};
+        addFinite(paths.radiance[k], weight * options_.causticRadiance->radiance(dv), stats);
+      }
     }
   } else if (run != kNoDiffuseYet) {
     run = kInCausticChain;
