@@ -5,6 +5,7 @@
 #include <mutex>
 #include <set>
 #include <shared_mutex>
+#include <unordered_map>
 #include <unordered_set>
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
@@ -100,7 +101,11 @@ void validate(const SubdivMeshDesc& d) {
   for (int s : d.faceSizes) total += size_t(std::max(s, 0));
   if (total != d.faceVertices.size())
     throw SubdivInputError(Item::Mesh, -1, "face sizes do not add up to the number of face vertices");
-  std::unordered_set<uint64_t> edges;
+  // Faces per undirected edge, and each directed edge once: a third face on an edge, or an edge
+  // run twice in one direction, makes the mesh non-manifold there.
+  std::unordered_map<uint64_t, int> edges;
+  std::unordered_set<uint64_t> directed;
+  int nonManifoldFace = -1, nonManifoldA = 0, nonManifoldB = 0;
   auto key = [](int a, int b) { return (uint64_t(uint32_t(std::min(a, b))) << 32) | uint32_t(std::max(a, b)); };
   size_t off = 0;
   for (int f = 0; f < int(d.faceSizes.size()); ++f) {
@@ -117,10 +122,21 @@ void validate(const SubdivMeshDesc& d) {
                                "vertex index " + std::to_string(v) + " out of range (0.." + std::to_string(nv - 1) + ")");
       for (int k2 = 0; k2 < k; ++k2)
         if (d.faceVertices[off + k2] == v) throw SubdivInputError(Item::Face, f, "the face uses the same vertex twice");
-      edges.insert(key(v, d.faceVertices[off + (k + 1) % n]));
+      const int w = d.faceVertices[off + (k + 1) % n];
+      const bool twice = !directed.insert((uint64_t(uint32_t(v)) << 32) | uint32_t(w)).second;
+      if ((++edges[key(v, w)] > 2 || twice) && nonManifoldFace < 0) nonManifoldFace = f, nonManifoldA = v, nonManifoldB = w;
     }
     off += size_t(n);
   }
+  // OpenSubdiv 3.5's Bfr reads out of bounds building the irregular patch of a face next to a
+  // non-manifold edge when the mesh has sharp edges (IrregularPatchBuilder's sharp-edge pairs in
+  // its overlapping-faces case; found by fuzz/obj_fuzz). Non-manifold meshes without creases and
+  // creased manifold meshes (valence-2 vertices included) are fine, so only the pair is refused.
+  if (!d.creases.empty() && nonManifoldFace >= 0)
+    throw SubdivInputError(Item::Face, nonManifoldFace,
+                           "creases need a manifold mesh, and this face makes edge " + std::to_string(nonManifoldA) +
+                               "-" + std::to_string(nonManifoldB) +
+                               " non-manifold (a third face on it, or a second in the same direction)");
   for (int c = 0; c < int(d.creases.size()); ++c) {
     const SubdivCrease& cr = d.creases[c];
     if (cr.v0 < 0 || cr.v0 >= nv || cr.v1 < 0 || cr.v1 >= nv)

@@ -397,5 +397,35 @@ TEST(SubdivMesh, BadTopologyNamesTheItem) {
   EXPECT_EQ(itemOf(d), std::make_pair(int(Item::Corner), 0));
 }
 
+// OpenSubdiv 3.5's Bfr reads out of bounds on a creased mesh with a non-manifold edge (the
+// fuzzer's case, reduced: a quad, the same quad reversed, and a third face on two of its
+// edges). Such a mesh is refused by name; either half of the pair alone still builds.
+TEST(SubdivMesh, CreasesOnANonManifoldMeshAreRefusedAndEitherAloneBuilds) {
+  SubdivMeshDesc d;
+  d.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}};
+  d.faceSizes = {4, 4, 4};
+  d.faceVertices = {0, 1, 2, 3, 0, 1, 2, 4, 3, 2, 1, 0};
+  d.creases = {{2, 3, 3.0f}};
+  try {
+    buildSubdivTopology(d);
+    ADD_FAILURE() << "a creased non-manifold mesh was accepted";
+  } catch (const SubdivInputError& e) {
+    EXPECT_EQ(int(e.item), int(SubdivInputError::Item::Face));
+    EXPECT_EQ(e.index, 1);  // its edge 0-1 is the first to be run twice in one direction
+    EXPECT_NE(std::string(e.what()).find("manifold"), std::string::npos) << e.what();
+  }
+  d.creases.clear();
+  EXPECT_GT(SubdivMesh::build(buildSubdivTopology(d), d.positions)->patches().size(), 0u);
+
+  // Closed and manifold, with a valence-2 vertex (1: its two faces share both its edges) and
+  // every edge creased: Bfr's other overlapping-faces case, which it handles.
+  SubdivMeshDesc m;
+  m.positions = d.positions;
+  m.faceSizes = {4, 4, 3, 3};
+  m.faceVertices = {0, 1, 2, 3, 2, 1, 0, 4, 3, 2, 4, 0, 3, 4};
+  for (auto [a, b] : {std::pair{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 4}, {2, 4}, {3, 4}}) m.creases.push_back({a, b, 3.0f});
+  EXPECT_GT(SubdivMesh::build(buildSubdivTopology(m), m.positions)->patches().size(), 0u);
+}
+
 }  // namespace
 }  // namespace rayes
