@@ -116,6 +116,54 @@ bool counterClockwise(FlatPoint a, FlatPoint b, FlatPoint c, FlatPoint (&v)[3]) 
   return true;
 }
 
+// Dunavant's 7-point rule of degree 5 on one triangle: ∬ e^(-|φ|²/2) dφ, to be divided by 2π.
+double rule7(const FlatPoint (&v)[3]) {
+  constexpr double a1 = 0.10128650732345633880, w1 = 0.12593918054482715260;
+  constexpr double a2 = 0.47014206410511508977, w2 = 0.13239415278850618074;
+  constexpr double w0 = 0.225;
+  auto density = [](double x, double y) { return std::exp(-0.5 * (x * x + y * y)); };
+  auto orbit = [&](double a) {  // the three points with barycentrics (1 - 2a, a, a) and their turns
+    const double b = 1 - 2 * a;
+    double sum = 0;
+    for (int i = 0; i < 3; ++i) {
+      const FlatPoint& p = v[i];
+      const FlatPoint& q = v[(i + 1) % 3];
+      const FlatPoint& r = v[(i + 2) % 3];
+      sum += density(b * p.x + a * (q.x + r.x), b * p.y + a * (q.y + r.y));
+    }
+    return sum;
+  };
+  const double area = std::fabs((v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x)) / 2;
+  const double cx = (v[0].x + v[1].x + v[2].x) / 3, cy = (v[0].y + v[1].y + v[2].y) / 3;
+  return area * (w0 * density(cx, cy) + w1 * orbit(a1) + w2 * orbit(a2));
+}
+
+// The lobe's mass over a triangle small against σ by the 7-point rule of degree 5 (Dunavant
+// 1985; positive weights, exact for polynomials up to degree 5), when its error bound allows:
+//
+// With p5 the Taylor polynomial of degree 5 of the density g about the centroid c, the rule
+// and the integral are both exact on p5, and both weigh |g - p5| with total weight A, so the
+// error is at most 2A·sup_T|g - p5| <= 2A·M6·R⁶/6!, R the largest distance from c to a corner
+// and M6 the largest sixth derivative of g along a line in T. Along a unit direction u,
+// ∂_u⁶ g = He6(u·φ)·g(φ) (g factors into the two 1D densities along u and across it), and
+// |He6(s)|·e^(-s²/2) peaks at s = 0 with 15, so M6 <= 15/2π everywhere. The rule is taken
+// when that bound is at most `allowed`·A/2π: the error is at most `allowed` times the peak
+// density's mass over the triangle. Returns false (and leaves `mass`) when it is not.
+//
+// Written by hand, not from a library: none of the five has it, and it replaces the three
+// edges' Owen series (their exp, erfc and up to ~40 series terms each) by seven exps where
+// the gather's triangles are small against σ (most of lbt-discoball-glossy's: bench/RESULTS.md).
+bool smallTriangleMass(const FlatPoint (&v)[3], double allowed, double& mass) {
+  const FlatPoint c{(v[0].x + v[1].x + v[2].x) / 3, (v[0].y + v[1].y + v[2].y) / 3};
+  double r2 = 0;
+  for (const FlatPoint& p : v) r2 = std::max(r2, (p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y));
+  // 2·M6·R⁶/6! <= allowed/2π with M6 = 15/2π: R⁶ <= allowed·6!/30.
+  const double r6 = r2 * r2 * r2, limit = allowed * 24;
+  if (!(r6 <= limit)) return false;
+  mass = rule7(v) / kTwoPi;
+  return true;
+}
+
 double specularMass(FlatPoint a, FlatPoint b, FlatPoint c) {
   FlatPoint v[3];
   if (!counterClockwise(a, b, c, v)) return 0;
@@ -162,6 +210,14 @@ double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double 
   if (!finite(a) || !finite(b) || !finite(c)) return 0;
   FlatPoint v[3];
   if (!counterClockwise(a, b, c, v)) return 0;
+  // Cut at reach < 9 (the gather's cheap mode, already within 3·Q(reach)), a triangle small
+  // against σ takes the cubature if it is within Q(reach) of the peak density's mass over it.
+  // (Q(reach) is kept per thread: the gather asks with one reach, and erfc is what the
+  // cubature saves.)
+  thread_local double tailReach = -1, tail = 0;
+  if (reach != tailReach) tailReach = reach, tail = normalTail(reach);
+  double small;
+  if (reach < kNegligibleOwenH && smallTriangleMass(v, tail, small)) return std::min(small, 1.0);
   // A centre at least `reach` from every edge's line gets 1 (inside) or 0 (outside) to within
   // Q(reach) per edge, without the edge terms: the usual case for narrow lobes. (The triangle
   // lies on the inner side of each edge's line, so a centre that far beyond one line sees at

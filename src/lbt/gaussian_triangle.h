@@ -22,7 +22,10 @@
 // node, no atan for an edge within 9 of the centre whose ends are both within 45° of its foot.
 //
 // Accuracy: G to an absolute 1e-14, so P to ~1e-13, far below what a float image can hold
-// (one ulp of 1.0f is 1.2e-7). Pure functions of their arguments, thread-safe, O(1).
+// (one ulp of 1.0f is 1.2e-7). The gather's cheap mode (a lobe cut at reach < 9) trades that
+// for 3·Q(reach) and takes a 7-point cubature for triangles small against σ (error at most
+// Q(reach)·A/2π: the bound is derived in the .cpp). Pure functions of their arguments,
+// thread-safe, O(1).
 #pragma once
 
 namespace rayes {
@@ -55,7 +58,10 @@ double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c);
 // The same with the lobe cut at `reach` (σ = 1): a centre at least `reach` from every edge's
 // line gets 1 (inside) or 0 (outside) without the edge integrals, and otherwise each edge's
 // term is cut at `reach` (owenTComplementDifference); the error is at most 3·Q(reach)
-// (Q(5) = 2.9e-7). reach ≥ 9 is gaussianTriangleMass.
+// (Q(5) = 2.9e-7). For reach < 9, a triangle whose corners lie within R of its centroid with
+// R⁶ <= 24·Q(reach) (R <= 0.138 at reach 5) is integrated by a 7-point cubature instead,
+// within Q(reach)·A/2π (A its area): seven exps for three edges' series. reach ≥ 9 is
+// gaussianTriangleMass, which never takes the cubature.
 double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double reach);
 
 // P for a lobe of width sigma > 0: P(φ, σ) = P(φ/σ, 1), cut at reach·σ as above (the default:

@@ -3,6 +3,7 @@
 // (half-plane, wedge, full plane), against Monte Carlo within 4 standard errors, and at its stiff cases (origin on
 // a corner or an edge, collinear and inverted corners, huge and tiny scales, σ → 0).
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <iterator>
@@ -157,6 +158,64 @@ TEST(GaussianTriangle, CutAtTheReachLosesAtMostThreeTails) {
       EXPECT_NEAR(gaussianTriangleMassWithin(v[0], v[1], v[2], reach), exact, 3 * normalTail(reach) + 1e-13)
           << "reach " << reach << " triangle " << i;
     }
+}
+
+// Cut at reach < 9, a triangle whose corners lie within R of its centroid, R⁶ <= 24·Q(reach),
+// takes a 7-point cubature whose error bound is Q(reach) times the peak density's mass over
+// it, Q(reach)·A/2π. Triangles around that size, all over the lobe: each within its own bound
+// of the exact mass, and the bound is where the cheap mode's promise of 3·Q(reach) needs it.
+TEST(GaussianTriangle, SmallTrianglesStayWithinTheCubaturesBound) {
+  for (double reach : {3.0, 5.0}) {
+    const double tail = normalTail(reach), rLimit = std::pow(24 * tail, 1.0 / 6);
+    int small = 0;
+    for (uint32_t i = 0; i < 4000; ++i) {
+      const RngKey key{i, 0, 0, 92};
+      const FlatPoint centre{14 * sampleUniform(key, 0) - 7, 14 * sampleUniform(key, 1) - 7};
+      const double size = rLimit * (0.2 + 1.6 * sampleUniform(key, 2));  // both sides of the limit
+      FlatPoint v[3];
+      double r2 = 0;
+      for (uint32_t k = 0; k < 3; ++k) {
+        const double angle = 2 * kPi * (k + 0.8 * sampleUniform(key, 3 + k)) / 3;
+        const double radius = size * (0.3 + 0.7 * sampleUniform(key, 6 + k));
+        v[k] = {centre.x + radius * std::cos(angle), centre.y + radius * std::sin(angle)};
+      }
+      const FlatPoint c{(v[0].x + v[1].x + v[2].x) / 3, (v[0].y + v[1].y + v[2].y) / 3};
+      for (const FlatPoint& p : v) r2 = std::max(r2, (p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y));
+      const double area =
+          std::fabs((v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x)) / 2;
+      const double exact = gaussianTriangleMass(v[0], v[1], v[2]);
+      const double cut = gaussianTriangleMassWithin(v[0], v[1], v[2], reach);
+      if (r2 * r2 * r2 <= 24 * tail) {
+        ++small;
+        EXPECT_NEAR(cut, exact, tail * area / (2 * kPi) + 1e-16) << "reach " << reach << " triangle " << i;
+        EXPECT_LE(tail * area / (2 * kPi), tail);  // inside the cheap mode's 3·Q(reach)
+      } else {
+        EXPECT_NEAR(cut, exact, 3 * tail + 1e-13) << "reach " << reach << " triangle " << i;
+      }
+    }
+    EXPECT_GT(small, 1000) << "too few triangles took the cubature to test it";
+    EXPECT_LT(small, 3500) << "too few triangles took the exact path to test the limit";
+  }
+  // Exact mode (reach 9, gaussianTriangleMass) never takes the cubature: a tiny triangle at the
+  // centre holds its area times the peak density to the promised 1e-13.
+  const double tiny = 1e-3;
+  EXPECT_NEAR(gaussianTriangleMass({0, 0}, {tiny, 0}, {0, tiny}), tiny * tiny / 2 / (2 * kPi), 1e-13);
+}
+
+// Degenerate and extreme small triangles in the cheap mode: collinear corners hold nothing, a
+// triangle 1e-200 across at the centre holds its area times the peak density, and one far out
+// holds nothing (every value finite).
+TEST(GaussianTriangle, SmallTrianglesAtTheirEdgeCases) {
+  EXPECT_EQ(gaussianTriangleMassWithin({0.1, 0.1}, {0.12, 0.12}, {0.14, 0.14}, 5), 0.0);
+  const double t = 1e-200;
+  const double p = gaussianTriangleMassWithin({0, 0}, {t, 0}, {0, t}, 5);
+  EXPECT_TRUE(std::isfinite(p));
+  EXPECT_GE(p, 0);
+  EXPECT_LE(p, 1e-300);  // its area underflows: 0, never negative or NaN
+  const double area = 0.5e-10;
+  EXPECT_NEAR(gaussianTriangleMassWithin({0, 0}, {1e-5, 0}, {0, 1e-5}, 5),
+              gaussianTriangleMass({0, 0}, {1e-5, 0}, {0, 1e-5}), normalTail(5) * area / (2 * kPi));
+  EXPECT_EQ(gaussianTriangleMassWithin({1e6, 1e6}, {1e6 + 0.01, 1e6}, {1e6, 1e6 + 0.01}, 5), 0.0);
 }
 
 TEST(GaussianTriangle, HalfPlaneIsTheNormalTail) {
