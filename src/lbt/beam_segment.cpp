@@ -88,6 +88,7 @@ BeamEnvelope beamEnvelope(const BeamSegment& s) {
     start[i] = sub(sub(rel, mul(c, l)), mul(slope[i], l));
     v.spreadSlope = std::max(v.spreadSlope, lengthD(slope[i]));
     v.axialOffset = std::max(v.axialOffset, std::fabs(l));
+    v.axialStart = i == 0 ? l : std::min(v.axialStart, l);
     v.axialEnd = std::max(v.axialEnd, l + ci * double(s.t[i]));
   }
   if (!std::isfinite(v.axialEnd)) v.axialEnd = 0;
@@ -126,6 +127,9 @@ bool BeamEnvelope::excludes(Vec3 xf) const {
   const D3 c = load(axis);
   const D3 rel = sub(x, load(origin));
   const double t = dotD(rel, c);
+  // Behind every corner's origin along Ψ̄, every corner's distance (x - o_i)·Ψ̄ / d_i·Ψ̄ is
+  // negative, and so is the gather's interpolated r: it returns 0 there.
+  if (t < axialStart - kMargin * (std::fabs(t) + axialOffset)) return true;
   const double w = lengthD(sub(rel, mul(c, t)));
   // Each corner's distance from the axis is convex in t: below its chord between the axial
   // levels 0 and axialEnd, and growing at most by spreadSlope per unit beyond them.

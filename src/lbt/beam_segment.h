@@ -66,6 +66,7 @@ struct BeamEnvelope {
   double spreadStart = 0, spreadEnd = 0, spreadSlope = 0;  // S(0), S(axialEnd), V
   double axialEnd = 0;                    // the farthest corner end's axial distance
   double axialOffset = 0, invCosMin = 1;  // L = max |(o_i − O)·Ψ̄|, 1 / min d_i·Ψ̄
+  double axialStart = 0;                  // min (o_i − O)·Ψ̄: before it, x is behind every corner
   double lobeReach = 0;                   // kLobeReach·σ (0: specular)
   double capNormal[3] = {0, 0, 0}, capPoint[3] = {0, 0, 0}, capLimit = -1;  // < 0: no cap plane
   bool never = false;                     // the gather is 0 everywhere (corners not coaxial)

@@ -3,7 +3,8 @@
 // for a glossy one), and it must exclude what lies well outside the beam, or it saves nothing.
 // Checked on random segments of every shape the tracer makes (diverging, converging, at and past
 // a focus, sheared corner origins as on a curved reflector), at tiny and huge scales and far from
-// the origin, with points in and around each segment's box, on its corner rays and at its cap.
+// the origin, with points in and around each segment's box, on its corner rays, at its cap and
+// behind its scatterer.
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdint>
@@ -55,7 +56,7 @@ TEST(BeamEnvelope, ExcludesOnlyPointsTheGatherLeavesDarkAndMostOfWhatLiesOutside
   const double tail = normalTail(kLobeReach);
   // The gather's own cut may add up to 3·Q(reach) to a mass of at most Q(reach).
   const double darkGlossy = 4 * tail;
-  int excluded = 0, farOutside = 0, farExcluded = 0;
+  int excluded = 0, farOutside = 0, farExcluded = 0, behind = 0, behindExcluded = 0;
   for (const double scale : {1e-3, 1.0, 1e3})
     for (const Vec3 at : {Vec3{0, 0, 0}, Vec3{1e4f, -2e4f, 5e3f}})
       for (const float sigma : {0.0f, 0.001f, 0.05f, 0.15f})
@@ -106,10 +107,20 @@ TEST(BeamEnvelope, ExcludesOnlyPointsTheGatherLeavesDarkAndMostOfWhatLiesOutside
             ++farOutside;
             farExcluded += envelope.excludes(x);
           }
+          // Behind the scatterer (before every corner's origin along Ψ̄), anywhere to the side:
+          // the gather's interpolated distance is negative there, so it is dark and excluded.
+          float first = dot(s.o[0] - o, c);
+          for (int k = 1; k < 3; ++k) first = std::min(first, dot(s.o[k] - o, c));
+          for (int q = 0; q < 4; ++q) {
+            const Vec3 x = o + c * (first - float(scale * r.in(0.01, 1.0))) + side * float(scale * r.in(-2, 2));
+            ++behind;
+            behindExcluded += envelope.excludes(x);
+          }
         }
   EXPECT_GT(excluded, 10000);  // the checks above were not vacuous
   EXPECT_GT(farOutside, 1000);
   EXPECT_EQ(farExcluded, farOutside);
+  EXPECT_EQ(behindExcluded, behind);
 }
 
 TEST(BeamEnvelope, ASegmentWhoseCornersAreNotCoaxialExcludesEverything) {
