@@ -138,8 +138,9 @@ double rule7(const FlatPoint (&v)[3]) {
   return area * (w0 * density(cx, cy) + w1 * orbit(a1) + w2 * orbit(a2));
 }
 
-// The lobe's mass over a triangle small against σ by the 7-point rule of degree 5 (Radon
-// 1948, as tabulated by Dunavant 1985; positive weights, exact for polynomials up to degree 5), when its error bound allows:
+// The lobe's mass over a triangle small against σ by the 7-point rule of degree 5 (Radon 1948,
+// as tabulated by Dunavant 1985; positive weights, exact for polynomials up to degree 5), when
+// its error bound allows:
 //
 // With p5 the Taylor polynomial of degree 5 of the density g about the centroid c, the rule
 // and the integral are both exact on p5, and both weigh |g - p5| with total weight A, so the
