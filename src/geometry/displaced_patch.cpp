@@ -291,7 +291,8 @@ namespace {
 
 // Finite (not NaN, not infinite), as a compare the vectoriser turns into one vector compare.
 inline bool finite(float x) { return std::fabs(x) <= std::numeric_limits<float>::max(); }
-inline bool finite(Vec3 a) { return finite(a.x) & finite(a.y) & finite(a.z); }
+// (`&` on ints, not `&&`: no branch in a loop the vectoriser should keep.)
+inline bool finite(Vec3 a) { return bool(int(finite(a.x)) & int(finite(a.y)) & int(finite(a.z))); }
 
 // One vertex's analytic frame from the base's derivatives: the raw normal N = P_u x P_v, the
 // unit normal n (unitOrZero's operations: 1 / max component, then 1 / |N / m|, so no under-
@@ -317,7 +318,7 @@ inline AnalyticFrame analyticFrame(const SurfaceDerivatives& d, float tinyNormal
   const Vec3 dnv = cross(d.puv, d.pv) + cross(d.pu, d.pvv);
   f.nu = (dnu - f.n * dot(f.n, dnu)) * inv;
   f.nv = (dnv - f.n * dot(f.n, dnv)) * inv;
-  f.valid = (m > tinyNormal) & finite(m) & finite(f.nu) & finite(f.nv);
+  f.valid = bool(int(m > tinyNormal) & int(finite(m)) & int(finite(f.nu)) & int(finite(f.nv)));
   return f;
 }
 
