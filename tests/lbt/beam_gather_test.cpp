@@ -257,7 +257,7 @@ TEST(BeamGather, CollinearCornersOnCornerRaysAndGrazingReceiversStayFinite) {
 // The gather asks a caller's filter (the path tracer's depth rule) before any work on a segment,
 // and bins the segments by their reach: it must sum exactly what the full gather sums, the
 // irradiance of every segment in segment order where x lies in the segment's reach and outside
-// what its envelope excludes (a lobe mass below Q(5): beam_envelope_test.cpp). Checked
+// what its envelope excludes (a lobe mass below Q(kLobeReach): beam_envelope_test.cpp). Checked
 // against that sum over all segments (no bins) at random points, on the footprint's edges, on
 // corner rays' ends and at the focus of a converging beam, specular and glossy.
 TEST(BeamStore, GatherSumsExactlyTheSegmentsInReachWithTheFilterAskedFirst) {
