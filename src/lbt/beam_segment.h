@@ -38,9 +38,11 @@ inline constexpr float kCapSlack = 0.02f;
 // How far a glossy lobe reaches, in σ: the mass beyond one edge's line is Q(4) = 3.2e-5. The
 // bins hold a segment only this far out (beamBounds), and the gather takes P = 0 or 1 without
 // the edge integrals for a point this far from every edge of the angular triangle, and drops
-// what lies beyond it from each edge's integral otherwise (P within 3·Q(4) = 9.5e-5 in all:
-// a caustic at most 0.01 % dark). 4 rather than 5 (Q(5) = 2.9e-7): 64 % of the lobe's disc,
-// and of its bins; lbt-discoball-glossy −23 % CPU (bench/RESULTS.md, "Glossy gathers").
+// what lies beyond it from each edge's integral otherwise (P within 3·Q(4) = 9.5e-5 in all).
+// A segment's flux that lands beyond the reach is at most the lobe's mass outside a disc of
+// radius 4: e^(-8) = 3.4e-4, so a glossy caustic is at most 0.034 % dark (measured: −0.03 %).
+// 4 rather than 5 (e^(-12.5) = 3.7e-6): 64 % of the lobe's disc, and of its bins;
+// lbt-discoball-glossy −25 % CPU (bench/RESULTS.md, "Glossy gathers").
 inline constexpr double kLobeReach = 4;
 
 // The box a segment's gathers can lie in: its corner rays up to t_i, grown by its lobe
