@@ -40,9 +40,10 @@ inline constexpr float kCapSlack = 0.02f;
 // the edge integrals for a point this far from every edge of the angular triangle, and drops
 // what lies beyond it from each edge's integral otherwise (P within 3·Q(4) = 9.5e-5 in all).
 // A segment's flux that lands beyond the reach is at most the lobe's mass outside a disc of
-// radius 4: e^(-8) = 3.4e-4, so a glossy caustic is at most 0.034 % dark (measured: −0.03 %).
-// 4 rather than 5 (e^(-12.5) = 3.7e-6): 64 % of the lobe's disc, and of its bins;
-// lbt-discoball-glossy −25 % CPU (bench/RESULTS.md, "Glossy gathers").
+// radius 4: e^(-8) = 3.4e-4 (5σ: e^(-12.5) = 3.7e-6); measured, 5σ → 4σ darkened
+// lbt-ring-glossy's image by 0.010 % and cut lbt-discoball-glossy's CPU by 25 %
+// (bench/RESULTS.md, "Glossy gathers"). BeamStore's pieces bin wider (kPieceReach): their
+// boxes lose more than this, an open bias of theirs.
 inline constexpr double kLobeReach = 4;
 
 // The box a segment's gathers can lie in: its corner rays up to t_i, grown by its lobe

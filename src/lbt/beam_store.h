@@ -2,7 +2,7 @@
 // leaves their volume overlaps (docs/design.md, "Light beam tracing"), and the caustic gather
 // over them: the path tracer's CausticRadiance (shading/path_tracer.h). A segment's volume is
 // the box of its corner rays up to their ends, widened for glossy segments by kLobeReach·σ (4σ)
-// of angle (beamBounds); the boxes are binned
+// of angle (beamBounds; the per-leaf cells below by 5σ pieces); the boxes are binned
 // with the same top-level BVH the camera rays use (TopLevelBvh::overlapping), so segments need
 // no hierarchy of their own. Within a leaf the segments are binned again into a uniform grid
 // over the leaf's box (about 4 segments per cell, at most 64 cells per axis; a segment goes to
