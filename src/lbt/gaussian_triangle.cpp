@@ -116,8 +116,9 @@ bool counterClockwise(FlatPoint a, FlatPoint b, FlatPoint c, FlatPoint (&v)[3]) 
   return true;
 }
 
-// Radon's 7-point rule of degree 5 on one triangle: ∬ e^(-|φ|²/2) dφ, to be divided by 2π.
-double rule7(const FlatPoint (&v)[3]) {
+// Radon's 7-point rule of degree 5 on one triangle with centroid c: ∬ e^(-|φ|²/2) dφ, to be
+// divided by 2π.
+double rule7(const FlatPoint (&v)[3], FlatPoint c) {
   constexpr double a1 = 0.10128650732345633880, w1 = 0.12593918054482715260;
   constexpr double a2 = 0.47014206410511508977, w2 = 0.13239415278850618074;
   constexpr double w0 = 0.225;
@@ -134,8 +135,7 @@ double rule7(const FlatPoint (&v)[3]) {
     return sum;
   };
   const double area = std::fabs((v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x)) / 2;
-  const double cx = (v[0].x + v[1].x + v[2].x) / 3, cy = (v[0].y + v[1].y + v[2].y) / 3;
-  return area * (w0 * density(cx, cy) + w1 * orbit(a1) + w2 * orbit(a2));
+  return area * (w0 * density(c.x, c.y) + w1 * orbit(a1) + w2 * orbit(a2));
 }
 
 // The lobe's mass over a triangle small against σ by the 7-point rule of degree 5 (Radon 1948,
@@ -161,7 +161,7 @@ bool smallTriangleMass(const FlatPoint (&v)[3], double allowed, double& mass) {
   // 2·M6·R⁶/6! <= allowed/2π with M6 = 15/2π: R⁶ <= allowed·6!/30.
   const double r6 = r2 * r2 * r2, limit = allowed * 24;
   if (!(r6 <= limit)) return false;
-  mass = rule7(v) / kTwoPi;
+  mass = rule7(v, c) / kTwoPi;
   return true;
 }
 

@@ -59,9 +59,9 @@ double gaussianTriangleMass(FlatPoint a, FlatPoint b, FlatPoint c);
 // line gets 1 (inside) or 0 (outside) without the edge integrals, and otherwise each edge's
 // term is cut at `reach` (owenTComplementDifference); the error is at most 3·Q(reach)
 // (Q(4) = 3.2e-5, Q(5) = 2.9e-7). For reach < 9, a triangle whose corners lie within R of its
-// centroid with R⁶ <= 24·Q(reach) (R <= 0.302 at reach 4, 0.138 at 5) is integrated by a 7-point cubature instead,
-// within Q(reach)·A/2π (A its area): seven exps for three edges' series. reach ≥ 9 is
-// gaussianTriangleMass, which never takes the cubature.
+// centroid with R⁶ <= 24·Q(reach) (R <= 0.302 at reach 4, 0.138 at 5) is integrated by a
+// 7-point cubature instead, within Q(reach)·A/2π (A its area): seven exps for three edges'
+// series. reach ≥ 9 is gaussianTriangleMass, which never takes the cubature.
 double gaussianTriangleMassWithin(FlatPoint a, FlatPoint b, FlatPoint c, double reach);
 
 // P for a lobe of width sigma > 0: P(φ, σ) = P(φ/σ, 1), cut at reach·σ as above (the default:
