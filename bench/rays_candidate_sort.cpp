@@ -62,10 +62,8 @@ void BM_CandidateSort(benchmark::State& state) {
   const size_t n = in.slots.size();
   CandidateSort sort;
   {  // the result must equal the 64-bit key sort, and runs must delimit the leaves
-    {
-      std::vector<uint32_t> slots = in.slots;
-      sort.sort(slots, in.leafOf);
-    }
+    sort.order = in.slots;
+    sort.sort(in.leafOf);
     std::vector<uint64_t> keys(n);
     for (size_t i = 0; i < n; ++i) keys[i] = uint64_t(in.leafOf[i]) << 32 | in.slots[i];
     std::sort(keys.begin(), keys.end());
@@ -80,10 +78,9 @@ void BM_CandidateSort(benchmark::State& state) {
     }
     state.counters["leaves"] = double(leaves);
   }
-  std::vector<uint32_t> slots;
   for (auto _ : state) {
-    slots.assign(in.slots.begin(), in.slots.end());  // the sort consumes its input
-    sort.sort(slots, in.leafOf);
+    sort.order.assign(in.slots.begin(), in.slots.end());  // the sort consumes its input
+    sort.sort(in.leafOf);
     benchmark::DoNotOptimize(sort.order.data());
   }
   setPairRate(state, n);

@@ -38,8 +38,8 @@ struct LeafQueries {
     return runner && std::any_of(leaf.begin(), leaf.end(), [](uint32_t l) { return l != kNoLeaf; });
   }
   // A slot and, when filled, what the engine spends on sorting it by leaf: its place in the
-  // filled list and the CandidateSort's order and scratch (rays/leaf_query_runs.h).
-  static constexpr size_t bytesPerSlot() { return 4 * sizeof(uint32_t); }
+  // CandidateSort's order and its scratch (rays/leaf_query_runs.h).
+  static constexpr size_t bytesPerSlot() { return 3 * sizeof(uint32_t); }
 };
 
 }  // namespace rayes

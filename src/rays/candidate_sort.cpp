@@ -8,8 +8,7 @@ namespace {
 constexpr int kMaxDigitBits = 11;  // 2048 counters per block stay in L1
 }
 
-void CandidateSort::sort(std::vector<uint32_t>& slots, const std::vector<uint32_t>& leafOf) {
-  order.swap(slots);
+void CandidateSort::sort(const std::vector<uint32_t>& leafOf) {
   const size_t n = order.size();
   scratch.resize(n);
   uint32_t maxLeaf = 0;

@@ -1,9 +1,10 @@
 // Groups the candidate slots of one iteration by leaf, so that every leaf is diced once and
 // all its rays are intersected while it is in one thread's dice buffer.
-// Output: `order` holds the filled slot indices sorted by (leaf, slot); `runs` holds the start
-// of each leaf's run in `order` plus a final end sentinel. The slots are sorted as they are,
-// reading each one's leaf where it lies: 4 bytes of scratch per slot besides `order`, which
-// takes over the caller's slot list (no (leaf, slot) pairs). The order is fully determined by
+// The caller fills `order` with the filled slot indices in increasing order; sort() sorts them
+// in place by (leaf, slot) and sets `runs` to the start of each leaf's run in `order` plus a
+// final end sentinel. The slots are sorted as they are, reading each one's leaf where it lies:
+// `order` and 4 bytes of scratch per slot are all it holds (no (leaf, slot) pairs, no separate
+// input list: the radix passes ping-pong between the two). The order is fully determined by
 // the input (the sort is stable and the slots come in increasing order), whatever the thread
 // count.
 //
@@ -27,9 +28,8 @@ struct CandidateSort {
   // Bytes per sorted slot: `order` and `scratch`.
   static constexpr size_t bytesPerSlot() { return 2 * sizeof(uint32_t); }
 
-  // slots: the filled slot indices in increasing order, swapped into `order` (slots gets the
-  // previous order's storage back, to reuse); leafOf: leaf id per slot.
-  void sort(std::vector<uint32_t>& slots, const std::vector<uint32_t>& leafOf);
+  // Sorts `order` (filled slot indices in increasing order) by leaf; leafOf: leaf id per slot.
+  void sort(const std::vector<uint32_t>& leafOf);
 };
 
 }  // namespace rayes

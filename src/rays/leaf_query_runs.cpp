@@ -8,12 +8,13 @@ namespace rayes {
 size_t LeafQueryRuns::group(const LeafQueries& queries) {
   clear();
   if (!queries.runner) return 0;
+  std::vector<uint32_t>& filled = sort_.order;
   for (uint32_t q = 0; q < queries.leaf.size(); ++q)
-    if (queries.leaf[q] != kNoLeaf) filled_.push_back(q);
-  if (filled_.empty()) return 0;
+    if (queries.leaf[q] != kNoLeaf) filled.push_back(q);
+  if (filled.empty()) return 0;
   runner_ = queries.runner;
   leaf_ = queries.leaf;
-  sort_.sort(filled_, queries.leaf);
+  sort_.sort(queries.leaf);
   return runs();
 }
 
@@ -43,7 +44,6 @@ void LeafQueryRuns::runAll(TimeAccumulator& time) {
 void LeafQueryRuns::clear() {
   sort_.order.clear();
   sort_.runs.clear();
-  filled_.clear();
   runner_ = nullptr;
   leaf_ = {};
 }

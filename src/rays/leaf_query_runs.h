@@ -36,7 +36,6 @@ class LeafQueryRuns {
  private:
   std::span<const uint32_t> leaf_;
   LeafQueryRunner* runner_ = nullptr;
-  std::vector<uint32_t> filled_;
   CandidateSort sort_;
 };
 

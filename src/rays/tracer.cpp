@@ -340,7 +340,7 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
   while (!active_.empty()) {
     const size_t nActive = active_.size();
     const int N = static_cast<int>(std::clamp<size_t>(capacity / nActive, 1,
-                                                      size_t(settings_.maxCandidatesPerRay)));
+                                                      std::min<size_t>(settings_.maxCandidatesPerRay, kMaxCandidatesPerIteration)));
     // Rays beyond capacity (only when capacity < active rays) wait for the next iteration.
     const size_t nNow = std::min(nActive, capacity / size_t(N));
     IterationStats it;
@@ -374,7 +374,7 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
         resumeEntry_[i] = local[got - 1].entry;
         resumeLeaf_[i] = local[got - 1].leaf;
       }
-      count_[i] = static_cast<uint32_t>(got);
+      count_[i] = static_cast<uint16_t>(got);
       nextEntry_[i] = next;
     }
   });
@@ -383,14 +383,15 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
 // 2. Sort the filled slots by leaf. Returns how many slots were filled.
 size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.sort);
-  filled_.clear();
+  std::vector<uint32_t>& filled = sort_.order;
+  filled.clear();
   slotsPerRay_ = uint32_t(N);
   for (size_t a = 0; a < nNow; ++a) {
     const size_t base = a * size_t(N);
     for (uint32_t j = 0; j < count_[active_[a]]; ++j)
-      if (cand_.leaf[base + j] != kNoLeaf) filled_.push_back(static_cast<uint32_t>(base + j));
+      if (cand_.leaf[base + j] != kNoLeaf) filled.push_back(static_cast<uint32_t>(base + j));
   }
-  sort_.sort(filled_, cand_.leaf);
+  sort_.sort(cand_.leaf);
   return sort_.order.size();
 }
 
@@ -557,18 +558,18 @@ void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* s
 // ray: until its first occluder); rays that got no turn stay too. The survivors' hit distance
 // becomes their search limit for the next iteration.
 void Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
-  nextActive_.clear();
+  size_t kept = 0;  // compacted in place: kept <= a, so no ray is overwritten before it is read
   for (size_t a = 0; a < nActive; ++a) {
     const uint32_t i = active_[a];
-    if (a >= nNow) { nextActive_.push_back(i); continue; }
+    if (a >= nNow) { active_[kept++] = i; continue; }
     const bool exhausted = !(nextEntry_[i] < kInf);
     const bool done = b.kind[i] == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
                                                    : (exhausted || b.hit[i].t < nextEntry_[i]);
     if (done) continue;
     bestT_[i] = b.hit[i].t;
-    nextActive_.push_back(i);
+    active_[kept++] = i;
   }
-  active_.swap(nextActive_);
+  active_.resize(kept);
 }
 
 // Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at

@@ -95,14 +95,15 @@ class Tracer : public RayEngine {
   static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
                                                                std::vector<std::array<uint8_t, 4>>* sides = nullptr);
   // Per ray: resume entry and leaf, next entry, best t of the previous iterations, candidate
-  // count, hit lock.
+  // count, hit lock, and its place in the active list (compacted in place each iteration).
   static constexpr size_t bytesPerRayState() {
-    return 3 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(std::atomic_flag);
+    return 3 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint16_t) + sizeof(std::atomic_flag);
   }
+  static constexpr size_t kMaxCandidatesPerIteration = 65535;  // N per ray, so a count fits 16 bits
   // Everything one candidate slot costs: the slot itself and, when it is filled, its place in
-  // the filled list and the sort's working storage.
+  // the sort's order and its scratch.
   static constexpr size_t bytesPerCandidate() {
-    return CandidateBuffer::bytesPerSlot() + sizeof(uint32_t) + CandidateSort::bytesPerSlot();
+    return CandidateBuffer::bytesPerSlot() + CandidateSort::bytesPerSlot();
   }
   // The candidate buffer should hold this many slots per ray slot of a full batch: the first
   // iteration of the camera generation then gets N = 4 candidates per ray (2 ray slots per
@@ -111,10 +112,10 @@ class Tracer : public RayEngine {
   static constexpr size_t kCandidatesPerRay = 2;
   // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
   static constexpr size_t kBorderBoundsPerLeaf = 64;
-  // Per ray slot: the trace state, the active lists and kCandidatesPerRay candidate slots.
-  // (bytesPerRay() of a Tracer; static so the budget can be set before the Tracer exists.)
+  // Per ray slot: the trace state and kCandidatesPerRay candidate slots. (bytesPerRay() of a
+  // Tracer; static so the budget can be set before the Tracer exists.)
   static constexpr size_t bytesPerRaySlot() {
-    return bytesPerRayState() + 2 * sizeof(uint32_t) + kCandidatesPerRay * bytesPerCandidate();
+    return bytesPerRayState() + kCandidatesPerRay * bytesPerCandidate();
   }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;
@@ -192,11 +193,12 @@ class Tracer : public RayEngine {
 
   CandidateBuffer cand_;
   CandidateSort sort_;
-  std::vector<uint32_t> active_, nextActive_, filled_;
+  std::vector<uint32_t> active_;
   uint32_t slotsPerRay_ = 1;  // N of the current iteration
   std::vector<float> resumeEntry_, nextEntry_;
   std::vector<float> bestT_;  // a ray's hit distance after the previous iteration: its search limit
-  std::vector<uint32_t> resumeLeaf_, count_;
+  std::vector<uint32_t> resumeLeaf_;
+  std::vector<uint16_t> count_;  // candidates got this iteration (N <= kMaxCandidatesPerIteration)
   std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
   tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_;
   tbb::enumerable_thread_specific<TraversalScratch> scratch_;

@@ -18,7 +18,8 @@ void expectSortedLikeStdSort(size_t n, uint32_t leaves, bool sparseSlots) {
   for (uint32_t s : slots) ref.push_back({leafOf[s], s});
   std::sort(ref.begin(), ref.end());
   CandidateSort sort;
-  sort.sort(slots, leafOf);
+  sort.order = slots;
+  sort.sort(leafOf);
   ASSERT_EQ(sort.order.size(), n);
   for (size_t i = 0; i < n; ++i) ASSERT_EQ(sort.order[i], ref[i].second) << i;
   ASSERT_EQ(sort.runs.back(), n);
@@ -41,12 +42,11 @@ TEST(CandidateSort, EqualsStdSortOfLeafSlotPairs) {
 
 TEST(CandidateSort, EmptyAndSingle) {
   CandidateSort sort;
-  std::vector<uint32_t> slots;
-  sort.sort(slots, {});
+  sort.sort({});
   EXPECT_TRUE(sort.order.empty());
   ASSERT_EQ(sort.runs.size(), 1u);
-  slots = {0};
-  sort.sort(slots, {5});
+  sort.order = {0};
+  sort.sort({5});
   ASSERT_EQ(sort.order.size(), 1u);
   EXPECT_EQ(sort.runs.size(), 2u);
 }
