@@ -199,7 +199,7 @@ RaySet incoherentRays(const Box3& box, size_t n, float spread) {
 void fillBatch(const RaySet& rs, bool forced, RayBatch& b) {
   b.resize(rs.org.size());
   for (size_t i = 0; i < rs.org.size(); ++i)
-    b.setFromNowhere(i, RayKind::Closest, rs.org[i], rs.dir[i], 0.0f, kInf, 0.0f, forced ? 0.0f : rs.spread);
+    b.setFromNowhere(i, RayKind::Closest, rs.org[i], rs.dir[i], kInf, 0.0f, forced ? 0.0f : rs.spread);
 }
 
 // ---- Embree -----------------------------------------------------------------------------

@@ -46,8 +46,10 @@ struct RayHit {
 
 struct RayBatch {
   // What to trace.
+  // A ray spans t in [0, tmax] from org: it leaves a surface by originLeaf below, not by an
+  // offset tmin, so none is stored (4 bytes a slot).
   std::vector<Vec3> org, dir;         // dir need not be unit; t is in units of |dir|
-  std::vector<float> tmin, tmax;
+  std::vector<float> tmax;
   std::vector<float> coneWidth;       // footprint width at the origin
   std::vector<float> coneSpread;      // footprint growth per unit t (2 tan(half angle) * |dir|)
   // Shutter time in [0, 1], per ray only when `timed`: a scene where nothing moves sees the same
@@ -69,7 +71,7 @@ struct RayBatch {
 
   size_t size() const { return kind.size(); }
   void resize(size_t n) {
-    org.resize(n); dir.resize(n); tmin.resize(n); tmax.resize(n); coneWidth.resize(n);
+    org.resize(n); dir.resize(n); tmax.resize(n); coneWidth.resize(n);
     coneSpread.resize(n); time.resize(timed ? n : 0); ignoreLeaf.resize(n); originLeaf.resize(n); originLevel.resize(n);
     kind.resize(n);
     hit.resize(n);
@@ -77,20 +79,20 @@ struct RayBatch {
   float timeOf(size_t i) const { return timed ? time[i] : 0.0f; }
   // Every argument explicit: a defaulted shutter time or origin leaf let a stale call compile
   // and trace at time 0, or re-hit the surface it leaves.
-  void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t0, float t1, float width, float spread,
+  void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread,
            uint32_t ignore, uint32_t fromLeaf, uint8_t fromLevel, float shutterTime) {
-    kind[i] = k; org[i] = o; dir[i] = d; tmin[i] = t0; tmax[i] = t1; coneWidth[i] = width;
+    kind[i] = k; org[i] = o; dir[i] = d; tmax[i] = t1; coneWidth[i] = width;
     coneSpread[i] = spread; ignoreLeaf[i] = ignore;
     if (timed) time[i] = shutterTime;
     originLeaf[i] = fromLeaf; originLevel[i] = fromLevel;
     hit[i] = RayHit{};
   }
   // A ray that leaves no surface and ignores no leaf, at shutter time 0 (tests, benchmarks).
-  void setFromNowhere(size_t i, RayKind k, Vec3 o, Vec3 d, float t0, float t1, float width, float spread) {
-    set(i, k, o, d, t0, t1, width, spread, kNoLeaf, kNoLeaf, 0, 0.0f);
+  void setFromNowhere(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread) {
+    set(i, k, o, d, t1, width, spread, kNoLeaf, kNoLeaf, 0, 0.0f);
   }
   static constexpr size_t bytesPerRay(bool timed) {
-    return 2 * sizeof(Vec3) + (timed ? 5 : 4) * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint8_t) +
+    return 2 * sizeof(Vec3) + (timed ? 4 : 3) * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint8_t) +
            sizeof(RayKind) + sizeof(RayHit);
   }
 };

@@ -222,7 +222,7 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
       rays.resize(count);
       for (size_t k = 0; k < count; ++k) {
         const Corner& c = corners[live[first + k]];
-        rays.set(k, RayKind::Closest, c.org, c.dir, 0.0f, std::numeric_limits<float>::infinity(), c.width, c.spread,
+        rays.set(k, RayKind::Closest, c.org, c.dir, std::numeric_limits<float>::infinity(), c.width, c.spread,
                  kNoLeaf, c.fromLeaf, c.fromLevel, /*shutterTime=*/0.0f);  // beams see the shutter's opening
       }
       trace(rays);

@@ -59,13 +59,13 @@ bool traceable(const RayBatch& b, uint32_t i) {
   const Vec3 o = b.org[i], d = b.dir[i];
   const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
                       std::isfinite(d.y) && std::isfinite(d.z);
-  return finite && (d.x != 0 || d.y != 0 || d.z != 0) && b.tmin[i] < b.tmax[i];
+  return finite && (d.x != 0 || d.y != 0 || d.z != 0) && 0.0f < b.tmax[i];
 }
 
 void setRay(const RayBatch& b, uint32_t i, RTCRay& r) {
   r.org_x = b.org[i].x; r.org_y = b.org[i].y; r.org_z = b.org[i].z;
   r.dir_x = b.dir[i].x; r.dir_y = b.dir[i].y; r.dir_z = b.dir[i].z;
-  r.tnear = std::max(b.tmin[i], 0.0f);
+  r.tnear = 0.0f;
   r.tfar = b.tmax[i];
   r.time = std::clamp(b.timeOf(i), 0.0f, 1.0f);
   r.mask = 0xffffffffu;

@@ -7,7 +7,7 @@
 //                                        grids, traced with Embree's stream API.
 //
 // Contract of trace(): every ray of the batch whose kind is not Inactive gets batch.hit filled
-// as documented in core/ray_batch.h: a closest ray its nearest hit in (tmin, tmax), a shadow ray
+// as documented in core/ray_batch.h: a closest ray its nearest hit in (0, tmax), a shadow ray
 // any hit (leaf != kNoLeaf: occluded); a ray never hits batch.ignoreLeaf[i]; (u, v) are the
 // patch's parameters, level the dicing level the hit was found at, ng the micro-triangle's unit
 // normal, ns the unit normal blended from the diced vertex normals. Shading reads nothing else,

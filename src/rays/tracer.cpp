@@ -151,7 +151,7 @@ float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
   const RayBoxQuery q(b.org[ray], b.dir[ray]);
   float t0, t1;
   const Box3& box = leafBox_[leaf];
-  if (!intersectBox(q, box.lo, box.hi, b.tmin[ray], kInf, t0, t1)) t0 = b.tmin[ray];
+  if (!intersectBox(q, box.lo, box.hi, 0.0f, kInf, t0, t1)) t0 = 0.0f;
   return t0;
 }
 
@@ -171,7 +171,7 @@ void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t l
     }
     if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
     float t0, t1;
-    if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, b.tmin[i], kInf, t0, t1)) continue;
+    if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, 0.0f, kInf, t0, t1)) continue;
     const int other = levelOn(b, i, nb);
     if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
       if (other <= level) query.skipBorders |= uint8_t(1u << e);
@@ -309,7 +309,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, query);
   if (b.kind[i] == RayKind::Shadow) {
-    if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
+    if (dice.occluded(b.org[i], b.dir[i], 0.0f, limit, level, query)) {
       RayHit occluder;
       occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
       offerHit(b, i, occluder);
@@ -317,7 +317,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
     return false;
   }
   GridHit h;
-  if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query)) {
+  if (dice.intersect(b.org[i], b.dir[i], 0.0f, limit, level, h, query)) {
     offerHit(b, i, hitRecord(h, leaf, level, entry));
     return h.border;
   }
@@ -366,7 +366,7 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
     for (size_t a = r.begin(); a != r.end(); ++a) {
       const uint32_t i = active_[a];
       float next = kInf;
-      const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i, bestT_[i]),
+      const int got = top_.collect(b.org[i], b.dir[i], 0.0f, searchLimit(b, i, bestT_[i]),
                                    resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
       const size_t base = a * size_t(N);
       for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
@@ -613,7 +613,7 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
   Candidate local[16];
   for (;;) {
     float next = kInf;
-    const int got = top_.collect(b.org[i], b.dir[i], b.tmin[i], searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
+    const int got = top_.collect(b.org[i], b.dir[i], 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
                                  next, scratch);
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
@@ -629,14 +629,14 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
       query.closeBorders = closeBordersFor(b, i, leaf);
       if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, query);
       if (b.kind[i] == RayKind::Shadow) {
-        if (dice.occluded(b.org[i], b.dir[i], b.tmin[i], limit, level, query)) {
+        if (dice.occluded(b.org[i], b.dir[i], 0.0f, limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
           break;
         }
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.org[i], b.dir[i], b.tmin[i], limit, level, h, query) &&
+      if (dice.intersect(b.org[i], b.dir[i], 0.0f, limit, level, h, query) &&
           nearerHit(keptDistance(h.t, entry), leaf, h.quad, best))
         best = hitRecord(h, leaf, level, entry);
     }

@@ -149,10 +149,10 @@ class Tracer : public RayEngine {
   uint32_t rayOfSlot(uint32_t slot) const { return active_[slot / slotsPerRay_]; }
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
-  // The ray's entry into the leaf's box (tmin when the slab test misses): the same operations on
+  // The ray's entry into the leaf's box (0 when the slab test misses): the same operations on
   // the same box as the top level's candidate entry, so the two agree bit for bit.
   float leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
-  // The ray's level on `leaf`: levelFor at the ray's entry into the leaf's own box (tmin when
+  // The ray's level on `leaf`: levelFor at the ray's entry into the leaf's own box (0 when
   // the slab test misses), one function of (ray, leaf) whichever leaf asks, so two neighbours
   // agree on each other's level (see bordersClosedByNeighbours).
   int levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const;

@@ -27,7 +27,7 @@ bool sampleLightPathStart(const ShadingScene& scene, const RngKey& key, LightPat
 }
 
 void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayBatch& rays) {
-  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, 0.0f, kInf, 0.0f, PathTracer::kDiffuseSpread,
+  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, kInf, 0.0f, PathTracer::kDiffuseSpread,
            s.e.leaf, kNoLeaf, 0, s.time);
 }
 
@@ -69,7 +69,7 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
   if (!throughputSurvives(T, int(vertex) >= scene.integrator.rouletteDepth, 1.0f, key, kRoulette, stats))
     return false;
   const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
-  rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, 0.0f, kInf, width,
+  rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, kInf, width,
            PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
            rays.timeOf(cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);

@@ -43,7 +43,7 @@ bool LightTracer::writeConnection(uint32_t k, uint32_t vertex, const CameraConne
   if (!(dist > 0) || !std::isfinite(dist)) return false;
   pending_[k] = {pixelOf(c, scene_.width), value};
   pendingVertex_[k] = uint8_t(vertex);
-  rays.set(kRaysPerPath * size_t(k) + 1, RayKind::Shadow, origin, d * (1.0f / dist), 0.0f, dist * (1.0f - 1e-4f),
+  rays.set(kRaysPerPath * size_t(k) + 1, RayKind::Shadow, origin, d * (1.0f / dist), dist * (1.0f - 1e-4f),
            c.coneWidth, c.coneSpread, ignoreLeaf, fromLeaf, fromLevel, time);
   return true;
 }

@@ -80,7 +80,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
       paths.causticRun[k] = kNoDiffuseYet;
-      rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, 0.0f, kInf, cr.coneWidth, cr.coneSpread, kNoLeaf,
+      rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, kInf, cr.coneWidth, cr.coneSpread, kNoLeaf,
                kNoLeaf, 0, cr.time);
       rays.kind[kRaysPerPath * size_t(k) + 1] = RayKind::Inactive;
     }
@@ -184,7 +184,7 @@ bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFra
   // A light point within the offsets of the receiver leaves no segment to test.
   if (!(tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0)) return false;
   paths.shadowContribution[v.k] = c;
-  rays.set(v.ss, RayKind::Shadow, origin, dir, 0.0f, tmax, v.width, PathTracer::kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
+  rays.set(v.ss, RayKind::Shadow, origin, dir, tmax, v.width, PathTracer::kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
   stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
   return true;
@@ -213,7 +213,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
   if (!throughputSurvives(T, int(bounce) + 1 >= scene.integrator.rouletteDepth, paths.etaScale[k], key, kRoulette,
                           stats))
     return false;
-  rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, 0.0f, kInf, v.width,
+  rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, kInf, v.width,
            PathTracer::spreadAfterBounce(rays.coneSpread[v.cs], bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);

@@ -81,7 +81,7 @@ TEST(RayBatch, AnUntimedBatchStoresNoTimeAndReadsTimeZero) {
   timed.resize(3);
   untimed.resize(3);
   for (RayBatch* b : {&timed, &untimed})
-    b->set(1, RayKind::Closest, {0, 0, 0}, {0, 0, 1}, 0, kInf, 0, 0, kNoLeaf, kNoLeaf, 0, 0.75f);
+    b->set(1, RayKind::Closest, {0, 0, 0}, {0, 0, 1}, kInf, 0, 0, kNoLeaf, kNoLeaf, 0, 0.75f);
   EXPECT_EQ(timed.timeOf(1), 0.75f);
   EXPECT_EQ(untimed.timeOf(1), 0.0f);
   EXPECT_TRUE(untimed.time.empty());

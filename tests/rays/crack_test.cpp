@@ -55,7 +55,7 @@ Escapes shootFromInside(const std::vector<PatchPtr>& patches, uint64_t total, bo
       const RngKey k{uint32_t(first + i), 0, 0, seed};
       const float z = 2 * sampleUniform(k, 0) - 1, phi = 6.2831853f * sampleUniform(k, 1);
       const float r = std::sqrt(std::max(0.0f, 1 - z * z));
-      b.setFromNowhere(i, RayKind::Closest, test::kInside, {r * std::cos(phi), r * std::sin(phi), z}, 0.0f, kInf, 0.0f, 0.0f);
+      b.setFromNowhere(i, RayKind::Closest, test::kInside, {r * std::cos(phi), r * std::sin(phi), z}, kInf, 0.0f, 0.0f);
     }
     GenerationStats stats;
     TraceTimes times;

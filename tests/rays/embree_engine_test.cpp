@@ -57,7 +57,7 @@ RayBatch randomRays(int n, RayKind kind, uint32_t seed, Box3 target = {{-3, -3, 
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 e = target.extent();
     const Vec3 to = target.lo + Vec3{e.x * sampleUniform(k, 2), e.y * sampleUniform(k, 3), e.z * sampleUniform(k, 4)};
-    b.set(i, kind, o, normalize(to - o), 0.0f, kind == RayKind::Shadow ? 8.0f : kInf, 0.0f, 0.0f, kNoLeaf,
+    b.set(i, kind, o, normalize(to - o), kind == RayKind::Shadow ? 8.0f : kInf, 0.0f, 0.0f, kNoLeaf,
           kNoLeaf, 0, sampleUniform(k, 5));
   }
   return b;
@@ -102,7 +102,7 @@ void expectSameClosestHits(bool moving) {
   if (moving) {
     const RayBatch at = randomRays(10000, RayKind::Closest, 3, w.leaves.back()->bounds());
     for (int i = 0; i < 10000; ++i)
-      rayes.set(i, RayKind::Closest, at.org[i], at.dir[i], 0.0f, kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
+      rayes.set(i, RayKind::Closest, at.org[i], at.dir[i], kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
     embree = rayes;
   }
   traceRayes(w, rayes);
@@ -154,9 +154,9 @@ TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   RayBatch b;
   b.resize(4);
   const uint32_t floor = uint32_t(w.leaves.size() - 1);  // the quad at x, y in [0, 5]
-  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0, floor, kNoLeaf, 0, 0.0f);
-  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0, floor, kNoLeaf, 0, 0.0f);
-  b.setFromNowhere(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 0, 10, 0, 0);
+  b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, kInf, 0, 0, floor, kNoLeaf, 0, 0.0f);
+  b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 10, 0, 0, floor, kNoLeaf, 0, 0.0f);
+  b.setFromNowhere(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 10, 0, 0);
   b.kind[3] = RayKind::Inactive;
   const GenerationStats stats = traceEmbree(w, b);
   EXPECT_FALSE(b.hit[0].valid());
@@ -174,7 +174,7 @@ TEST(EmbreeEngine, BatchesOfAnySizeAreTracedWhole) {
   RayBatch b;
   const int n = 300001;
   b.resize(n);
-  for (int i = 0; i < n; ++i) b.setFromNowhere(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);
+  for (int i = 0; i < n; ++i) b.setFromNowhere(i, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, kInf, 0, 0);
   traceEmbree(w, b);
   int hits = 0;
   for (int i = 0; i < n; ++i) hits += b.hit[i].valid() && b.hit[i].t == 5.0f;
@@ -185,9 +185,9 @@ TEST(EmbreeEngine, RaysItCannotTraceHitNothing) {
   const World w(false);
   RayBatch b;
   b.resize(3);
-  b.setFromNowhere(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, 0, kInf, 0, 0);      // zero direction
-  b.setFromNowhere(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, 0, kInf, 0, 0);  // infinite origin
-  b.setFromNowhere(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 3, 3, 0, 0);        // empty interval
+  b.setFromNowhere(0, RayKind::Closest, {2, 2, 5}, {0, 0, 0}, kInf, 0, 0);      // zero direction
+  b.setFromNowhere(1, RayKind::Closest, {kInf, 2, 5}, {0, 0, -1}, kInf, 0, 0);  // infinite origin
+  b.setFromNowhere(2, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, 0, 0, 0);        // empty interval
   traceEmbree(w, b);
   for (int i = 0; i < 3; ++i) EXPECT_FALSE(b.hit[i].valid()) << i;
 }

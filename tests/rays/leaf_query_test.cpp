@@ -58,7 +58,7 @@ struct Batch {
       const RngKey k{uint32_t(i), 0, 0, 5};
       const float a = 6.2831853f * sampleUniform(k, 0);
       const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 1 + 3 * sampleUniform(k, 1)};
-      rays.setFromNowhere(size_t(i), RayKind::Closest, o, normalize(Vec3{0, 0, 1} - o), 0.0f, kInf, 0.0f, 0.0f);
+      rays.setFromNowhere(size_t(i), RayKind::Closest, o, normalize(Vec3{0, 0, 1} - o), kInf, 0.0f, 0.0f);
     }
     for (size_t q = 0; q < queryCount; ++q) queries.leaf.push_back(q % 3 == 2 ? kNoLeaf : uint32_t(7 * q % leaves));
     queries.runner = &runner;

@@ -44,7 +44,7 @@ RayBatch randomRays(int n, bool shadow) {
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
     const Vec3 d = normalize(target - o);
-    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, 0.0f, shadow ? 8.0f : kInf, 0.0f, 0.0f);
+    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, shadow ? 8.0f : kInf, 0.0f, 0.0f);
   }
   return b;
 }
@@ -61,7 +61,7 @@ uint8_t skippedBorders(const Leaves& w, const RayBatch& b, int i, uint32_t leaf)
     const uint32_t nb = neighbours[leaf][e];
     float t0, t1;
     if (nb == Tracer::kFreeBorder) skip |= uint8_t(1u << e);
-    else if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.org[i], b.dir[i]), w.boxes[nb].lo, w.boxes[nb].hi, b.tmin[i],
+    else if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.org[i], b.dir[i]), w.boxes[nb].lo, w.boxes[nb].hi, 0.0f,
                                       std::numeric_limits<float>::infinity(), t0, t1))
       skip |= uint8_t(1u << e);
   }
@@ -71,7 +71,7 @@ uint8_t skippedBorders(const Leaves& w, const RayBatch& b, int i, uint32_t leaf)
 // The distance a hit is kept at: at least the ray's entry into the leaf's box.
 float keptDistance(const Box3& box, const RayBatch& b, int i, float t) {
   float t0, t1;
-  if (!intersectBox(RayBoxQuery(b.org[i], b.dir[i]), box.lo, box.hi, b.tmin[i], kInf, t0, t1)) t0 = b.tmin[i];
+  if (!intersectBox(RayBoxQuery(b.org[i], b.dir[i]), box.lo, box.hi, 0.0f, kInf, t0, t1)) t0 = 0.0f;
   return std::max(t, t0);
 }
 
@@ -84,7 +84,7 @@ RayHit bruteForce(const Leaves& w, const RayBatch& b, int i, DiceBuffer& dice) {
     BottomQuery q;
     q.closeBorders = true;  // as the tracer does for rays that do not leave from this leaf
     q.skipBorders = skippedBorders(w, b, i, leaf);
-    if (!dice.intersect(b.org[i], b.dir[i], b.tmin[i], b.tmax[i], kLod, h, q)) continue;
+    if (!dice.intersect(b.org[i], b.dir[i], 0.0f, b.tmax[i], kLod, h, q)) continue;
     const float t = keptDistance(w.boxes[leaf], b, i, h.t);
     if (nearerHit(t, leaf, h.quad, best)) {
       best.t = t;
@@ -170,7 +170,7 @@ TEST(Tracer, HitsDoNotDependOnCandidatesPerIteration) {
     const RngKey k{uint32_t(i), 0, 0, 12};
     const Vec3 o{-3 + 6 * sampleUniform(k, 0), -3 + 6 * sampleUniform(k, 1), 0.5f + 9 * sampleUniform(k, 2)};
     const Vec3 target{-0.9f + 1.8f * sampleUniform(k, 3), -0.9f + 1.8f * sampleUniform(k, 4), 0};
-    rays.setFromNowhere(i, RayKind::Closest, o, target - o, 0.0f, kInf, 0.0f, 0.0f);
+    rays.setFromNowhere(i, RayKind::Closest, o, target - o, kInf, 0.0f, 0.0f);
   }
   RayBatch one = rays, all = rays;
   traceAll(w, one, 1 << 16, true, 1);
@@ -191,7 +191,7 @@ TEST(Tracer, HitsDoNotDependOnCandidatesPerIteration) {
     BottomQuery q;
     q.closeBorders = true;
     q.skipBorders = skippedBorders(w, rays, i, ref.leaf);
-    ASSERT_TRUE(dice.intersect(rays.org[i], rays.dir[i], rays.tmin[i], rays.tmax[i], kLod, h, q));
+    ASSERT_TRUE(dice.intersect(rays.org[i], rays.dir[i], 0.0f, rays.tmax[i], kLod, h, q));
     beforeEntry += h.t < ref.t;
   }
   EXPECT_GT(beforeEntry, 0);  // the case the clamp exists for does occur here
@@ -301,7 +301,7 @@ TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   RayBatch b;
   b.resize(2);
   const uint32_t wall = uint32_t(w.leaves.size() - 1);
-  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, 0, kInf, 0, 0, wall, kNoLeaf, 0, 0.0f);  // above the teapot, at the wall
+  b.set(0, RayKind::Closest, {0, -20, 4}, {0, 1, 0}, kInf, 0, 0, wall, kNoLeaf, 0, 0.0f);  // above the teapot, at the wall
   b.kind[1] = RayKind::Inactive;
   GenerationStats stats;
   TraceTimes times;

@@ -103,7 +103,7 @@ struct TestScene {
         if (l == rays.ignoreLeaf[i]) continue;
         RayHit h;
         const float tmax = std::min(rays.tmax[i], best.t);
-        if (intersect(shapes[l], rays.org[i], rays.dir[i], std::max(rays.tmin[i], 0.0f), tmax, h, l)) best = h;
+        if (intersect(shapes[l], rays.org[i], rays.dir[i], std::max(0.0f, 0.0f), tmax, h, l)) best = h;
       }
       rays.hit[i] = best;
     }
