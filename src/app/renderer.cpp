@@ -95,7 +95,7 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   m.topLevel = data_.top.bytes();
   m.leaves = scene_.leaves.size();
   m.sceneDescription = scene_.leaves.descriptionBytes() + scene_.leafMaterial.capacity() * sizeof(uint32_t) +
-                       data_.leafTableBytes() + stats_.engine.leafTableBytes;
+                       data_.leafTableBytes() + stats_.engine.leafTableBytes + integrator_->leafTableBytes();
   return m;
 }
 

@@ -55,6 +55,9 @@ class Integrator {
   virtual ~Integrator() = default;
   virtual uint32_t raysPerPath() const = 0;
   virtual size_t bytesPerPath() const = 0;
+  // Bytes the integrator keeps per leaf of the scene, made once (counted in the stats' scene
+  // description).
+  virtual size_t leafTableBytes() const { return 0; }
   virtual void start(uint64_t first, uint32_t count, RayBatch& rays) = 0;
   virtual size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) = 0;
   virtual void finish(Film& film, ShadeStats& stats) = 0;

@@ -358,9 +358,7 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
     const bool traced = rays.kind[cs] == RayKind::Closest;
     const bool shadowed = rays.kind[cs + 1] == RayKind::Shadow;
     if (!traced && !shadowed) continue;
-    uint64_t key = ~uint64_t(0);
-    if (traced && h.valid()) key = (uint64_t(scene_.leafMaterial[h.leaf]) << 32) | h.leaf;
-    order_.push_back({key, k});
+    order_.push_back({traced && h.valid() ? shadeRank_[h.leaf] : kNoHitRank, k});
   }
   tbb::parallel_sort(order_.begin(), order_.end(), [](const SortItem& a, const SortItem& b) {
     return a.key != b.key ? a.key < b.key : a.path < b.path;

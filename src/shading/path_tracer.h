@@ -117,8 +117,9 @@ class PathTracer final : public Integrator {
     // dear (glossy beams): their share of a pixel is small, their cost the first vertex's.
     float laterGatherProbability = kLaterGatherProbability;
   };
-  explicit PathTracer(const ShadingScene& scene) : scene_(scene) {}
-  PathTracer(const ShadingScene& scene, Options options) : scene_(scene), options_(options) {}
+  explicit PathTracer(const ShadingScene& scene) : PathTracer(scene, Options{}) {}
+  PathTracer(const ShadingScene& scene, Options options)
+      : scene_(scene), options_(options), shadeRank_(shadeRanks(scene.leafMaterial)) {}
 
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
@@ -127,6 +128,7 @@ class PathTracer final : public Integrator {
   size_t bytesPerPath() const override {
     return PathBatch::bytesPerPath() + sizeof(SortItem) + (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0);
   }
+  size_t leafTableBytes() const override { return shadeRank_.capacity() * sizeof(uint32_t); }
   void start(uint64_t first, uint32_t count, RayBatch& rays) override { start(first, count, paths_, rays); }
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override {
     return shade(bounce, paths_, rays, stats);
@@ -188,7 +190,12 @@ class PathTracer final : public Integrator {
 
   const ShadingScene& scene_;
   Options options_;
-  struct SortItem { uint64_t key; uint32_t path; };
+  // The shading sort's key of a hit on leaf l is shadeRank_[l] (shadeRanks: 4 bytes per leaf,
+  // made once), so a path's sort item is 8 bytes, not a 64-bit (material, leaf) key and the
+  // path; kNoHitRank (misses, and paths without a closest ray) sorts last.
+  static constexpr uint32_t kNoHitRank = 0xffffffffu;
+  struct SortItem { uint32_t key; uint32_t path; };
+  std::vector<uint32_t> shadeRank_;
   std::vector<SortItem> order_;
   GatherRunner gatherRunner_;
   PathBatch paths_;

@@ -26,4 +26,8 @@ struct ShadingScene {
   LightSampler lights;
 };
 
+// Per leaf, its place in (material, leaf) order: the key that groups a generation's hits by
+// material and leaf for shading (PathTracer) in one 32-bit word. O(leaves + materials).
+std::vector<uint32_t> shadeRanks(const std::vector<uint32_t>& leafMaterial);
+
 }  // namespace rayes
