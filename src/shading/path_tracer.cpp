@@ -75,7 +75,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
       paths.alive[k] = 1;
-      paths.aov[k] = FirstHit{};
+      paths.aov[k] = FirstHitRecord{};
       paths.bsdfPdf[k] = 0;
       paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
@@ -135,10 +135,10 @@ void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch&
 
 // Step 3's first-hit AOVs (camera rays only).
 void recordFirstHit(const Vertex& v, PathBatch& paths) {
-  FirstHit& aov = paths.aov[v.k];
-  aov.hitSurface = true;
+  FirstHitRecord& aov = paths.aov[v.k];
+  aov.flags = FirstHitRecord::kHitSurface | (v.front ? 0 : FirstHitRecord::kNormalFlipped);
   aov.depth = v.h.t;
-  aov.normal = v.front ? v.h.ns() : -v.h.ns();
+  aov.normalCode = v.h.nsCode;
   aov.lod = v.h.level;
   aov.albedo = v.reflects ? v.bsdf.reflectance() : Rgb{};
   aov.materialId = int32_t(v.matId);
@@ -375,7 +375,7 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
       for (uint64_t s = s0; s <= s1; ++s) {
         const uint64_t id = s * pixels + p;
         if (id < first || id >= end) continue;
-        PixelSample sample{paths.aov[id - first], paths.radiance[id - first]};
+        PixelSample sample{paths.aov[id - first].unpack(), paths.radiance[id - first]};
         if (!isFinite(sample.radiance)) {
           sample.radiance = {0, 0, 0};
           stats.nonFinite.fetch_add(1, std::memory_order_relaxed);

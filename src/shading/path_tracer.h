@@ -51,6 +51,25 @@ struct PostedGather {
   Rgb throughput, radiance;
 };
 
+// A camera path's first-hit AOVs as its batch keeps them: 28 bytes instead of FirstHit's 40
+// (the shading normal as the hit's octahedral code and a side bit, the level as a byte).
+// unpack() gives the FirstHit the film adds, bit for bit.
+struct FirstHitRecord {
+  float depth = 0;
+  uint32_t normalCode = 0;  // encodeOctahedral of the hit's shading normal (RayHit::nsCode)
+  Rgb albedo;
+  int32_t materialId = -1;
+  uint8_t lod = 0;
+  uint8_t flags = 0;
+  static constexpr uint8_t kHitSurface = 1, kNormalFlipped = 2;  // flipped: the camera saw its back
+  FirstHit unpack() const {
+    if (!(flags & kHitSurface)) return FirstHit{};
+    const Vec3 n = decodeOctahedral(normalCode);
+    return FirstHit{true, depth, (flags & kNormalFlipped) ? -n : n, float(lod), albedo, materialId};
+  }
+};
+static_assert(sizeof(FirstHitRecord) == 28);
+
 // The state of a batch of paths, structure of arrays; path k has global id first + k, which is
 // sample * pixels + pixel (sample-major: a batch covers whole samples of the image).
 struct PathBatch {
@@ -61,7 +80,7 @@ struct PathBatch {
   std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
   std::vector<uint8_t> alive;
   std::vector<uint8_t> causticRun;  // CausticRun: where the path stands in a diffuse -> caustic chain
-  std::vector<FirstHit> aov;
+  std::vector<FirstHitRecord> aov;
   // Caustic gathers as leaf queries: slot k is path k's, at most one per generation, posted
   // by shade() and added to the radiance by the next shade(), after trace() ran it.
   LeafQueries gatherQueries;
@@ -71,7 +90,7 @@ struct PathBatch {
     throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
     bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n); causticRun.resize(n);
   }
-  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(FirstHit); }
+  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(FirstHitRecord); }
   static constexpr size_t bytesPerGather() { return sizeof(PostedGather) + LeafQueries::bytesPerSlot(); }
 };
 

@@ -75,6 +75,30 @@ struct OneLightScene {
   }
 };
 
+// The batch keeps a path's first hit packed; the film must get what shading saw, bit for bit.
+TEST(FirstHitRecord, UnpacksToTheFirstHitShadingSaw) {
+  EXPECT_FALSE(FirstHitRecord{}.unpack().hitSurface);
+  EXPECT_EQ(FirstHitRecord{}.unpack().materialId, -1);
+  RayHit h;
+  h.setNormals({0, 0, 1}, normalize(Vec3{0.3f, -0.4f, 0.5f}));
+  for (const bool flipped : {false, true}) {
+    FirstHitRecord r;
+    r.flags = FirstHitRecord::kHitSurface | (flipped ? FirstHitRecord::kNormalFlipped : 0);
+    r.depth = 7.25f;
+    r.normalCode = h.nsCode;
+    r.lod = 11;
+    r.albedo = {0.1f, 0.2f, 0.3f};
+    r.materialId = 4;
+    const FirstHit f = r.unpack();
+    EXPECT_TRUE(f.hitSurface);
+    EXPECT_EQ(f.depth, 7.25f);
+    EXPECT_EQ(f.normal, flipped ? -h.ns() : h.ns());
+    EXPECT_EQ(f.lod, 11.0f);
+    EXPECT_EQ(f.albedo.y, 0.2f);
+    EXPECT_EQ(f.materialId, 4);
+  }
+}
+
 TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
   OneLightScene s;
   PathTracer tracer(s.scene);
