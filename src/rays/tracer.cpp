@@ -1,5 +1,6 @@
 #include "rays/tracer.h"
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <cmath>
 #include <cstring>
@@ -172,7 +173,7 @@ void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t l
     if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
     float t0, t1;
     if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, 0.0f, kInf, t0, t1)) continue;
-    const int other = levelOn(b, i, nb);
+    const int other = levelFor(b, i, nb, t0);  // levelOn(b, i, nb): t0 is leafEntry's box entry
     if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
       if (other <= level) query.skipBorders |= uint8_t(1u << e);
     } else if (other == level && level <= BottomQuery::kMaxThinLevel) {
@@ -299,9 +300,8 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 // its time, on a moving leaf), a hit offered to the ray. True when the nearest hit was a
 // border box.
 bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
-                           int m) {
+                           int m, float entry) {
   const uint32_t i = rayOfSlot(s);
-  const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
   const float limit = searchLimit(b, i, bestT_[i]);
   BottomQuery query;
@@ -403,6 +403,10 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
   auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
+  // Each sorted slot's entry into its leaf's box (Tracer::leafEntry, as float bits), written by
+  // runLevel and read by the intersection, in the sort's scratch: free until the next sort.
+  sort_.scratch.resize(sort_.order.size());
+  auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
   if (cache_.enabled()) {
     // The level of every static run (a moving leaf's levels are per time interval, later),
@@ -411,7 +415,7 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 64), [&](const auto& r) {
       for (size_t run = r.begin(); run != r.end(); ++run) {
         const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-        if (!leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf);
+        if (!leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf, runEntries(run));
       }
     });
     uint64_t hits = 0;
@@ -449,7 +453,7 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
           e->patch = leaves_.patch(leaf);  // kept with the grid: border queries read it
           diceRun(b, *e->grid, slots, count, leaf, *e->patch, -1, runLevel_[run], times, counters);
         }
-        intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], times, counters);
+        intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], runEntries(run), times, counters);
         continue;
       }
       DiceBuffer& dice = localDiceBuffer();
@@ -458,8 +462,8 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
       if (leafMoving_[leaf]) {
         diceAndIntersectMoving(b, dice, slots, count, leaf, *patch, times, counters);
       } else {
-        const int m = cache_.enabled() ? runLevel_[run] : runLevel(b, slots, count, leaf);
-        diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, times, counters);
+        const int m = cache_.enabled() ? runLevel_[run] : runLevel(b, slots, count, leaf, runEntries(run));
+        diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, runEntries(run), times, counters);
       }
     }
   });
@@ -494,7 +498,8 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
     const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
     if (k1 > k0) {
       const uint32_t* part = sc.slots.data() + k0;
-      diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, runLevel(b, part, k1 - k0, leaf), times, counters);
+      diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, runLevel(b, part, k1 - k0, leaf, nullptr), nullptr,
+                       times, counters);
     }
   }
 }
@@ -502,17 +507,23 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
 // Dices `leaf` (its time interval, or static when interval < 0) at level m, the finest level of
 // `count` slots (runLevel), and intersects them all.
 void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                              const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
+                              const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
+                              DicingCounters& counters) {
   diceRun(b, dice, slots, count, leaf, patch, interval, m, times, counters);
-  intersectRun(b, dice, slots, count, leaf, patch, m, times, counters);
+  intersectRun(b, dice, slots, count, leaf, patch, m, entryBits, times, counters);
 }
 
-int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf) const {
+int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
+  if (entryBits)
+    for (size_t k = 0; k < count; ++k) entryBits[k] = std::bit_cast<uint32_t>(leafEntry(b, rayOfSlot(slots[k]), leaf));
   if (settings_.lod == LodRule::Density)
     return biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
                        settings_.maxLod);
   int m = 0;
-  for (size_t k = 0; k < count; ++k) m = std::max(m, levelOn(b, rayOfSlot(slots[k]), leaf));
+  for (size_t k = 0; k < count; ++k) {
+    const uint32_t i = rayOfSlot(slots[k]);
+    m = std::max(m, levelFor(b, i, leaf, entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, i, leaf)));
+  }
   return m;
 }
 
@@ -536,11 +547,15 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
 // read-only, buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
 // (which would re-dice its buffer) while it waits.
 void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                          const Patch& patch, int m, TraceTimes& times, DicingCounters& counters) {
+                          const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times,
+                          DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     uint64_t borders = 0;
-    for (size_t k = k0; k < k1; ++k) borders += intersectSlot(b, dice, slots[k], leaf, patch, m);
+    for (size_t k = k0; k < k1; ++k) {
+      const float entry = entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, rayOfSlot(slots[k]), leaf);
+      borders += intersectSlot(b, dice, slots[k], leaf, patch, m, entry);
+    }
     if (borders) counters.borderHits.fetch_add(borders, std::memory_order_relaxed);
   };
   constexpr size_t kChunk = 1024;
