@@ -37,6 +37,13 @@ float searchLimit(const RayBatch& b, uint32_t i, float best) {
 // shift is at most the intersection's own error (or a region's radius).
 float keptDistance(float t, float entry) { return std::max(t, entry); }
 
+// One iteration of a spin-wait: tells the core this is a wait loop (x86 `pause`).
+inline void spinPause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
 // A hit as the RayHit keeps it: the distance clamped as above, normals octahedral-encoded (the
 // same record in every mode, so the sorted and alone modes agree bit for bit).
 RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
@@ -325,13 +332,15 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
 }
 
 // 4, reduction: the ray keeps the nearest hit under the total order, whichever leaf's task
-// offers first. The lock is per ray and held for a compare and a copy.
+// offers first. The lock is per ray and held for a compare and a copy, so a waiter spins:
+// atomic_flag::wait/notify_one cost a locked add on a waiter-pool word every thread shares on
+// every offer (46 % of offerHit's samples on subdiv-creature; bench/RESULTS.md).
 void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
   std::atomic_flag& lock = hitLock_[i];
-  while (lock.test_and_set(std::memory_order_acquire)) lock.wait(true, std::memory_order_relaxed);
+  while (lock.test_and_set(std::memory_order_acquire))
+    while (lock.test(std::memory_order_relaxed)) spinPause();
   if (nearerHit(h.t, h.leaf, h.quad, b.hit[i])) b.hit[i] = h;
   lock.clear(std::memory_order_release);
-  lock.notify_one();
 }
 
 // One iteration of the sorted pipeline per loop, in the five steps of the header comment.
