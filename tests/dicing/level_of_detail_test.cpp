@@ -1,6 +1,7 @@
 // Specification of per-ray level of detail: a ray traced at level k on a finer dicing gets
 // exactly the hit of a level-k dicing (docs/design.md, invariant 2), and the level rules.
 #include <gtest/gtest.h>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include "geometry/bezier_patch.h"
@@ -88,6 +89,25 @@ TEST(LevelOfDetail, FootprintRule) {
   EXPECT_EQ(levelForFootprint(1, 0.1f, 0), 0);
   EXPECT_EQ(levelForFootprint(1, 0.1f, -3), 0);
   EXPECT_EQ(levelForFootprint(3e38f, 1e-38f, 1000), 255);  // 2^255 * 1e-38 overflows to inf: still >=
+}
+
+// The rule doubles the width instead of calling ldexp per level; doubling is exact, so the two
+// must agree everywhere, including subnormal widths and widths that overflow on the way.
+TEST(LevelOfDetail, FootprintRuleEqualsTheLdexpDefinition) {
+  auto byLdexp = [](float size, float width, int maxLevel) {
+    for (int m = 0; m < maxLevel; ++m)
+      if (size <= std::ldexp(width, m)) return m;
+    return maxLevel;
+  };
+  uint32_t state = 12345u;
+  auto next = [&] { state = state * 1664525u + 1013904223u; return state; };
+  for (int i = 0; i < 200000; ++i) {
+    const float size = std::ldexp(float(next() >> 8) * 0x1p-24f + 0.5f, int(next() % 300) - 150);
+    const float width = std::ldexp(float(next() >> 8) * 0x1p-24f + 0.5f, int(next() % 300) - 150);
+    const int maxLevel = int(next() % 400);
+    if (!(size > 0) || !(width > 0) || !std::isfinite(size) || !std::isfinite(width)) continue;
+    ASSERT_EQ(levelForFootprint(size, width, maxLevel), byLdexp(size, width, maxLevel)) << size << " " << width;
+  }
 }
 
 TEST(LevelOfDetail, DensityRule) {
