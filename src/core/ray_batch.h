@@ -1,4 +1,5 @@
-// The rays of one generation and their hits, as a structure of arrays. Data only: shading
+// The rays of one generation and their hits: three arrays (the Ray records, their shutter times
+// when anything moves, the RayHits), indexed by ray slot. Data only: shading
 // writes rays into a RayBatch and reads the hits back; src/rays traces it. Keeping the type
 // here lets both sides use it without knowing each other (docs/design.md, "The two seams": shading knows nothing of
 // how rays are sorted).
@@ -44,36 +45,41 @@ struct RayHit {
   }
 };
 
+// What to trace, one record per ray (48 bytes): the tracer reads most of these fields together
+// for every (ray, leaf) pair of the bottom level and the top level, in an order set by the
+// sort, so one record is one cache miss where separate arrays cost one each (bench/RESULTS.md).
+// A ray spans t in [0, tmax] from org: it leaves a surface by originLeaf, not by an offset tmin.
+struct Ray {
+  Vec3 org, dir;                // dir need not be unit; t is in units of |dir|
+  float tmax = 0;
+  float coneWidth = 0;          // footprint width at the origin
+  float coneSpread = 0;         // footprint growth per unit t (2 tan(half angle) * |dir|)
+  uint32_t ignoreLeaf = kNoLeaf;  // a leaf this ray must not hit (a shadow ray's light)
+  // The leaf the ray leaves from and the level it was hit at: the ray sees that leaf at exactly
+  // that level, the same micro-grid it left, so a coarser footprint cannot make it hit its own
+  // patch again (kNoLeaf for camera rays).
+  uint32_t originLeaf = kNoLeaf;
+  uint8_t originLevel = 0;
+  RayKind kind = RayKind::Inactive;
+};
+static_assert(sizeof(Ray) == 48);
+
 struct RayBatch {
-  // What to trace.
-  // A ray spans t in [0, tmax] from org: it leaves a surface by originLeaf below, not by an
-  // offset tmin, so none is stored (4 bytes a slot).
-  std::vector<Vec3> org, dir;         // dir need not be unit; t is in units of |dir|
-  std::vector<float> tmax;
-  std::vector<float> coneWidth;       // footprint width at the origin
-  std::vector<float> coneSpread;      // footprint growth per unit t (2 tan(half angle) * |dir|)
+  std::vector<Ray> ray;
   // Shutter time in [0, 1], per ray only when `timed`: a scene where nothing moves sees the same
   // geometry at every time, so its batches leave the array empty and every ray is at time 0.
   std::vector<float> time;
   bool timed = true;                  // set before resize()
-  std::vector<uint32_t> ignoreLeaf;   // a leaf this ray must not hit (a shadow ray's light)
-  // The leaf the ray leaves from and the level it was hit at: the ray sees that leaf at exactly
-  // that level, the same micro-grid it left, so a coarser footprint cannot make it hit its own
-  // patch again (kNoLeaf for camera rays).
-  std::vector<uint32_t> originLeaf;
-  std::vector<uint8_t> originLevel;
-  std::vector<RayKind> kind;
   // What was found.
   std::vector<RayHit> hit;
   // Queries the engine runs per leaf during trace(), besides the rays (core/leaf_queries.h):
   // the poster's (not owned), or none.
   LeafQueries* queries = nullptr;
 
-  size_t size() const { return kind.size(); }
+  size_t size() const { return ray.size(); }
   void resize(size_t n) {
-    org.resize(n); dir.resize(n); tmax.resize(n); coneWidth.resize(n);
-    coneSpread.resize(n); time.resize(timed ? n : 0); ignoreLeaf.resize(n); originLeaf.resize(n); originLevel.resize(n);
-    kind.resize(n);
+    ray.resize(n);
+    time.resize(timed ? n : 0);
     hit.resize(n);
   }
   float timeOf(size_t i) const { return timed ? time[i] : 0.0f; }
@@ -81,10 +87,8 @@ struct RayBatch {
   // and trace at time 0, or re-hit the surface it leaves.
   void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread,
            uint32_t ignore, uint32_t fromLeaf, uint8_t fromLevel, float shutterTime) {
-    kind[i] = k; org[i] = o; dir[i] = d; tmax[i] = t1; coneWidth[i] = width;
-    coneSpread[i] = spread; ignoreLeaf[i] = ignore;
+    ray[i] = Ray{o, d, t1, width, spread, ignore, fromLeaf, fromLevel, k};
     if (timed) time[i] = shutterTime;
-    originLeaf[i] = fromLeaf; originLevel[i] = fromLevel;
     hit[i] = RayHit{};
   }
   // A ray that leaves no surface and ignores no leaf, at shutter time 0 (tests, benchmarks).
@@ -92,8 +96,7 @@ struct RayBatch {
     set(i, k, o, d, t1, width, spread, kNoLeaf, kNoLeaf, 0, 0.0f);
   }
   static constexpr size_t bytesPerRay(bool timed) {
-    return 2 * sizeof(Vec3) + (timed ? 4 : 3) * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint8_t) +
-           sizeof(RayKind) + sizeof(RayHit);
+    return sizeof(Ray) + (timed ? sizeof(float) : 0) + sizeof(RayHit);
   }
 };
 

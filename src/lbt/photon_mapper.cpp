@@ -55,7 +55,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
       for (uint32_t k = r.begin(); k != r.end(); ++k) {
         const size_t cs = PathTracer::kRaysPerPath * size_t(k);
-        rays.kind[cs] = rays.kind[cs + 1] = RayKind::Inactive;
+        rays.ray[cs].kind = rays.ray[cs + 1].kind = RayKind::Inactive;
         LightPathStart start;
         if (scene_.integrator.maxDepth < 1 || !sampleLightPathStart(scene_, keyOf(first + k, 0), start)) continue;
         throughput_[k] = start.e.weight;
@@ -71,8 +71,8 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
       size_t local = 0;
       for (uint32_t k = r.begin(); k != r.end(); ++k) {
         const size_t cs = PathTracer::kRaysPerPath * size_t(k);
-        if (rays.kind[cs] != RayKind::Closest) continue;
-        rays.kind[cs] = RayKind::Inactive;
+        if (rays.ray[cs].kind != RayKind::Closest) continue;
+        rays.ray[cs].kind = RayKind::Inactive;
         LightPathHit hit;
         if (!lightPathHit(scene_, rays, cs, stats, hit) || hit.mat->reflectsNothing()) continue;
         const LightRun run = run_[k] = nextRun(run_[k], isCausticScatterer(*hit.mat));

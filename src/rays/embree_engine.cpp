@@ -42,31 +42,31 @@ struct MemoryMonitor {
 // The intersect context with what the filter needs: the leaf each ray must not hit, by ray id.
 struct FilterContext {
   RTCIntersectContext context;
-  const uint32_t* ignoreLeaf = nullptr;
+  const Ray* rays = nullptr;
 };
 
 void rejectIgnoredLeaf(const RTCFilterFunctionNArguments* a) {
   const auto* ctx = reinterpret_cast<const FilterContext*>(a->context);
   for (unsigned k = 0; k < a->N; ++k) {
     if (a->valid[k] != -1) continue;
-    if (RTCHitN_geomID(a->hit, a->N, k) == ctx->ignoreLeaf[RTCRayN_id(a->ray, a->N, k)]) a->valid[k] = 0;
+    if (RTCHitN_geomID(a->hit, a->N, k) == ctx->rays[RTCRayN_id(a->ray, a->N, k)].ignoreLeaf) a->valid[k] = 0;
   }
 }
 
 // A ray Embree may see: finite origin, a finite non-zero direction, a non-empty interval. The
 // Rayes tracer gives the others no hit; so does this engine, without asking Embree.
 bool traceable(const RayBatch& b, uint32_t i) {
-  const Vec3 o = b.org[i], d = b.dir[i];
+  const Vec3 o = b.ray[i].org, d = b.ray[i].dir;
   const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
                       std::isfinite(d.y) && std::isfinite(d.z);
-  return finite && (d.x != 0 || d.y != 0 || d.z != 0) && 0.0f < b.tmax[i];
+  return finite && (d.x != 0 || d.y != 0 || d.z != 0) && 0.0f < b.ray[i].tmax;
 }
 
 void setRay(const RayBatch& b, uint32_t i, RTCRay& r) {
-  r.org_x = b.org[i].x; r.org_y = b.org[i].y; r.org_z = b.org[i].z;
-  r.dir_x = b.dir[i].x; r.dir_y = b.dir[i].y; r.dir_z = b.dir[i].z;
+  r.org_x = b.ray[i].org.x; r.org_y = b.ray[i].org.y; r.org_z = b.ray[i].org.z;
+  r.dir_x = b.ray[i].dir.x; r.dir_y = b.ray[i].dir.y; r.dir_z = b.ray[i].dir.z;
   r.tnear = 0.0f;
-  r.tfar = b.tmax[i];
+  r.tfar = b.ray[i].tmax;
   r.time = std::clamp(b.timeOf(i), 0.0f, 1.0f);
   r.mask = 0xffffffffu;
   r.id = i;
@@ -278,13 +278,13 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     bool ignores = false;
     uint64_t counted = 0, countedShadow = 0;
     for (size_t i = range.begin(); i != range.end(); ++i) {
-      if (b.kind[i] == RayKind::Inactive) continue;
+      if (b.ray[i].kind == RayKind::Inactive) continue;
       b.hit[i] = RayHit{};
       ++counted;
-      const bool isShadow = b.kind[i] == RayKind::Shadow;
+      const bool isShadow = b.ray[i].kind == RayKind::Shadow;
       countedShadow += isShadow;
       if (!traceable(b, uint32_t(i))) continue;
-      ignores |= b.ignoreLeaf[i] != kNoLeaf;
+      ignores |= b.ray[i].ignoreLeaf != kNoLeaf;
       if (isShadow) {
         setRay(b, uint32_t(i), occl[ns++]);
       } else {
@@ -298,7 +298,7 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     rtcInitIntersectContext(&ctx.context);
     if (ignores) {
       ctx.context.filter = &rejectIgnoredLeaf;
-      ctx.ignoreLeaf = b.ignoreLeaf.data();
+      ctx.rays = b.ray.data();
     }
     if (nc) rtcIntersect1M(scene, &ctx.context, closest, nc, sizeof(RTCRayHit));
     if (ns) rtcOccluded1M(scene, &ctx.context, occl, ns, sizeof(RTCRay));

@@ -21,8 +21,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // inclusive, so that a leaf with an equal-distance hit and a smaller id is still found in a
 // later iteration (the tie order must not depend on which iteration a leaf came in).
 float searchLimit(const RayBatch& b, uint32_t i, float best) {
-  if (b.kind[i] == RayKind::Shadow) return b.tmax[i];
-  return std::min(b.tmax[i], std::nextafter(best, kInf));
+  if (b.ray[i].kind == RayKind::Shadow) return b.ray[i].tmax;
+  return std::min(b.ray[i].tmax, std::nextafter(best, kInf));
 }
 
 // The distance a hit on a leaf is ordered and kept by: its t, but never less than the ray's
@@ -156,7 +156,7 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
 }
 
 float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
-  const RayBoxQuery q(b.org[ray], b.dir[ray]);
+  const RayBoxQuery q(b.ray[ray].org, b.ray[ray].dir);
   float t0, t1;
   const Box3& box = leafBox_[leaf];
   if (!intersectBox(q, box.lo, box.hi, 0.0f, kInf, t0, t1)) t0 = 0.0f;
@@ -170,14 +170,14 @@ int Tracer::levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
 void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
                                        BottomQuery& query) const {
   if (borderNeighbour_.empty()) return;
-  const RayBoxQuery q(b.org[i], b.dir[i]);
+  const RayBoxQuery q(b.ray[i].org, b.ray[i].dir);
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = borderNeighbour_[leaf][e];
     if (nb == kFreeBorder) {
       query.skipBorders |= uint8_t(1u << e);
       continue;
     }
-    if (nb == kNoLeaf || nb == b.originLeaf[i] || nb == b.ignoreLeaf[i]) continue;
+    if (nb == kNoLeaf || nb == b.ray[i].originLeaf || nb == b.ray[i].ignoreLeaf) continue;
     float t0, t1;
     if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, 0.0f, kInf, t0, t1)) continue;
     const int other = levelFor(b, i, nb, t0);  // levelOn(b, i, nb): t0 is leafEntry's box entry
@@ -273,10 +273,10 @@ int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry
   int level;
   if (settings_.lod == LodRule::Fixed) {
     level = biasedLevel(settings_.maxLod, settings_.lodBias, settings_.maxLod);
-  } else if (leaf == b.originLeaf[ray]) {
-    level = std::min<int>(b.originLevel[ray], settings_.maxLod);  // carries the bias already
+  } else if (leaf == b.ray[ray].originLeaf) {
+    level = std::min<int>(b.ray[ray].originLevel, settings_.maxLod);  // carries the bias already
   } else {
-    const float width = b.coneWidth[ray] + std::max(entry, 0.0f) * b.coneSpread[ray];
+    const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread;
     level = biasedLevel(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), settings_.lodBias,
                         settings_.maxLod);
   }
@@ -315,8 +315,8 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, query);
-  if (b.kind[i] == RayKind::Shadow) {
-    if (dice.occluded(b.org[i], b.dir[i], 0.0f, limit, level, query)) {
+  if (b.ray[i].kind == RayKind::Shadow) {
+    if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
       RayHit occluder;
       occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
       offerHit(b, i, occluder);
@@ -324,7 +324,7 @@ bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
     return false;
   }
   GridHit h;
-  if (dice.intersect(b.org[i], b.dir[i], 0.0f, limit, level, h, query)) {
+  if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query)) {
     offerHit(b, i, hitRecord(h, leaf, level, entry));
     return h.border;
   }
@@ -375,10 +375,10 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
     for (size_t a = r.begin(); a != r.end(); ++a) {
       const uint32_t i = active_[a];
       float next = kInf;
-      const int got = top_.collect(b.org[i], b.dir[i], 0.0f, searchLimit(b, i, bestT_[i]),
+      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, bestT_[i]),
                                    resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
       const size_t base = a * size_t(N);
-      for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ignoreLeaf[i] ? kNoLeaf : local[j].leaf;
+      for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
       if (got > 0) {
         resumeEntry_[i] = local[got - 1].entry;
         resumeLeaf_[i] = local[got - 1].leaf;
@@ -547,7 +547,7 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
   counters.dicings.fetch_add(1, std::memory_order_relaxed);
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
-  if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.originLeaf[rayOfSlot(s)] == leaf; }))
+  if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.ray[rayOfSlot(s)].originLeaf == leaf; }))
     counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
 }
 
@@ -587,7 +587,7 @@ void Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) 
     const uint32_t i = active_[a];
     if (a >= nNow) { active_[kept++] = i; continue; }
     const bool exhausted = !(nextEntry_[i] < kInf);
-    const bool done = b.kind[i] == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
+    const bool done = b.ray[i].kind == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
                                                    : (exhausted || b.hit[i].t < nextEntry_[i]);
     if (done) continue;
     bestT_[i] = b.hit[i].t;
@@ -622,11 +622,11 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
 void Tracer::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active) {
   active.clear();
   for (uint32_t i = 0; i < batch.size(); ++i) {
-    if (batch.kind[i] == RayKind::Inactive) continue;
+    if (batch.ray[i].kind == RayKind::Inactive) continue;
     batch.hit[i] = RayHit{};
     active.push_back(i);
     ++stats.rays;
-    if (batch.kind[i] == RayKind::Shadow) ++stats.shadowRays;
+    if (batch.ray[i].kind == RayKind::Shadow) ++stats.shadowRays;
   }
 }
 
@@ -637,11 +637,11 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
   Candidate local[16];
   for (;;) {
     float next = kInf;
-    const int got = top_.collect(b.org[i], b.dir[i], 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
+    const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
                                  next, scratch);
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
-      if (leaf == b.ignoreLeaf[i]) continue;
+      if (leaf == b.ray[i].ignoreLeaf) continue;
       const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
       const int level = levelFor(b, i, leaf, entry);
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
@@ -652,21 +652,21 @@ void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, T
       query.alpha = when.alpha;
       query.closeBorders = closeBordersFor(b, i, leaf);
       if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, query);
-      if (b.kind[i] == RayKind::Shadow) {
-        if (dice.occluded(b.org[i], b.dir[i], 0.0f, limit, level, query)) {
+      if (b.ray[i].kind == RayKind::Shadow) {
+        if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
           break;
         }
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.org[i], b.dir[i], 0.0f, limit, level, h, query) &&
+      if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query) &&
           nearerHit(keptDistance(h.t, entry), leaf, h.quad, best))
         best = hitRecord(h, leaf, level, entry);
     }
     if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
     const bool exhausted = !(next < kInf);
-    if (b.kind[i] == RayKind::Shadow ? (best.valid() || exhausted) : (exhausted || best.t < next)) break;
+    if (b.ray[i].kind == RayKind::Shadow ? (best.valid() || exhausted) : (exhausted || best.t < next)) break;
   }
 }
 

@@ -180,7 +180,7 @@ class Tracer : public RayEngine {
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
-    return settings_.closeBorders && leaf != b.originLeaf[i];
+    return settings_.closeBorders && leaf != b.ray[i].originLeaf;
   }
   // `entry`: leafEntry(b, ray of slot, leaf), the level's footprint distance and the hit's floor.
   bool intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m,

@@ -34,8 +34,8 @@ void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayB
 bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, ShadeStats& stats, LightPathHit& out) {
   const RayHit h = rays.hit[cs];
   if (!h.valid()) return false;  // left the scene
-  const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
-  const Vec3 wi = -normalize(rays.dir[cs]);
+  const Vec3 p = rays.ray[cs].org + rays.ray[cs].dir * h.t;
+  const Vec3 wi = -normalize(rays.ray[cs].dir);
   if (!isFinite(p) || !isFinite(wi)) {  // the normals are finite: decoded from their codes
     stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
     return false;
@@ -47,7 +47,7 @@ bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, Sh
   out.h = h;
   out.wi = wi;
   out.ns = h.ns();
-  out.at = {p, ng, PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.org[cs])};
+  out.at = {p, ng, PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org)};
   out.arrival = std::fabs(dot(out.ns, wi)) / std::fabs(wiNg);
   out.mat = &scene.materials[scene.leafMaterial[h.leaf]];
   return true;
@@ -68,9 +68,9 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
   T *= bs.weight * (bs.etaRel * bs.etaRel * hit.arrival * std::fabs(dot(hit.at.ng, wo)) / woNs);
   if (!throughputSurvives(T, int(vertex) >= scene.integrator.rouletteDepth, 1.0f, key, kRoulette, stats))
     return false;
-  const float width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
+  const float width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
   rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, kInf, width,
-           PathTracer::spreadAfterBounce(rays.coneSpread[cs], bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
+           PathTracer::spreadAfterBounce(rays.ray[cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
            rays.timeOf(cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;

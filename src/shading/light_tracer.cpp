@@ -60,7 +60,7 @@ void LightTracer::start(uint64_t first, uint32_t count, RayBatch& rays) {
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
-      rays.kind[cs] = rays.kind[ss] = RayKind::Inactive;
+      rays.ray[cs].kind = rays.ray[ss].kind = RayKind::Inactive;
       const RngKey key = keyOf(first + k, pixels, 0, scene_.integrator.seed);
       LightPathStart start;
       if (!sampleLightPathStart(scene_, key, start)) continue;
@@ -92,13 +92,13 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
     size_t localEmitted = 0;
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
-      if (rays.kind[ss] == RayKind::Shadow && !rays.hit[ss].valid()) {
+      if (rays.ray[ss].kind == RayKind::Shadow && !rays.hit[ss].valid()) {
         splats_[size_t(k) * splatsPerPath_ + pendingVertex_[k]] = pending_[k];
         stats.splats.fetch_add(1, std::memory_order_relaxed);
       }
-      rays.kind[ss] = RayKind::Inactive;
-      if (rays.kind[cs] != RayKind::Closest) continue;
-      rays.kind[cs] = RayKind::Inactive;
+      rays.ray[ss].kind = RayKind::Inactive;
+      if (rays.ray[cs].kind != RayKind::Closest) continue;
+      rays.ray[cs].kind = RayKind::Inactive;
       LightPathHit hit;
       if (!lightPathHit(scene_, rays, cs, stats, hit)) continue;
       const Material& mat = *hit.mat;

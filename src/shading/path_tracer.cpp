@@ -82,7 +82,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.causticRun[k] = kNoDiffuseYet;
       rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, kInf, cr.coneWidth, cr.coneSpread, kNoLeaf,
                kNoLeaf, 0, cr.time);
-      rays.kind[kRaysPerPath * size_t(k) + 1] = RayKind::Inactive;
+      rays.ray[kRaysPerPath * size_t(k) + 1].kind = RayKind::Inactive;
     }
   });
 }
@@ -126,7 +126,7 @@ void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch&
   if (!mat.emits() || !(v.front || mat.twoSided)) return;
   float w = 1;
   if (paths.bsdfDelta[v.k] == 0) {
-    const float dist = v.h.t * length(rays.dir[v.cs]);
+    const float dist = v.h.t * length(rays.ray[v.cs].dir);
     w = powerHeuristic(paths.bsdfPdf[v.k],
                        lights.patchPdf(lights.patchLightOfLeaf(v.h.leaf), v.h.u, v.h.v, -v.wo, dist));
   }
@@ -214,7 +214,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
                           stats))
     return false;
   rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, kInf, v.width,
-           PathTracer::spreadAfterBounce(rays.coneSpread[v.cs], bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
+           PathTracer::spreadAfterBounce(rays.ray[v.cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;
@@ -226,14 +226,14 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
 size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const {
   const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
   // 1. Last generation's shadow ray: its contribution counts if nothing was in the way.
-  if (rays.kind[ss] == RayKind::Shadow && !rays.hit[ss].valid()) paths.radiance[k] += paths.shadowContribution[k];
-  rays.kind[ss] = RayKind::Inactive;
-  if (rays.kind[cs] != RayKind::Closest) return 0;
-  rays.kind[cs] = RayKind::Inactive;
+  if (rays.ray[ss].kind == RayKind::Shadow && !rays.hit[ss].valid()) paths.radiance[k] += paths.shadowContribution[k];
+  rays.ray[ss].kind = RayKind::Inactive;
+  if (rays.ray[cs].kind != RayKind::Closest) return 0;
+  rays.ray[cs].kind = RayKind::Inactive;
 
   // 2. What the ray found: the lights at infinity, or a surface and its emission.
   const RayHit h = rays.hit[cs];
-  const Vec3 wo = -normalize(rays.dir[cs]);
+  const Vec3 wo = -normalize(rays.ray[cs].dir);
   // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
   const uint8_t countedNow = countedLights(paths.causticRun[k] == kInCausticChain);
   if (!h.valid()) {
@@ -241,7 +241,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     paths.alive[k] = 0;
     return 0;
   }
-  const Vec3 p = rays.org[cs] + rays.dir[cs] * h.t;
+  const Vec3 p = rays.ray[cs].org + rays.ray[cs].dir * h.t;
   // A broken hit (non-finite point) ends the path here, before it can reach the film or the
   // AOVs (docs/design.md, invariant 5). The normals are finite: decoded from their codes.
   if (!isFinite(p) || !isFinite(wo)) {
@@ -267,8 +267,8 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
   const PathIds ids = idsOf(paths.first + k, pixels);
   const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
-  v.at.offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p, rays.org[cs]);
-  v.width = rays.coneWidth[cs] + h.t * rays.coneSpread[cs];
+  v.at.offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org);
+  v.width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
   // Reflection-only models see the side the viewer is on; a transmitting one keeps the
   // patch normal as "outside".
   const ShadingFrame frame(v.bsdf.transmits() ? ns : (v.front ? ns : -ns));
@@ -355,8 +355,8 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
   for (uint32_t k = 0; k < n; ++k) {
     const size_t cs = kRaysPerPath * size_t(k);
     const RayHit& h = rays.hit[cs];
-    const bool traced = rays.kind[cs] == RayKind::Closest;
-    const bool shadowed = rays.kind[cs + 1] == RayKind::Shadow;
+    const bool traced = rays.ray[cs].kind == RayKind::Closest;
+    const bool shadowed = rays.ray[cs + 1].kind == RayKind::Shadow;
     if (!traced && !shadowed) continue;
     order_.push_back({traced && h.valid() ? shadeRank_[h.leaf] : kNoHitRank, k});
   }

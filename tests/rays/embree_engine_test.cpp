@@ -90,9 +90,9 @@ GenerationStats traceEmbree(const World& w, RayBatch& b) {
 // point| over |dir| (t is in units of |dir|), and Embree's quotient amplifies them by
 // 1 / |cos| of the angle between the ray and the triangle's normal. Two tests: 16 eps / |cos|.
 float tBound(const RayBatch& b, int i, const RayHit& h) {
-  const Vec3 p = b.org[i] + b.dir[i] * h.t;
-  const float cosine = std::fabs(dot(h.ng(), b.dir[i])) / length(b.dir[i]);
-  return 16 * FLT_EPSILON * (length(b.org[i]) + length(p)) / length(b.dir[i]) / std::max(cosine, 1e-6f);
+  const Vec3 p = b.ray[i].org + b.ray[i].dir * h.t;
+  const float cosine = std::fabs(dot(h.ng(), b.ray[i].dir)) / length(b.ray[i].dir);
+  return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir) / std::max(cosine, 1e-6f);
 }
 
 void expectSameClosestHits(bool moving) {
@@ -102,7 +102,7 @@ void expectSameClosestHits(bool moving) {
   if (moving) {
     const RayBatch at = randomRays(10000, RayKind::Closest, 3, w.leaves.back()->bounds());
     for (int i = 0; i < 10000; ++i)
-      rayes.set(i, RayKind::Closest, at.org[i], at.dir[i], kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
+      rayes.set(i, RayKind::Closest, at.ray[i].org, at.ray[i].dir, kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
     embree = rayes;
   }
   traceRayes(w, rayes);
@@ -157,7 +157,7 @@ TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   b.set(0, RayKind::Closest, {2, 2, 5}, {0, 0, -1}, kInf, 0, 0, floor, kNoLeaf, 0, 0.0f);
   b.set(1, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 10, 0, 0, floor, kNoLeaf, 0, 0.0f);
   b.setFromNowhere(2, RayKind::Shadow, {2, 2, 5}, {0, 0, -1}, 10, 0, 0);
-  b.kind[3] = RayKind::Inactive;
+  b.ray[3].kind = RayKind::Inactive;
   const GenerationStats stats = traceEmbree(w, b);
   EXPECT_FALSE(b.hit[0].valid());
   EXPECT_FALSE(b.hit[1].valid());

@@ -97,13 +97,13 @@ struct TestScene {
 
   void trace(RayBatch& rays) const {
     for (size_t i = 0; i < rays.size(); ++i) {
-      if (rays.kind[i] == RayKind::Inactive) continue;
+      if (rays.ray[i].kind == RayKind::Inactive) continue;
       RayHit best;
       for (uint32_t l = 0; l < shapes.size(); ++l) {
-        if (l == rays.ignoreLeaf[i]) continue;
+        if (l == rays.ray[i].ignoreLeaf) continue;
         RayHit h;
-        const float tmax = std::min(rays.tmax[i], best.t);
-        if (intersect(shapes[l], rays.org[i], rays.dir[i], std::max(0.0f, 0.0f), tmax, h, l)) best = h;
+        const float tmax = std::min(rays.ray[i].tmax, best.t);
+        if (intersect(shapes[l], rays.ray[i].org, rays.ray[i].dir, std::max(0.0f, 0.0f), tmax, h, l)) best = h;
       }
       rays.hit[i] = best;
     }

@@ -124,7 +124,7 @@ TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
     EXPECT_TRUE(isFinite(paths.shadowContribution[k])) << k;
   }
   // The healthy paths were shaded: they sent a shadow ray toward the light.
-  EXPECT_EQ(rays.kind[2 * 3 + 1], RayKind::Shadow);
+  EXPECT_EQ(rays.ray[2 * 3 + 1].kind, RayKind::Shadow);
   paths.radiance[1] = {kInf, 0, 0};  // an overflowed sum
   const uint64_t before = stats.nonFinite.load();
   Film film(2, 2);
@@ -160,7 +160,7 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
     RayHit& h = rays.hit[2 * k];
     h.leaf = 0;
     h.level = 0;
-    h.t = 5 / length(rays.dir[2 * k]);  // 5 from the camera: below the light
+    h.t = 5 / length(rays.ray[2 * k].dir);  // 5 from the camera: below the light
     h.setNormals({0, 0, 1}, {0, 0, 1});
   }
   ShadeStats stats;
@@ -168,12 +168,12 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
   int shadowRays = 0;
   for (int k = 0; k < 4; ++k) {
     const size_t ss = 2 * size_t(k) + 1;
-    if (rays.kind[ss] != RayKind::Shadow) continue;
+    if (rays.ray[ss].kind != RayKind::Shadow) continue;
     ++shadowRays;
-    const Vec3 end = rays.org[ss] + rays.dir[ss] * rays.tmax[ss];
+    const Vec3 end = rays.ray[ss].org + rays.ray[ss].dir * rays.ray[ss].tmax;
     EXPECT_LT(end.z, lightZ) << k;
     EXPECT_GT(end.z, lightZ - 1e-3f) << k;  // and not short of it by more than the offsets
-    EXPECT_EQ(rays.ignoreLeaf[ss], 1u) << k;
+    EXPECT_EQ(rays.ray[ss].ignoreLeaf, 1u) << k;
   }
   EXPECT_GT(shadowRays, 0);
 }
