@@ -88,7 +88,7 @@ Box3 DiceBuffer::regionBox(int e, int i, uint32_t j) const {
 // united with its two children's boxes so that a node contains every finer level's box below
 // it (the traversal prunes with it). Built finest level first. Levels above level_ are never
 // read.
-void DiceBuffer::buildBorders(int sample, const Sample& s, std::vector<float>& out) const {
+void DiceBuffer::buildBorders(int sample, const Sample& s, GridArray<float>& out) const {
   const int m = level_;
   for (int e = 0; e < 4; ++e) {
     for (int i = m; i >= 0; --i) {

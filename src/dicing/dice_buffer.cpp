@@ -107,7 +107,7 @@ void groupBounds(const float* group, Vec3& lo, Vec3& hi) {
 
 }  // namespace
 
-void DiceBuffer::buildTree(const std::vector<Vec3>& positions_, std::vector<float>& nodes) const {
+void DiceBuffer::buildTree(const GridArray<Vec3>& positions_, GridArray<float>& nodes) const {
   auto nodeGroup = [&](int level, uint32_t g) { return nodes.data() + groupOffset(level, g); };
   const size_t res = (size_t(1) << level_) + 1;
   auto quadBox = [&](uint32_t x, uint32_t y, Vec3& lo, Vec3& hi) {

@@ -40,6 +40,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 #include "core/box.h"
 #include "dicing/border_bound_cache.h"
@@ -145,12 +146,31 @@ class DiceBuffer {
   size_t bytesAllocated() const;
 
  private:
+  // An array a dicing writes before anything reads it: resize() constructs nothing (Vec3 and
+  // float are implicit-lifetime types), so a buffer sized for --max-lod touches only the pages
+  // the levels actually diced use. Zeroing all of it up front touched each thread's level-10
+  // buffer whole (59 MiB), which the first touch of memory costs on this machine
+  // (bench/RESULTS.md, "Smaller ray slots, and less work per (ray, leaf) pair").
+  template <class T>
+  struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind { using other = UninitializedAllocator<U>; };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      if constexpr (sizeof...(Args) > 0) ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  };
+  template <class T>
+  using GridArray = std::vector<T, UninitializedAllocator<T>>;
   // One time sample's grid, tree and (moving dicings) border trees.
   struct Sample {
-    std::vector<Vec3> positions;
-    std::vector<Vec3> normals;  // unit (or zero where the patch is degenerate as a whole)
-    std::vector<float> nodes;   // the tree, see kNodeGroupFloats below
-    std::vector<float> borders; // 4 binary trees of boxes (6 floats), see borderOffset()
+    GridArray<Vec3> positions;
+    GridArray<Vec3> normals;  // unit (or zero where the patch is degenerate as a whole)
+    GridArray<float> nodes;   // the tree, see kNodeGroupFloats below
+    GridArray<float> borders; // 4 binary trees of boxes (6 floats), see borderOffset()
   };
   struct Best;
   // What a static dicing has computed of one border segment (border e, level i, segment j),
@@ -168,8 +188,8 @@ class DiceBuffer {
   void allocate(Sample& s) const;
   void newStamp();
   void diceSample(const Patch& patch, int sample, int level, Sample& out);
-  void buildTree(const std::vector<Vec3>& positions, std::vector<float>& nodes) const;
-  void buildBorders(int sample, const Sample& s, std::vector<float>& borders) const;  // reads patch_
+  void buildTree(const GridArray<Vec3>& positions, GridArray<float>& nodes) const;
+  void buildBorders(int sample, const Sample& s, GridArray<float>& borders) const;  // reads patch_
   // The borders a query tests: bit e of `mask` for border e, of `thin` for a thin region
   // (BottomQuery::thinBorders) of radius thinRadius[e].
   struct BorderRegions {
