@@ -1,7 +1,7 @@
 #include "rays/tracer.h"
 #include <algorithm>
-#include <bit>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -155,16 +155,15 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
   return out;
 }
 
-float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
-  const RayBoxQuery q(b.ray[ray].org, b.ray[ray].dir);
-  float t0, t1;
+bool Tracer::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
+  float exit;
   const Box3& box = leafBox_[leaf];
-  if (!intersectBox(q, box.lo, box.hi, 0.0f, kInf, t0, t1)) t0 = 0.0f;
-  return t0;
+  return intersectBox(q, box.lo, box.hi, 0.0f, kInf, entry, exit);
 }
 
-int Tracer::levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
-  return levelFor(b, ray, leaf, leafEntry(b, ray, leaf));
+float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+  float entry;
+  return crossesLeafBox(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir), leaf, entry) ? entry : 0.0f;
 }
 
 void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
@@ -178,9 +177,9 @@ void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t l
       continue;
     }
     if (nb == kNoLeaf || nb == b.ray[i].originLeaf || nb == b.ray[i].ignoreLeaf) continue;
-    float t0, t1;
-    if (!intersectBox(q, leafBox_[nb].lo, leafBox_[nb].hi, 0.0f, kInf, t0, t1)) continue;
-    const int other = levelFor(b, i, nb, t0);  // levelOn(b, i, nb): t0 is leafEntry's box entry
+    float entry;
+    if (!crossesLeafBox(q, nb, entry)) continue;
+    const int other = levelFor(b, i, nb, entry);  // as the neighbour's own runs compute it
     if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
       if (other <= level) query.skipBorders |= uint8_t(1u << e);
     } else if (other == level && level <= BottomQuery::kMaxThinLevel) {
@@ -413,8 +412,8 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
   auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
   // Each sorted slot's entry into its leaf's box (Tracer::leafEntry, as float bits), written by
-  // runLevel and read by the intersection, in the sort's scratch: free until the next sort.
-  sort_.scratch.resize(sort_.order.size());
+  // runLevel and read by the intersection, in the sort's scratch: free until the next sort,
+  // which left it as long as `order`.
   auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
   if (cache_.enabled()) {
@@ -523,16 +522,18 @@ void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slo
 }
 
 int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
-  if (entryBits)
-    for (size_t k = 0; k < count; ++k) entryBits[k] = std::bit_cast<uint32_t>(leafEntry(b, rayOfSlot(slots[k]), leaf));
-  if (settings_.lod == LodRule::Density)
+  const bool density = settings_.lod == LodRule::Density;
+  int m = 0;
+  if (!density || entryBits)
+    for (size_t k = 0; k < count; ++k) {
+      const uint32_t i = rayOfSlot(slots[k]);
+      const float entry = leafEntry(b, i, leaf);
+      if (entryBits) entryBits[k] = std::bit_cast<uint32_t>(entry);
+      if (!density) m = std::max(m, levelFor(b, i, leaf, entry));
+    }
+  if (density)
     return biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
                        settings_.maxLod);
-  int m = 0;
-  for (size_t k = 0; k < count; ++k) {
-    const uint32_t i = rayOfSlot(slots[k]);
-    m = std::max(m, levelFor(b, i, leaf, entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, i, leaf)));
-  }
   return m;
 }
 

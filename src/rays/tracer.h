@@ -153,12 +153,12 @@ class Tracer : public RayEngine {
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
   int levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const;
   // The ray's entry into the leaf's box (0 when the slab test misses): the same operations on
-  // the same box as the top level's candidate entry, so the two agree bit for bit.
+  // the same box as the top level's candidate entry, so the two agree bit for bit. A ray's
+  // level on a leaf is levelFor at this entry, one function of (ray, leaf) whichever leaf
+  // asks, so two neighbours agree on each other's level (see bordersClosedByNeighbours).
   float leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
-  // The ray's level on `leaf`: levelFor at the ray's entry into the leaf's own box (0 when
-  // the slab test misses), one function of (ray, leaf) whichever leaf asks, so two neighbours
-  // agree on each other's level (see bordersClosedByNeighbours).
-  int levelOn(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
+  // Whether the ray of `q` crosses the leaf's box, and then its entry: leafEntry's slab test.
+  bool crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const;
   // Borders of `leaf` whose regions ray i need not test at `level` (BottomQuery::skipBorders),
   // and those whose regions can be thin (thinBorders): free borders need none; of a Bézier seam
   // only the coarser side does (its regions hold the finer side's chord), and Bézier neighbours
@@ -191,7 +191,7 @@ class Tracer : public RayEngine {
   const LeafSource& leaves_;
   TraceSettings settings_;
   std::vector<float> leafSize_;  // LeafFacts::sizeBound per leaf, for LOD
-  std::vector<Box3> leafBox_;    // LeafSource::bounds per leaf, for levelOn
+  std::vector<Box3> leafBox_;    // LeafSource::bounds per leaf, for leafEntry
   std::vector<uint8_t> leafMoving_;  // more than one time sample: diced per time interval
   std::vector<std::array<uint32_t, 4>> borderNeighbour_;  // borderNeighbours(leaves), per-ray LOD only
   std::vector<std::array<uint8_t, 4>> borderSide_;        // its `sides`
