@@ -36,4 +36,14 @@ inline float nextFloatDown(float x) {
   return detail::bitsFloat(x > 0.0f ? b - 1 : b + 1);
 }
 
+// The float nearest a double from below / above (outward rounding of a double bound).
+inline float floatBelow(double x) {
+  const float f = float(x);
+  return double(f) > x ? nextFloatDown(f) : f;
+}
+inline float floatAbove(double x) {
+  const float f = float(x);
+  return double(f) < x ? nextFloatUp(f) : f;
+}
+
 }  // namespace rayes

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <limits>
 #include "core/box4.h"
+#include "core/next_float.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
 #include "dicing/morton.h"
@@ -119,16 +120,6 @@ Vec3 quadNormal(const Vec3* normalsA, const Vec3* normalsB, size_t i00, uint32_t
     else n[c] = normalsA[corner[c]];
   }
   return blendNormals(n[0], n[1], n[2], n[3], s, r);
-}
-
-// float bounds of a double, outward.
-float roundDown(double x) {
-  const float f = float(x);
-  return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
-float roundUp(double x) {
-  const float f = float(x);
-  return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
 // The ray's parameter interval [c0, c1] inside the infinite cylinder of radius r about the
@@ -469,8 +460,8 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         radius = cachedRadius(e, k, j, a, b, true);
         if (radiusSplit(k) > 3) {
           if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1)) return false;
-          const float entry = std::max(t0, roundDown(c0));
-          if (!(entry <= std::min(t1, roundUp(c1))) || entry > best.t) return false;
+          const float entry = std::max(t0, floatBelow(c0));
+          if (!(entry <= std::min(t1, floatAbove(c1))) || entry > best.t) return false;
           radius = std::min(radius, cachedRadius(e, k, j, a, b, false));
         }
       }
@@ -479,8 +470,8 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
       // would widen it by them).
       if (!rayCylinder(q.org, dir, a, b, radius + double(watertightError), c0, c1))
         return false;
-      t0 = std::max(t0, roundDown(c0));
-      t1 = std::min(t1, roundUp(c1));
+      t0 = std::max(t0, floatBelow(c0));
+      t1 = std::min(t1, floatAbove(c1));
       if (!(t0 <= t1) || !(t0 > tmin) || t0 > best.t) return false;
     }
     // The crossing of the triangle's plane, kept inside the box.
