@@ -2,7 +2,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include "core/next_float.h"
 #include "lbt/gaussian_triangle.h"
 
 namespace rayes {
@@ -50,15 +49,23 @@ bool farOutsideLobe(const FlatPoint (&a)[3], double area2, double r, double sigm
   }
   return false;
 }
-// S(t): how far from the axis the flux triangle at axial distance t can reach. Each corner's
-// distance from the axis is convex in t: below its chord between the axial levels 0 and
-// axialEnd, and growing at most by spreadSlope per unit beyond them.
-double spreadAt(const BeamEnvelope& v, double t) {
-  return t <= 0            ? v.spreadStart - v.spreadSlope * t
-         : t >= v.axialEnd ? v.spreadEnd + v.spreadSlope * (t - v.axialEnd)
-                           : v.spreadStart + (v.spreadEnd - v.spreadStart) * (t / v.axialEnd);
-}
 }  // namespace
+
+Box3 beamBounds(const BeamSegment& s) {
+  Box3 box;
+  float far = 0;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(s.o[i]);
+    box.extend(s.o[i] + s.d[i] * s.t[i]);
+    far = std::max(far, s.t[i]);
+  }
+  if (s.sigma > 0) {
+    const float pad = far * std::tan(std::min(float(kLobeReach) * s.sigma, 1.3f));
+    box.lo -= Vec3{pad, pad, pad};
+    box.hi += Vec3{pad, pad, pad};
+  }
+  return box;
+}
 
 BeamEnvelope beamEnvelope(const BeamSegment& s) {
   BeamEnvelope v;
@@ -124,101 +131,15 @@ bool BeamEnvelope::excludes(Vec3 xf) const {
   // negative, and so is the gather's interpolated r: it returns 0 there.
   if (t < axialStart - kMargin * (std::fabs(t) + axialOffset)) return true;
   const double w = lengthD(sub(rel, mul(c, t)));
-  const double spread = spreadAt(*this, t);
+  // Each corner's distance from the axis is convex in t: below its chord between the axial
+  // levels 0 and axialEnd, and growing at most by spreadSlope per unit beyond them.
+  const double spread = t <= 0               ? spreadStart - spreadSlope * t
+                        : t >= axialEnd      ? spreadEnd + spreadSlope * (t - axialEnd)
+                                             : spreadStart + (spreadEnd - spreadStart) * (t / axialEnd);
   const double outside = w - spread;
   const double need = lobeReach * ((std::fabs(t) + axialOffset) * invCosMin + w + spread);
-  // NaN compares false: not excluded. (reachPieces inverts this test: keep the two together.)
+  // NaN compares false: not excluded.
   return outside > need + kMargin * (w + spread + std::fabs(t) + axialOffset);
-}
-
-// Why the pieces hold every point excludes() keeps. With m = kMargin and λ = lobeReach, a
-// point at axial distance t, w from the axis, is kept only if w − S ≤ λ((|t| + L)/cos_min + w
-// + S) + m(w + S + |t| + L), i.e. w ≤ R(t) = (S(t)(1 + λ + m) + (|t| + L)(λ/cos_min + m)) /
-// (1 − λ − m): a disc of radius R(t) about the axis. S and |t| are convex and piecewise
-// linear (breaks at 0 and axialEnd), so R is too, and over a slice [ta, tb] it stays below its
-// chord: every disc of the slice lies in the truncated cone between its end discs, whose box is
-// that of the two end discs. Along the axis, a kept point lies at t ≥ axialStart − m(|t| + L)
-// and, with a cap plane of unit normal n (n·Ψ̄ > 0), at n·(x − p) ≤ capLimit(1 + 1e-9); over the
-// disc n·(x − p) ≥ n·(O − p) + t·n·Ψ̄ − |n⊥|·R(t) =: n·(O − p) + f(t), and f is concave, so
-// when its last slope is positive f increases everywhere and the cap bounds t from above where
-// f meets capLimit(1 + 1e-9) − n·(O − p). Without that bound the slices end where `within`
-// does along Ψ̄. The float boxes are rounded outward and grown by 1e-6 of their magnitude, far
-// above the double rounding of excludes() (its own margin is relative 1e-6 in w).
-std::array<Box3, kReachPieces> BeamEnvelope::reachPieces(const Box3& within) const {
-  std::array<Box3, kReachPieces> pieces{};
-  if (never || within.empty()) return pieces;
-  constexpr double kMargin = 1e-6;
-  const double lambda = lobeReach, grow = 1 - lambda - kMargin;
-  const D3 c = load(axis), o = load(origin);
-  // Where `within` lies along the axis.
-  double withinLo = 0, withinHi = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double ca = a == 0 ? c.x : a == 1 ? c.y : c.z, oa = a == 0 ? o.x : a == 1 ? o.y : o.z;
-    const double l = (double(within.lo[a]) - oa) * ca, h = (double(within.hi[a]) - oa) * ca;
-    withinLo += std::min(l, h);
-    withinHi += std::max(l, h);
-  }
-  const auto radius = [&](double t) {
-    return (spreadAt(*this, t) * (1 + lambda + kMargin) + (std::fabs(t) + axialOffset) * (lambda * invCosMin + kMargin)) /
-           grow;
-  };
-  const bool finite = std::isfinite(withinLo + withinHi + spreadStart + spreadEnd + spreadSlope + axialEnd +
-                                    axialOffset + invCosMin + axialStart + lobeReach + o.x + o.y + o.z);
-  if (!finite || !(grow > 0)) {
-    pieces[0] = within;
-    return pieces;
-  }
-  // t ≥ axialStart − m(|t| + L), for t of either sign.
-  double t0 = std::min((axialStart - kMargin * axialOffset) / (1 + kMargin),
-                       (axialStart - kMargin * axialOffset) / (1 - kMargin));
-  double t1 = withinHi;
-  if (capLimit >= 0) {
-    const D3 n = load(capNormal);
-    const double nc = dotD(n, c), nPerp = std::sqrt(std::max(0.0, 1 - nc * nc));
-    const double k = capLimit * (1 + 1e-9) - dotD(n, sub(o, load(capPoint)));
-    const auto f = [&](double t) { return t * nc - nPerp * radius(t); };
-    double b[2] = {std::min(0.0, axialEnd), std::max(0.0, axialEnd)};
-    const double last = f(b[1] + 1) - f(b[1]);
-    if (last > 0) {
-      double bound;
-      if (k < f(b[0])) bound = b[0] + (k - f(b[0])) / (f(b[0]) - f(b[0] - 1));
-      else if (k >= f(b[1])) bound = b[1] + (k - f(b[1])) / last;
-      else bound = b[0] + (k - f(b[0])) * (b[1] - b[0]) / (f(b[1]) - f(b[0]));
-      // A relative margin for the rounding of this solve (f is steep enough to be positive).
-      if (std::isfinite(bound)) t1 = std::min(t1, bound + 1e-9 * (std::fabs(bound) + axialOffset + radius(bound)));
-    }
-  }
-  t0 = std::max(t0, withinLo);
-  if (!(t0 <= t1)) return pieces;
-  // The slices: kNearPieces even ones up to the corner rays' ends (and the cap's slack), where
-  // nearly all of a segment's light lands, then slices doubling in length out to t1 (a lobe
-  // grazing its receiver reaches far along it, thinly).
-  constexpr int kNearPieces = kReachPieces - 4;
-  const double tNear = std::min(t1, std::max(t0, axialEnd) + kCapSlack * (std::max(t0, axialEnd) - t0));
-  double bounds[kReachPieces + 1];
-  for (int k = 0; k <= kNearPieces; ++k) bounds[k] = t0 + (tNear - t0) * k / kNearPieces;
-  for (int k = kNearPieces + 1; k <= kReachPieces; ++k)
-    bounds[k] = k == kReachPieces ? t1 : std::min(t1, tNear + (tNear - t0) * double((1 << (k - kNearPieces)) - 1));
-  bounds[kNearPieces] = tNear;
-  for (int k = 0; k < kReachPieces; ++k) {
-    const double ta = bounds[k], tb = bounds[k + 1];
-    if (k > 0 && !(tb > ta)) continue;  // (the slices past t1 are empty)
-    Box3& box = pieces[k];
-    for (const double t : {ta, tb}) {
-      const double r = radius(t);
-      const double centre[3] = {o.x + c.x * t, o.y + c.y * t, o.z + c.z * t}, dir[3] = {c.x, c.y, c.z};
-      for (int a = 0; a < 3; ++a) {
-        const double half = r * std::sqrt(std::max(0.0, 1 - dir[a] * dir[a]));
-        const double pad = 1e-6 * (std::fabs(centre[a]) + half + r);
-        box.lo[a] = std::min(box.lo[a], floatBelow(centre[a] - half - pad));
-        box.hi[a] = std::max(box.hi[a], floatAbove(centre[a] + half + pad));
-      }
-    }
-    box.lo = vmax(box.lo, within.lo);
-    box.hi = vmin(box.hi, within.hi);
-    if (box.empty()) box = Box3{};
-  }
-  return pieces;
 }
 
 Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {

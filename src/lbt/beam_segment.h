@@ -13,7 +13,6 @@
 // glossy one. Finite for every input: a specular focus (A⊥ → 0) gives 0 and is counted by the
 // caller; a glossy focus takes the limit P/A⊥ → g(φ)/r², so E → power·|cos|/(2πσ²r²).
 #pragma once
-#include <array>
 #include "core/box.h"
 #include "core/vec.h"
 
@@ -37,22 +36,22 @@ inline constexpr float kCoaxialCos = 0.5f;
 inline constexpr float kCapSlack = 0.02f;
 
 // How far a glossy lobe reaches, in σ: the mass beyond one edge's line is Q(4) = 3.2e-5. The
-// envelope leaves out what lies beyond it (so the bins hold a segment only about this far
-// out), and the gather takes P = 0 or 1 without
+// bins hold a segment only this far out (beamBounds), and the gather takes P = 0 or 1 without
 // the edge integrals for a point this far from every edge of the angular triangle, and drops
 // what lies beyond it from each edge's integral otherwise (P within 3·Q(4) = 9.5e-5 in all).
-// The bins hold a segment wherever its envelope (below) does not exclude a point.
 // A segment's flux that lands beyond the reach is at most the lobe's mass outside a disc of
 // radius 4: e^(-8) = 3.4e-4 (5σ: e^(-12.5) = 3.7e-6); measured, 5σ → 4σ darkened
 // lbt-ring-glossy's image by 0.010 % and cut lbt-discoball-glossy's CPU by 25 %
-// (bench/RESULTS.md, "Glossy gathers").
+// (bench/RESULTS.md, "Glossy gathers"). BeamStore's pieces bin wider (kPieceReach): their
+// boxes lose more than this, an open bias of theirs.
 inline constexpr double kLobeReach = 4;
+
+// The box a segment's gathers can lie in: its corner rays up to t_i, grown by its lobe
+// (kLobeReach·σ of angle at the far end).
+Box3 beamBounds(const BeamSegment& s);
 
 // The gather; psi receives the light's direction at x (Ψ̄ when nothing arrives).
 Rgb beamIrradiance(const BeamSegment& s, Vec3 x, Vec3 n, Vec3& psi);
-
-// How many slices along its axis BeamEnvelope::reachPieces cuts a segment's reach into.
-inline constexpr int kReachPieces = 12;
 
 // Where a segment's gather can be nonzero, as two tests made before the gather's own set-up
 // (about 97 % of the gathers a bin offers are 0 on the caustic scenes: bench/RESULTS.md):
@@ -77,13 +76,6 @@ struct BeamEnvelope {
   double capNormal[3] = {0, 0, 0}, capPoint[3] = {0, 0, 0}, capLimit = -1;  // < 0: no cap plane
   bool never = false;                     // the gather is 0 everywhere (corners not coaxial)
   bool excludes(Vec3 x) const;
-  // Boxes whose union holds every point of `within` that excludes() does not exclude: the
-  // reach, cut into kReachPieces slices along Ψ̄, each slice's box that of the discs about the
-  // axis bounding it at its two ends (beam_segment.cpp derives their radius from excludes()),
-  // clipped to `within`. Where the envelope bounds nothing (a non-finite field, a lobe too wide
-  // for the bound) the first box is `within` itself; all are empty when nothing is reached.
-  // BeamStore bins a segment by these boxes, so a gather never loses a segment to its bins.
-  std::array<Box3, kReachPieces> reachPieces(const Box3& within) const;
 };
 BeamEnvelope beamEnvelope(const BeamSegment& s);
 

@@ -36,6 +36,43 @@ int cellOf(const BeamStore::LeafGrid& g, int a, float x) {
 }
 int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinite(x) ? cellOf(g, a, x) : 0; }
 
+// The lobe's growth per unit length of a segment's pieces: tan of kPieceReach·σ (0 for
+// specular). Wider than the gather's kLobeReach on purpose: the pieces' boxes are not a proven
+// superset of the points the gather reaches (a footprint stretched along a tilted receiver
+// reaches past them). Measured on lbt-ring-glossy (160x120 8 spp): pieces at 4σ lose 0.23 % of
+// the image mean against 5σ, and 5σ still 0.22 % against 10σ (bench/RESULTS.md, "Glossy
+// gathers"). Bins that provably hold the envelope's reach were built and measured (bench/
+// RESULTS.md, "Exact bins for glossy beams, tried"): against the light tracer they make the
+// ring's glossy caustic 1.3 % bright instead of 0.24 % dark (the σ = 0.001 ring: +0.21 %), so
+// the gather's flux-plane formula itself is about 1 % bright at σ = 0.05 -- errors of order σ²,
+// presumably the receiver's cosine taken with Ψ rather than with the direction the light
+// arrives from, and the angular map's planar area element (α/sin α) -- and they cost 2-7x the
+// CPU. The model, not the bins, is what to correct first.
+constexpr float kPieceReach = 5;
+float lobeSpread(const BeamSegment& s) { return s.sigma > 0 ? std::tan(std::min(kPieceReach * s.sigma, 1.3f)) : 0; }
+
+// The box of piece k of a segment's kPieces lengthwise pieces: fractions k/kPieces to
+// (k+1)/kPieces of its corner rays' lengths, the last reaching past the ends by the gather's
+// cap slack. The cross-sections are linear in u, so the six corner points bound it; glossy:
+// grown by kPieceReach·σ of angle at its far end (spread = lobeSpread(s)).
+Box3 pieceBox(const BeamSegment& s, int k, float spread) {
+  constexpr int n = BeamStore::kPieces;
+  const float u0 = float(k) / n, u1 = k + 1 == n ? 1 + kCapSlack : float(k + 1) / n;
+  Box3 box;
+  float far = 0;
+  for (int i = 0; i < 3; ++i) {
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u0));
+    box.extend(s.o[i] + s.d[i] * (s.t[i] * u1));
+    far = std::max(far, s.t[i] * u1);
+  }
+  if (s.sigma > 0) {
+    const float pad = far * spread;
+    box.lo -= Vec3{pad, pad, pad};
+    box.hi += Vec3{pad, pad, pad};
+  }
+  return box;
+}
+
 // Appends the cells of leaf grid g that the piece boxes reach (each clipped to the leaf's box),
 // in increasing order and once each: row by row, the union of the pieces' x ranges in that row
 // (adjacent pieces overlap, so collecting every piece's cells and sorting them cost more).
@@ -72,6 +109,18 @@ void appendCells(const BeamStore::LeafGrid& g, const std::array<Box3, BeamStore:
 }
 }  // namespace
 
+bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
+  // The piece that x's distance along the first corner ray points at first (most gathers
+  // that reach a segment are in it), then the others: the answer does not depend on the order.
+  const float spread = lobeSpread(s);
+  const float along = dot(x - s.o[0], s.d[0]) / s.t[0] * kPieces;
+  const int guess = along > 0 ? (along < kPieces ? int(along) : kPieces - 1) : 0;  // NaN: 0
+  if (pieceBox(s, guess, spread).contains(x)) return true;
+  for (int k = 0; k < kPieces; ++k)
+    if (k != guess && pieceBox(s, k, spread).contains(x)) return true;
+  return false;
+}
+
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
                      size_t budget, std::span<const uint8_t> receives, int maxDepth)
     : segments_(std::move(segments)), maxDepth_(maxDepth) {
@@ -79,22 +128,15 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   if (!segments_.empty() && minimumBytes(leaves) > budget)
     throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
                      std::to_string(minimumBytes(leaves)) + " bytes with the per-leaf grids)");
-  // Each segment's envelope, the pieces of its reach (BeamEnvelope::reachPieces: they hold
-  // every point of the scene its gather does not leave out) and the leaves their union meets.
-  envelopes_.resize(segments_.size());
-  std::vector<std::array<Box3, kPieces>> pieces(segments_.size());
+  // Each segment's box and leaves.
+  std::vector<Box3> boxes(segments_.size());
   std::vector<std::vector<uint32_t>> hits(segments_.size());
-  const Box3 scene = top.bounds();
   tbb::enumerable_thread_specific<TraversalScratch> scratch;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
     TraversalScratch& s = scratch.local();
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      envelopes_[i] = beamEnvelope(segments_[i]);
-      pieces[i] = envelopes_[i].reachPieces(scene);
-      Box3 reach;
-      for (const Box3& piece : pieces[i])
-        if (!piece.empty()) reach.extend(piece);
-      if (!reach.empty()) top.overlapping(reach, hits[i], s);
+      boxes[i] = beamBounds(segments_[i]);
+      top.overlapping(boxes[i], hits[i], s);
     }
   });
   // Each leaf's grid, sized by how many segments reach it.
@@ -114,14 +156,17 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   }
   // A counting sort of (cell, segment) pairs: segment order kept within a cell.
   offsets_.assign(cells + 1, 0);
-  // The cells of leaf grids a segment reaches: its reach's pieces along its axis, each clipped
-  // to the leaf's box, so a long tilted beam does not claim the whole box of its diagonal.
-  // Cells in increasing order.
+  // The cells of leaf grids a segment reaches: the segment cut into kPieces along its length,
+  // each piece's box (its six corner points, grown by the lobe) clipped to the leaf's box, so
+  // a long tilted beam does not claim the whole box of its diagonal. Cells in increasing order.
   std::vector<std::vector<uint64_t>> cellsOf(segments_.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
+      const BeamSegment& seg = segments_[i];
       std::vector<uint64_t>& out = cellsOf[i];
-      const std::array<Box3, kPieces>& boxes = pieces[i];
+      std::array<Box3, kPieces> boxes;
+      const float spread = lobeSpread(seg);
+      for (int k = 0; k < kPieces; ++k) boxes[k] = pieceBox(seg, k, spread);
       // Leaves in increasing order: their cells are increasing blocks.
       std::vector<uint32_t>& leavesHit = hits[i];
       std::sort(leavesHit.begin(), leavesHit.end());
@@ -143,11 +188,14 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
   if (needed_ > budget) {
     // Does not fit: nothing is kept (the caller splits the batch).
     segments_ = {};
-    envelopes_ = {};
     grids_ = {};
     offsets_ = {};
     return;
   }
+  envelopes_.resize(segments_.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 1024), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) envelopes_[i] = beamEnvelope(segments_[i]);
+  });
   entries_.resize(total);
   std::vector<uint64_t> fill(offsets_.begin(), offsets_.end() - 1);
   for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });

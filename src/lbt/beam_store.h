@@ -1,14 +1,14 @@
 // START HERE for light beam tracing. The beam segments of a render binned to the top-level
 // leaves their volume overlaps (docs/design.md, "Light beam tracing"), and the caustic gather
 // over them: the path tracer's CausticRadiance (shading/path_tracer.h). A segment's volume is
-// its reach: the points its envelope (lbt/beam_segment.h) does not leave out, held by twelve
-// boxes along its axis (BeamEnvelope::reachPieces) whose union is binned with the same
-// top-level BVH the camera rays use (TopLevelBvh::overlapping), so segments need no hierarchy
-// of their own. Within a leaf the segments are binned again into a uniform grid over the
-// leaf's box (about 4 segments per cell, at most 64 cells per axis; a segment goes to the
-// cells its pieces reach), so a large receiver patch under many beams does not make every
-// gather visit all of them; a gather at a point of leaf L visits the segments of the cell of
-// L's grid that holds the point.
+// the box of its corner rays up to their ends, widened for glossy segments by kLobeReach·σ (4σ)
+// of angle (beamBounds; the per-leaf cells below by 5σ pieces); the boxes are binned
+// with the same top-level BVH the camera rays use (TopLevelBvh::overlapping), so segments need
+// no hierarchy of their own. Within a leaf the segments are binned again into a uniform grid
+// over the leaf's box (about 4 segments per cell, at most 64 cells per axis; a segment goes to
+// the cells its eight lengthwise pieces' boxes reach), so a large
+// receiver patch under many beams does not make every gather visit all of them; a gather at a
+// point of leaf L visits the segments of the cell of L's grid that holds the point.
 //
 // All of it runs through the reorder pipeline: corner rays are traced as RayBatch generations by
 // the ray engine (sorted by leaf, diced on demand); the binning uses the top level; the gathers
@@ -22,12 +22,11 @@
 // more than its budget keeps nothing and says so (fits() false, neededBytes()): the caller
 // processes its beams in batches (lbt/beam_batches.h). Immutable and thread-safe after
 // construction; gathers visit a leaf's segments in segment order (deterministic).
-// A gather counts a segment only where neither x nor x clamped into the leaf's box is excluded
-// by the segment's envelope (kept beside it), and the pieces hold every point of the scene that
-// is not: so a gather never loses a segment to its bins (their only loss is the envelope's
-// P ≤ Q(kLobeReach)), and what it sums does not depend on how the grid was shaped, nor on which
-// other segments share the store. The envelope test also comes first because it rules out
-// most of what a cell offers before the irradiance's set-up.
+// A gather counts a segment only where x, clamped into the leaf's box, lies in the segment's
+// reach (the boxes of its pieces, `reaches`), which its bins always cover: so what a gather
+// sums does not depend on how the grid was shaped, nor on which other segments share the store.
+// Before its irradiance, each segment's envelope (lbt/beam_segment.h, kept beside it) rules out
+// the points where it is dark: most of what a cell offers.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -59,15 +58,14 @@ class BeamStore final : public CausticRadiance {
     if (first == last) return;
     const Box3& box = grids_[leaf].box;
     const Vec3 inside = vmin(vmax(x, box.lo), box.hi);
-    const bool outside = !box.contains(x);
     for (uint64_t e = first; e != last; ++e) {
       const BeamSegment& s = segments_[entries_[e]];
-      const BeamEnvelope& envelope = envelopes_[entries_[e]];
-      // x's clamped point must be in the reach too: that is what the bins are built to hold.
-      if (!counts(s) || envelope.excludes(x) || (outside && envelope.excludes(inside))) continue;
+      if (!counts(s) || envelopes_[entries_[e]].excludes(x)) continue;
+      // The reach test after the irradiance: its eight boxes (a tan each) cost about as much as
+      // the irradiance's early outs, and most points in a segment's cell are in its reach.
       Vec3 psi;
       const Rgb irradiance = beamIrradiance(s, x, normal, psi);
-      if (!(maxComponent(irradiance) > 0)) continue;
+      if (!(maxComponent(irradiance) > 0 && reaches(s, inside))) continue;
       add(psi, irradiance);
     }
   }
@@ -83,7 +81,9 @@ class BeamStore final : public CausticRadiance {
   size_t neededBytes() const { return needed_; }
   // The smallest budget that holds one segment in one cell with `leaves` leaf grids.
   static size_t minimumBytes(size_t leaves) { return bytesFor(1, 1, leaves + 1) + leaves * sizeof(LeafGrid); }
-  static constexpr int kPieces = kReachPieces;
+  // x lies in one of the boxes a segment is binned by (its kPieces lengthwise pieces).
+  static bool reaches(const BeamSegment& s, Vec3 x);
+  static constexpr int kPieces = 8;
 
   size_t segmentCount() const { return segments_.size(); }
   size_t binEntries() const { return entries_.size(); }

@@ -256,9 +256,8 @@ TEST(BeamGather, CollinearCornersOnCornerRaysAndGrazingReceiversStayFinite) {
 
 // The gather asks a caller's filter (the path tracer's depth rule) before any work on a segment,
 // and bins the segments by their reach: it must sum exactly what the full gather sums, the
-// irradiance of every segment in segment order where its envelope excludes neither x nor x
-// clamped into its leaf's box (what it excludes carries a lobe mass below Q(kLobeReach):
-// beam_envelope_test.cpp, which also checks that the bins' pieces hold the rest). Checked
+// irradiance of every segment in segment order where x lies in the segment's reach and outside
+// what its envelope excludes (a lobe mass below Q(kLobeReach): beam_envelope_test.cpp). Checked
 // against that sum over all segments (no bins) at random points, on the footprint's edges, on
 // corner rays' ends and at the focus of a converging beam, specular and glossy.
 TEST(BeamStore, GatherSumsExactlyTheSegmentsInReachWithTheFilterAskedFirst) {
@@ -291,7 +290,7 @@ TEST(BeamStore, GatherSumsExactlyTheSegmentsInReachWithTheFilterAskedFirst) {
       for (const BeamSegment& s : beams) {
         Vec3 psi;
         const Rgb e = beamIrradiance(s, x, {0, 0, -1}, psi);
-        if (!(maxComponent(e) > 0) || beamEnvelope(s).excludes(x) || beamEnvelope(s).excludes(inside)) continue;
+        if (!(maxComponent(e) > 0 && BeamStore::reaches(s, inside)) || beamEnvelope(s).excludes(x)) continue;
         full += e;
         if (notTwice(s)) fullFiltered += e;
       }
