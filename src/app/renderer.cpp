@@ -273,10 +273,18 @@ Film Renderer::render(const Progress& progress) {
     // film is a complete image, at the cost of re-dicing every leaf once more per pass.
     const int s1 = options_.progressive ? std::min(spp, s0 + std::max(1, s0)) : spp;
     const uint64_t end = uint64_t(s1) * pixels;
+    // A pass of every sample that needs several batches goes block by block of pixels, each
+    // batch all the samples of as many pixels as fit (Integrator::setPixelBlock): its rays
+    // then meet the leaves of a part of the image, each more often.
+    uint64_t step = stats_.pathsPerBatch;
+    const uint64_t blockPixels = stats_.pathsPerBatch / uint64_t(spp);
+    const bool blocks = s0 == 0 && s1 == spp && blockPixels > 0 && blockPixels < pixels &&
+                        integrator_->setPixelBlock(uint32_t(blockPixels));
+    if (blocks) step = blockPixels * uint64_t(spp);
     int batch = 0;
     traceLightPass(s0, s1, pass, batch);
-    for (uint64_t first = uint64_t(s0) * pixels; first < end; first += stats_.pathsPerBatch, ++batch) {
-      const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, end - first));
+    for (uint64_t first = uint64_t(s0) * pixels; first < end; first += step, ++batch) {
+      const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(step, end - first));
       if (beamBatches_) {
         // Beams in batches: the camera paths once per range of beams, the film from the last.
         beamBatches_->startPaths();
@@ -303,6 +311,7 @@ Film Renderer::render(const Progress& progress) {
     }
     if (!options_.reference.empty())
       stats_.errorCurve.push_back({s1, secondsSince(t0), rmseAgainst(film, options_.reference)});
+    if (blocks) integrator_->setPixelBlock(0);
     s0 = s1;
     ++pass;
     if (progress) progress(done, total, s1);

@@ -13,9 +13,11 @@
 //
 // Slots: path k of a batch owns ray slots [k * raysPerPath(), (k + 1) * raysPerPath()) and
 // touches no others, so paths are shaded in parallel without locks. Path ids are sample-major
-// (sample * pixels + pixel); batches are contiguous id ranges started in increasing order, and
-// finish() must add to each pixel in an order fixed by the path ids alone, so the image is
-// bit-identical for any thread count, batch size and trace order (docs/design.md, invariant 2).
+// (sample * pixels + pixel) unless the integrator accepts setPixelBlock (then block by block of
+// pixels, each block's samples together); batches are contiguous id ranges started in
+// increasing order, and finish() must add to each pixel in an order fixed by the path ids alone,
+// so the image is bit-identical for any thread count, batch size, pixel block and trace order
+// (docs/design.md, invariant 2).
 // bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
 // memory budget can be divided into whole paths.
 //
@@ -61,6 +63,9 @@ class Integrator {
   virtual void start(uint64_t first, uint32_t count, RayBatch& rays) = 0;
   virtual size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) = 0;
   virtual void finish(Film& film, ShadeStats& stats) = 0;
+  // Orders camera path ids by blocks of n pixels, every sample of a block before the next block
+  // (PathTracer::setPixelBlock), if the integrator can; false: ids stay sample-major.
+  virtual bool setPixelBlock(uint32_t /*n*/) { return false; }
 
   struct IdRange { uint64_t first = 0, end = 0; };
   virtual IdRange lightPaths(int /*s0*/, int /*s1*/) const { return {}; }

@@ -21,11 +21,15 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 enum Dim : uint32_t { kPixel = 0, kLightPick = 2, kLight = 3, kBsdf = 5, kRoulette = 7, kLens = 8, kTime = 10,
                       kBsdfLobe = 11, kGather = 12 };
 
-struct PathIds { uint32_t pixel, sample; };
-PathIds idsOf(uint64_t id, uint32_t pixels) {
-  return {static_cast<uint32_t>(id % pixels), static_cast<uint32_t>(id / pixels)};
-}
 }  // namespace
+
+PathTracer::PathIds PathTracer::idsOf(uint64_t id) const {
+  const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
+  const uint64_t block = blockPixels_ ? blockPixels_ : pixels, perBlock = block * samplesPerPixel();
+  const uint64_t b = id / perBlock, firstPixel = b * block, size = std::min(block, pixels - firstPixel);
+  const uint64_t r = id - b * perBlock;
+  return {static_cast<uint32_t>(firstPixel + r % size), static_cast<uint32_t>(r / size)};
+}
 
 // The offset is a bound, not a guess: how far the origin may lie on the wrong side of the
 // surface it leaves, along the geometric normal.
@@ -54,7 +58,6 @@ float PathTracer::spreadAfterBounce(float incoming, float pdf, bool delta) {
 }
 
 void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const {
-  const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
   paths.first = first;
   paths.resize(count);
   rays.resize(kRaysPerPath * size_t(count));
@@ -65,7 +68,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
   }
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
-      const PathIds ids = idsOf(first + k, pixels);
+      const PathIds ids = idsOf(first + k);
       const RngKey key{ids.pixel, ids.sample, 0, scene_.integrator.seed};
       const Sample2D film = sample2D(key, kPixel), lens = sample2D(key, kLens);
       const float px = float(ids.pixel % uint32_t(scene_.width)) + film.u;
@@ -264,8 +267,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     paths.alive[k] = 0;
     return 0;
   }
-  const uint32_t pixels = uint32_t(scene_.width) * uint32_t(scene_.height);
-  const PathIds ids = idsOf(paths.first + k, pixels);
+  const PathIds ids = idsOf(paths.first + k);
   const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
   v.at.offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org);
   v.width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
@@ -369,11 +371,17 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
   const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
   const uint64_t first = paths.first, end = paths.first + paths.size();
   if (first == end) return;
-  const uint64_t s0 = first / pixels, s1 = (end - 1) / pixels;
-  tbb::parallel_for(tbb::blocked_range<uint64_t>(0, pixels, 4096), [&](const auto& r) {
-    for (uint64_t p = r.begin(); p != r.end(); ++p)
+  // The batch's pixels: those of the blocks its ids fall in (idsOf's inverse below).
+  const uint64_t block = blockPixels_ ? blockPixels_ : pixels, perBlock = block * samplesPerPixel();
+  const uint64_t p0 = first / perBlock * block, p1 = std::min(pixels, ((end - 1) / perBlock + 1) * block);
+  tbb::parallel_for(tbb::blocked_range<uint64_t>(p0, p1, 4096), [&](const auto& r) {
+    for (uint64_t p = r.begin(); p != r.end(); ++p) {
+      const uint64_t b = p / block, firstPixel = b * block, size = std::min(block, pixels - firstPixel);
+      const uint64_t base = b * perBlock + (p - firstPixel);  // the id of (p, sample 0)
+      const uint64_t lo = std::max(first, b * perBlock), hi = std::min(end, (b + 1) * perBlock);
+      const uint64_t s0 = (lo - b * perBlock) / size, s1 = (hi - 1 - b * perBlock) / size;
       for (uint64_t s = s0; s <= s1; ++s) {
-        const uint64_t id = s * pixels + p;
+        const uint64_t id = base + s * size;
         if (id < first || id >= end) continue;
         PixelSample sample{paths.aov[id - first].unpack(), paths.radiance[id - first]};
         if (!isFinite(sample.radiance)) {
@@ -382,6 +390,7 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
         }
         film.add(static_cast<uint32_t>(p), sample);
       }
+    }
   });
 }
 

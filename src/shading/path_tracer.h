@@ -70,8 +70,8 @@ struct FirstHitRecord {
 };
 static_assert(sizeof(FirstHitRecord) == 28);
 
-// The state of a batch of paths, structure of arrays; path k has global id first + k, which is
-// sample * pixels + pixel (sample-major: a batch covers whole samples of the image).
+// The state of a batch of paths, structure of arrays; path k has global id first + k
+// (PathTracer::idsOf gives its pixel and sample).
 struct PathBatch {
   uint64_t first = 0;
   std::vector<Rgb> throughput, radiance, shadowContribution;
@@ -153,6 +153,19 @@ class PathTracer final : public Integrator {
     return shade(bounce, paths_, rays, stats);
   }
   void finish(Film& film, ShadeStats& stats) override { finish(paths_, film, stats); }
+  // Path ids by pixel blocks: pixels [b·n, (b+1)·n) with all their samples are ids
+  // [b·n·spp, (b+1)·n·spp), sample-major within a block (sample s of the block's pixel q is
+  // id b·n·spp + s·(the block's pixels) + q; the last block may be smaller). n = 0, or the
+  // image's pixel count, is one block: the sample-major ids sample · pixels + pixel. A batch of
+  // whole blocks then holds every sample of fewer pixels, so its rays meet fewer leaves, each
+  // more often (bench/RESULTS.md, "Batches by pixel blocks"). The pixel and sample of every path
+  // and the order each pixel's samples reach the film are the same for every n.
+  bool setPixelBlock(uint32_t n) override {
+    blockPixels_ = n;
+    return true;
+  }
+  struct PathIds { uint32_t pixel, sample; };
+  PathIds idsOf(uint64_t id) const;
 
   // The kernels on an explicit PathBatch (the tests drive them directly).
 
@@ -218,6 +231,8 @@ class PathTracer final : public Integrator {
   std::vector<SortItem> order_;
   GatherRunner gatherRunner_;
   PathBatch paths_;
+  uint32_t blockPixels_ = 0;  // setPixelBlock's n
+  uint64_t samplesPerPixel() const { return uint64_t(std::max(1, scene_.samplesPerPixel)); }
 };
 
 }  // namespace rayes
