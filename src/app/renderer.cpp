@@ -280,7 +280,10 @@ Film Renderer::render(const Progress& progress) {
     const uint64_t blockPixels = stats_.pathsPerBatch / uint64_t(spp);
     const bool blocks = s0 == 0 && s1 == spp && blockPixels > 0 && blockPixels < pixels &&
                         integrator_->setPixelBlock(uint32_t(blockPixels));
-    if (blocks) step = blockPixels * uint64_t(spp);
+    if (blocks) {
+      step = blockPixels * uint64_t(spp);
+      stats_.pixelsPerBlock = blockPixels;
+    }
     int batch = 0;
     traceLightPass(s0, s1, pass, batch);
     for (uint64_t first = uint64_t(s0) * pixels; first < end; first += step, ++batch) {

@@ -7,16 +7,19 @@
 //           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
 //           the candidate capacity.
 //   passes: one pass of all samples per pixel, split into batches of whole paths that fit the
-//           budget, so every leaf is diced as few times as the budget allows. Progressive
+//           budget, so every leaf is diced as few times as the budget allows: by blocks of
+//           pixels, each batch every sample of a stripe of the image (Integrator::
+//           setPixelBlock), where the integrator allows it. Progressive
 //           (--progressive, or a --reference to measure against): passes of 1, 1, 2, 4, ...
 //           samples per pixel, a complete image after each (the error-against-time curve is
-//           recorded per pass), for about 1 + log2(spp) times the dicings. Both give the same
-//           bits: path ids are sample-major and the film adds a pixel's samples in order.
+//           recorded per pass), for about 1 + log2(spp) times the dicings. All give the same
+//           bits: a path's pixel and sample do not depend on the order of ids, and the film adds
+//           a pixel's samples in sample order.
 //   batch:  Integrator::start -> repeat { RayEngine::trace (one generation) ->
 //           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
-// per-ray LOD: batches cover whole sample indices, the film adds samples in order.
+// per-ray LOD: batches cover whole sample indices or whole pixels, the film adds samples in order.
 // Not thread-safe; render() uses all threads allowed by the caller's ThreadLimit.
 #pragma once
 #include <functional>
@@ -127,6 +130,7 @@ struct RenderStats {
   EngineStats engine;
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
+  uint64_t pixelsPerBlock = 0;   // batches by blocks of this many pixels, all their samples (0: sample-major)
   bool progressive = false;      // rendered in passes (asked for, or ppm's own passes)
   size_t raysPerPath = 0;        // ray slots per path (bytes_per_ray = bytesPerPath / raysPerPath)
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;

@@ -52,6 +52,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"micropolygons_created", created},
       {"micropolygons_potential", s.micropolygonsPotential},
       {"batches", s.batches},
+      {"pixels_per_block", s.pixelsPerBlock},
       {"nonfinite_samples_dropped", s.shade.nonFinite.load()},
       {"splats", s.shade.splats.load()},
       {"photons_traced", s.shade.photonsTraced.load()},

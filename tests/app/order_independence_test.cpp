@@ -57,6 +57,19 @@ TEST_F(OrderIndependence, SmallRayMemoryForcesMoreBatchesAndIterationsButSameIma
   EXPECT_GT(maxIterSmall + small.batches, maxIterRef + referenceStats_.batches);
 }
 
+// Batches by pixel blocks (a pass that needs several batches): every sample of as many pixels
+// as fit, here 7 pixels of 48x36 (a block count that does not divide the image), against the
+// reference's one batch of sample-major ids.
+TEST_F(OrderIndependence, BatchesByPixelBlocksGiveTheSameImage) {
+  RenderOptions o;
+  o.rayMemoryBytes = 14 * bytesPerPath(*scene_);  // 2 spp: 7 pixels per batch
+  RenderStats blocks;
+  EXPECT_EQ(renderBeauty(*scene_, o, 2, &blocks), *reference_);
+  EXPECT_EQ(blocks.pixelsPerBlock, 7u);
+  EXPECT_EQ(blocks.batches, (48u * 36u + 6u) / 7u);
+  EXPECT_EQ(referenceStats_.pixelsPerBlock, 0u);
+}
+
 TEST_F(OrderIndependence, ProgressivePassesGiveTheSameImageAsOnePass) {
   RenderOptions o;
   o.progressive = true;

@@ -29,6 +29,7 @@ inline std::vector<float> renderBeauty(const Scene& scene, const RenderOptions& 
   if (statsOut) {
     statsOut->generations = r.stats().generations;
     statsOut->batches = r.stats().batches;
+    statsOut->pixelsPerBlock = r.stats().pixelsPerBlock;
     statsOut->memory = r.stats().memory;
   }
   return film.beautyRgba();

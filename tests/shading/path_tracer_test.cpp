@@ -2,6 +2,9 @@
 // geometry, and a non-finite hit never reaches the film (docs/design.md, invariant 5).
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
+#include <utility>
 #include <gtest/gtest.h>
 #include "core/box.h"
 #include "shading/path_tracer.h"
@@ -176,6 +179,43 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
     EXPECT_EQ(rays.ray[ss].ignoreLeaf, 1u) << k;
   }
   EXPECT_GT(shadowRays, 0);
+}
+
+
+// Path ids by pixel blocks (PathTracer::setPixelBlock): for every block size, ids [0, pixels·spp)
+// name every (pixel, sample) exactly once; a block's ids are its pixels' with all their samples,
+// sample-major within it; and n = 0 or n = pixels is the sample-major order sample·pixels + pixel.
+// The blocks here do not divide the image (7x5 pixels, 3 samples), so the last one is short.
+TEST(PathIds, EveryBlockSizeNamesEveryPixelAndSampleOnceAndKeepsABlocksPixelsTogether) {
+  ShadingScene scene;
+  scene.width = 7;
+  scene.height = 5;
+  scene.samplesPerPixel = 3;
+  const uint64_t pixels = 35, spp = 3;
+  PathTracer tracer(scene);
+  for (const uint32_t n : {0u, 1u, 4u, 6u, 34u, 35u}) {
+    tracer.setPixelBlock(n);
+    std::set<std::pair<uint32_t, uint32_t>> seen;
+    std::map<uint32_t, uint32_t> lastSample;
+    const uint64_t block = n == 0 ? pixels : n;
+    for (uint64_t id = 0; id < pixels * spp; ++id) {
+      const PathTracer::PathIds ids = tracer.idsOf(id);
+      ASSERT_LT(ids.pixel, pixels);
+      ASSERT_LT(ids.sample, spp);
+      EXPECT_TRUE(seen.insert({ids.pixel, ids.sample}).second) << "block " << n << ", id " << id;
+      // The block of the id is the block of its pixel.
+      EXPECT_EQ(id / (block * spp), ids.pixel / block) << "block " << n << ", id " << id;
+      if (n == 0 || n == pixels) {
+        EXPECT_EQ(ids.pixel, id % pixels);
+        EXPECT_EQ(ids.sample, id / pixels);
+      }
+      // A pixel's samples come in increasing id order (the film adds them so).
+      if (auto it = lastSample.find(ids.pixel); it != lastSample.end())
+        EXPECT_GT(ids.sample, it->second) << "block " << n << ", id " << id;
+      lastSample[ids.pixel] = ids.sample;
+    }
+    EXPECT_EQ(seen.size(), pixels * spp);
+  }
 }
 
 }  // namespace
