@@ -24,11 +24,9 @@ enum Dim : uint32_t { kPixel = 0, kLightPick = 2, kLight = 3, kBsdf = 5, kRoulet
 }  // namespace
 
 PathTracer::PathIds PathTracer::idsOf(uint64_t id) const {
-  const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
-  const uint64_t block = blockPixels_ ? blockPixels_ : pixels, perBlock = block * samplesPerPixel();
-  const uint64_t b = id / perBlock, firstPixel = b * block, size = std::min(block, pixels - firstPixel);
-  const uint64_t r = id - b * perBlock;
-  return {static_cast<uint32_t>(firstPixel + r % size), static_cast<uint32_t>(r / size)};
+  const IdBlocks l = idBlocks();
+  const uint64_t b = id / l.perBlock, size = l.pixelsIn(b), r = id - b * l.perBlock;
+  return {static_cast<uint32_t>(b * l.block + r % size), static_cast<uint32_t>(r / size)};
 }
 
 // The offset is a bound, not a guess: how far the origin may lie on the wrong side of the
@@ -368,18 +366,17 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
 }
 
 void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) const {
-  const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
   const uint64_t first = paths.first, end = paths.first + paths.size();
   if (first == end) return;
   // The batch's pixels: those of the blocks its ids fall in (idsOf's inverse below).
-  const uint64_t block = blockPixels_ ? blockPixels_ : pixels, perBlock = block * samplesPerPixel();
-  const uint64_t p0 = first / perBlock * block, p1 = std::min(pixels, ((end - 1) / perBlock + 1) * block);
+  const IdBlocks l = idBlocks();
+  const uint64_t p0 = first / l.perBlock * l.block, p1 = std::min(l.pixels, ((end - 1) / l.perBlock + 1) * l.block);
   tbb::parallel_for(tbb::blocked_range<uint64_t>(p0, p1, 4096), [&](const auto& r) {
     for (uint64_t p = r.begin(); p != r.end(); ++p) {
-      const uint64_t b = p / block, firstPixel = b * block, size = std::min(block, pixels - firstPixel);
-      const uint64_t base = b * perBlock + (p - firstPixel);  // the id of (p, sample 0)
-      const uint64_t lo = std::max(first, b * perBlock), hi = std::min(end, (b + 1) * perBlock);
-      const uint64_t s0 = (lo - b * perBlock) / size, s1 = (hi - 1 - b * perBlock) / size;
+      const uint64_t b = p / l.block, size = l.pixelsIn(b), firstId = b * l.perBlock;
+      const uint64_t base = firstId + (p - b * l.block);  // the id of (p, sample 0)
+      const uint64_t lo = std::max(first, firstId), hi = std::min(end, firstId + l.perBlock);
+      const uint64_t s0 = (lo - firstId) / size, s1 = (hi - 1 - firstId) / size;
       for (uint64_t s = s0; s <= s1; ++s) {
         const uint64_t id = base + s * size;
         if (id < first || id >= end) continue;

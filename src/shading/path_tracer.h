@@ -232,7 +232,17 @@ class PathTracer final : public Integrator {
   GatherRunner gatherRunner_;
   PathBatch paths_;
   uint32_t blockPixels_ = 0;  // setPixelBlock's n
-  uint64_t samplesPerPixel() const { return uint64_t(std::max(1, scene_.samplesPerPixel)); }
+  // The id layout idsOf reads and finish inverts: block b holds pixels [b·block, b·block +
+  // pixelsIn(b)) and ids [b·perBlock, (b+1)·perBlock).
+  struct IdBlocks {
+    uint64_t pixels, block, perBlock;
+    uint64_t pixelsIn(uint64_t b) const { return std::min(block, pixels - b * block); }
+  };
+  IdBlocks idBlocks() const {
+    const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
+    const uint64_t block = blockPixels_ ? blockPixels_ : pixels;
+    return {pixels, block, block * uint64_t(std::max(1, scene_.samplesPerPixel))};
+  }
 };
 
 }  // namespace rayes

@@ -181,7 +181,6 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
   EXPECT_GT(shadowRays, 0);
 }
 
-
 // Path ids by pixel blocks (PathTracer::setPixelBlock): for every block size, ids [0, pixels·spp)
 // name every (pixel, sample) exactly once; a block's ids are its pixels' with all their samples,
 // sample-major within it; and n = 0 or n = pixels is the sample-major order sample·pixels + pixel.
@@ -210,8 +209,9 @@ TEST(PathIds, EveryBlockSizeNamesEveryPixelAndSampleOnceAndKeepsABlocksPixelsTog
         EXPECT_EQ(ids.sample, id / pixels);
       }
       // A pixel's samples come in increasing id order (the film adds them so).
-      if (auto it = lastSample.find(ids.pixel); it != lastSample.end())
+      if (auto it = lastSample.find(ids.pixel); it != lastSample.end()) {
         EXPECT_GT(ids.sample, it->second) << "block " << n << ", id " << id;
+      }
       lastSample[ids.pixel] = ids.sample;
     }
     EXPECT_EQ(seen.size(), pixels * spp);
