@@ -36,6 +36,7 @@ struct RayHit {
   uint32_t quad = 0;        // micro-quad index at the ray's level
   uint32_t ngCode = 0, nsCode = 0;  // encodeOctahedral of the two normals (0 is +z)
   uint8_t level = 0;        // level of detail the ray was intersected at
+  bool border = false;      // the hit lies in a crack-closing border region, not on a micro-quad
   bool valid() const { return leaf != kNoLeaf; }
   Vec3 ng() const { return decodeOctahedral(ngCode); }  // unit geometric normal of the micro-triangle hit
   Vec3 ns() const { return decodeOctahedral(nsCode); }  // unit shading normal
@@ -44,6 +45,10 @@ struct RayHit {
     nsCode = encodeOctahedral(shading);
   }
 };
+
+// 32 bytes; Tracer::offerHit copies it field by field (two fields atomically): a new field
+// must be added there too.
+static_assert(sizeof(RayHit) == 32);
 
 // What to trace, one record per ray (48 bytes): the tracer reads most of these fields together
 // for every (ray, leaf) pair of the bottom level and the top level, in an order set by the

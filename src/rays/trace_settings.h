@@ -69,7 +69,7 @@ struct GenerationStats {
   uint64_t leavesDiced = 0;          // dicings (a moving leaf: one per time interval its rays need)
   uint64_t micropolygonsCreated = 0; // a moving leaf's dicing counts both of its time samples
   uint64_t movingDicings = 0;        // dicings of two time samples (motion blur)
-  uint64_t borderHits = 0;           // leaf intersections whose nearest hit was a border box
+  uint64_t borderHits = 0;           // rays whose hit lies in a border region (sorted pipeline)
   // Dicings whose rays all leave from that leaf: what the thesis's second optimisation
   // (§6.2.1: continuation rays intersected with their still-diced leaf) could save at most.
   uint64_t originLeafDicings = 0;

@@ -50,6 +50,7 @@ RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
   RayHit r;
   r.t = keptDistance(h.t, entry); r.u = h.u; r.v = h.v; r.leaf = leaf; r.quad = h.quad;
   r.level = static_cast<uint8_t>(level);
+  r.border = h.border;
   r.setNormals(h.ng, h.ns);
   return r;
 }
@@ -303,31 +304,38 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 }
 
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
-// its time, on a moving leaf), a hit offered to the ray. True when the nearest hit was a
-// border box.
-bool Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
+// its time, on a moving leaf), a hit offered to the ray.
+void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
                            int m, float entry) {
   const uint32_t i = rayOfSlot(s);
+  // What another leaf of this iteration already offered the ray: a hit this leaf cannot beat
+  // makes its intersection moot (see offerHit).
+  const bool shadow = b.ray[i].kind == RayKind::Shadow;
+  float offered = kInf;
+  if (shadow) {
+    const uint32_t occluder = std::atomic_ref<uint32_t>(b.hit[i].leaf).load(std::memory_order_relaxed);
+    if (occluder < leaf) return;  // occluders all have t = 0: the smallest leaf wins
+  } else {
+    offered = std::atomic_ref<float>(b.hit[i].t).load(std::memory_order_relaxed);
+    if (entry > offered) return;  // every hit here is kept at t >= entry
+  }
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
-  const float limit = searchLimit(b, i, bestT_[i]);
+  const float limit = std::min(searchLimit(b, i, bestT_[i]), std::nextafter(offered, kInf));
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, query);
-  if (b.ray[i].kind == RayKind::Shadow) {
+  if (shadow) {
     if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
       RayHit occluder;
       occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
       offerHit(b, i, occluder);
     }
-    return false;
+    return;
   }
   GridHit h;
-  if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query)) {
+  if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query))
     offerHit(b, i, hitRecord(h, leaf, level, entry));
-    return h.border;
-  }
-  return false;
 }
 
 // 4, reduction: the ray keeps the nearest hit under the total order, whichever leaf's task
@@ -338,7 +346,14 @@ void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
   std::atomic_flag& lock = hitLock_[i];
   while (lock.test_and_set(std::memory_order_acquire))
     while (lock.test(std::memory_order_relaxed)) spinPause();
-  if (nearerHit(h.t, h.leaf, h.quad, b.hit[i])) b.hit[i] = h;
+  if (nearerHit(h.t, h.leaf, h.quad, b.hit[i])) {
+    // t and leaf are read without the lock (intersectSlot), so they are stored atomically.
+    RayHit& dst = b.hit[i];
+    dst.u = h.u; dst.v = h.v; dst.quad = h.quad; dst.ngCode = h.ngCode; dst.nsCode = h.nsCode; dst.level = h.level;
+    dst.border = h.border;
+    std::atomic_ref<float>(dst.t).store(h.t, std::memory_order_relaxed);
+    std::atomic_ref<uint32_t>(dst.leaf).store(h.leaf, std::memory_order_relaxed);
+  }
   lock.clear(std::memory_order_release);
 }
 
@@ -360,7 +375,7 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     diceAndIntersectRuns(b, stats, times);
     it.dicings = stats.leavesDiced - dicedBefore;
     it.cacheHits = stats.gridCacheHits - hitsBefore;
-    keepUnfinishedRays(b, nActive, nNow);
+    stats.borderHits += keepUnfinishedRays(b, nActive, nNow);
     stats.iterations.push_back(it);
   }
 }
@@ -479,7 +494,6 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
   stats.leavesDiced += counters.dicings.load();
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();
-  stats.borderHits += counters.borderHits.load();
   stats.originLeafDicings += counters.originLeafDicings.load();
 }
 
@@ -561,12 +575,10 @@ void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* s
                           DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
-    uint64_t borders = 0;
     for (size_t k = k0; k < k1; ++k) {
       const float entry = entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, rayOfSlot(slots[k]), leaf);
-      borders += intersectSlot(b, dice, slots[k], leaf, patch, m, entry);
+      intersectSlot(b, dice, slots[k], leaf, patch, m, entry);
     }
-    if (borders) counters.borderHits.fetch_add(borders, std::memory_order_relaxed);
   };
   constexpr size_t kChunk = 1024;
   if (count <= 2 * kChunk) {
@@ -581,20 +593,27 @@ void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* s
 
 // 5. A ray stays active while a leaf it has not seen could still hold a nearer hit (a shadow
 // ray: until its first occluder); rays that got no turn stay too. The survivors' hit distance
-// becomes their search limit for the next iteration.
-void Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
+// becomes their search limit for the next iteration. Returns how many of the finished rays'
+// hits lie in a border region: counted on the final hits, so the figure does not depend on
+// which leaf's intersection a thread happened to run first.
+uint64_t Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
   size_t kept = 0;  // compacted in place: kept <= a, so no ray is overwritten before it is read
+  uint64_t borderHits = 0;
   for (size_t a = 0; a < nActive; ++a) {
     const uint32_t i = active_[a];
     if (a >= nNow) { active_[kept++] = i; continue; }
     const bool exhausted = !(nextEntry_[i] < kInf);
     const bool done = b.ray[i].kind == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
                                                    : (exhausted || b.hit[i].t < nextEntry_[i]);
-    if (done) continue;
+    if (done) {
+      borderHits += b.hit[i].border;
+      continue;
+    }
     bestT_[i] = b.hit[i].t;
     active_[kept++] = i;
   }
   active_.resize(kept);
+  return borderHits;
 }
 
 // Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at

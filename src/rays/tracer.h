@@ -14,6 +14,11 @@
 //                 nearer under nearerHit's total order (t, leaf, micro-quad; t clamped to at
 //                 least the ray's entry into the leaf's box, see keptDistance), under a per-ray
 //                 lock because two leaves of a ray may finish at once on two threads.
+//                 A slot whose leaf cannot beat what another leaf already offered (its box
+//                 entry lies beyond that hit; a shadow ray occluded by a smaller leaf id) is
+//                 skipped, and a hit offered so far bounds the search: either way only losers
+//                 are dropped, so the kept hit is the same (6 % of a forest's closest-hit slots,
+//                 13 % of its shadow slots).
 //   5. finish     a ray is finished once its hit is nearer than its next candidate's entry
 //                 distance; the others stay active with more candidates each.
 //
@@ -127,7 +132,7 @@ class Tracer : public RayEngine {
   // The steps of one traceSorted iteration (the header comment's numbers) over the first nNow
   // active rays with N candidate slots each.
   struct DicingCounters {
-    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, borderHits{0}, originLeafDicings{0};
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, originLeafDicings{0};
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
   size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
@@ -147,7 +152,7 @@ class Tracer : public RayEngine {
   void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                     const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times, DicingCounters& counters);
   void offerHit(RayBatch& b, uint32_t ray, const RayHit& h);                             // 4
-  void keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);               // 5
+  uint64_t keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);           // 5
   // The ray a candidate slot of this iteration belongs to (slots are N per active ray).
   uint32_t rayOfSlot(uint32_t slot) const { return active_[slot / slotsPerRay_]; }
   void traceAlone(RayBatch& batch, GenerationStats& stats, TraceTimes& times);
@@ -183,7 +188,7 @@ class Tracer : public RayEngine {
     return settings_.closeBorders && leaf != b.ray[i].originLeaf;
   }
   // `entry`: leafEntry(b, ray of slot, leaf), the level's footprint distance and the hit's floor.
-  bool intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m,
+  void intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m,
                      float entry);
   DiceBuffer& localDiceBuffer();
 
