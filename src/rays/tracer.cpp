@@ -399,7 +399,9 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
       for (int j = 0; j < got; ++j) {
         const uint32_t leaf = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
         cand_.leaf[base + j] = leaf;
-        if (leaf != kNoLeaf && !density) cand_.level[base + j] = uint8_t(levelFor(b, i, leaf, leafEntry(b, i, leaf)));
+        // local[j].entry is leafEntry(b, i, leaf) bit for bit (the same slab test on the same
+        // box, core/box4.h), so this is the level intersectSlot computes again.
+        if (leaf != kNoLeaf && !density) cand_.level[base + j] = uint8_t(levelFor(b, i, leaf, local[j].entry));
       }
       if (got > 0) {
         resumeEntry_[i] = local[got - 1].entry;
