@@ -12,7 +12,8 @@
 // id alone, sorting only as many bits as the largest leaf id has, is 7.7-11.5x faster than
 // tbb::parallel_sort of 64-bit (leaf, slot) keys on this machine (bench/RESULTS.md,
 // bench/rays_candidate_sort.cpp).
-// Complexity O(n * ceil(bits / 11)); scratch is kept across iterations.
+// Complexity O(n * ceil(bits / 11)); scratch is kept across iterations, and between sorts it
+// is free, as long as `order` (the Tracer keeps each sorted slot's box entry there).
 #pragma once
 #include <cstddef>
 #include <cstdint>

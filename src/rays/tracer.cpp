@@ -306,9 +306,8 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
 // its time, on a moving leaf), a hit offered to the ray.
 void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
-                           int m) {
+                           int m, float entry) {
   const uint32_t i = rayOfSlot(s);
-  const float entry = leafEntry(b, i, leaf);
   // What another leaf of this iteration already offered the ray: a hit this leaf cannot beat
   // makes its intersection moot (see offerHit).
   const bool shadow = b.ray[i].kind == RayKind::Shadow;
@@ -320,8 +319,6 @@ void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
     offered = std::atomic_ref<float>(b.hit[i].t).load(std::memory_order_relaxed);
     if (entry > offered) return;  // every hit here is kept at t >= entry
   }
-  // The level the top level recorded for this slot (CandidateBuffer::level), computed again:
-  // the same function of the same ray and leaf, so the same value, without a miss on the slot.
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
   const float limit = std::min(searchLimit(b, i, bestT_[i]), std::nextafter(offered, kInf));
   BottomQuery query;
@@ -386,7 +383,6 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
 // 1. Top level: up to N candidates per ray into its own slots.
 void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.toplevel);
-  const bool density = settings_.lod == LodRule::Density;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 256), [&](const auto& r) {
     auto& scratch = scratch_.local();
     Candidate local[128];
@@ -396,13 +392,7 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
       const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, bestT_[i]),
                                    resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
       const size_t base = a * size_t(N);
-      for (int j = 0; j < got; ++j) {
-        const uint32_t leaf = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
-        cand_.leaf[base + j] = leaf;
-        // local[j].entry is leafEntry(b, i, leaf) bit for bit (the same slab test on the same
-        // box, core/box4.h), so this is the level intersectSlot computes again.
-        if (leaf != kNoLeaf && !density) cand_.level[base + j] = uint8_t(levelFor(b, i, leaf, local[j].entry));
-      }
+      for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
       if (got > 0) {
         resumeEntry_[i] = local[got - 1].entry;
         resumeLeaf_[i] = local[got - 1].leaf;
@@ -436,6 +426,10 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
   auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
+  // Each sorted slot's entry into its leaf's box (Tracer::leafEntry, as float bits), written by
+  // runLevel and read by the intersection, in the sort's scratch: free until the next sort,
+  // which left it as long as `order`.
+  auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
   if (cache_.enabled()) {
     // The level of every static run (a moving leaf's levels are per time interval, later),
@@ -444,7 +438,7 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 64), [&](const auto& r) {
       for (size_t run = r.begin(); run != r.end(); ++run) {
         const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-        if (!leafMoving_[leaf]) runLevel_[run] = runLevel(runSlots(run), runCount(run));
+        if (!leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf, runEntries(run));
       }
     });
     uint64_t hits = 0;
@@ -482,7 +476,7 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
           e->patch = leaves_.patch(leaf);  // kept with the grid: border queries read it
           diceRun(b, *e->grid, slots, count, leaf, *e->patch, -1, runLevel_[run], times, counters);
         }
-        intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], times, counters);
+        intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], runEntries(run), times, counters);
         continue;
       }
       DiceBuffer& dice = localDiceBuffer();
@@ -491,8 +485,8 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
       if (leafMoving_[leaf]) {
         diceAndIntersectMoving(b, dice, slots, count, leaf, *patch, times, counters);
       } else {
-        const int m = cache_.enabled() ? runLevel_[run] : runLevel(slots, count);
-        diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, times, counters);
+        const int m = cache_.enabled() ? runLevel_[run] : runLevel(b, slots, count, leaf, runEntries(run));
+        diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, runEntries(run), times, counters);
       }
     }
   });
@@ -526,7 +520,8 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
     const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
     if (k1 > k0) {
       const uint32_t* part = sc.slots.data() + k0;
-      diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, runLevel(part, k1 - k0), times, counters);
+      diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, runLevel(b, part, k1 - k0, leaf, nullptr), nullptr,
+                       times, counters);
     }
   }
 }
@@ -534,17 +529,25 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
 // Dices `leaf` (its time interval, or static when interval < 0) at level m, the finest level of
 // `count` slots (runLevel), and intersects them all.
 void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                              const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
+                              const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
+                              DicingCounters& counters) {
   diceRun(b, dice, slots, count, leaf, patch, interval, m, times, counters);
-  intersectRun(b, dice, slots, count, leaf, patch, m, times, counters);
+  intersectRun(b, dice, slots, count, leaf, patch, m, entryBits, times, counters);
 }
 
-int Tracer::runLevel(const uint32_t* slots, size_t count) const {
-  if (settings_.lod == LodRule::Density)
+int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
+  const bool density = settings_.lod == LodRule::Density;
+  int m = 0;
+  if (!density || entryBits)
+    for (size_t k = 0; k < count; ++k) {
+      const uint32_t i = rayOfSlot(slots[k]);
+      const float entry = leafEntry(b, i, leaf);
+      if (entryBits) entryBits[k] = std::bit_cast<uint32_t>(entry);
+      if (!density) m = std::max(m, levelFor(b, i, leaf, entry));
+    }
+  if (density)
     return biasedLevel(levelForDensity(count, settings_.samplesPerPixel, settings_.maxLod), settings_.lodBias,
                        settings_.maxLod);
-  int m = 0;
-  for (size_t k = 0; k < count; ++k) m = std::max(m, int(cand_.level[slots[k]]));
   return m;
 }
 
@@ -568,10 +571,14 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
 // read-only, buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
 // (which would re-dice its buffer) while it waits.
 void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                          const Patch& patch, int m, TraceTimes& times, DicingCounters& counters) {
+                          const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times,
+                          DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
-    for (size_t k = k0; k < k1; ++k) intersectSlot(b, dice, slots[k], leaf, patch, m);
+    for (size_t k = k0; k < k1; ++k) {
+      const float entry = entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, rayOfSlot(slots[k]), leaf);
+      intersectSlot(b, dice, slots[k], leaf, patch, m, entry);
+    }
   };
   constexpr size_t kChunk = 1024;
   if (count <= 2 * kChunk) {

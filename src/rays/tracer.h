@@ -140,15 +140,17 @@ class Tracer : public RayEngine {
   void diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
                               uint32_t leaf, const Patch& patch, TraceTimes& times, DicingCounters& counters);
   void diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                        const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters);
-  // The finest level a run's rays need on its leaf (the level the leaf is diced at): the
-  // largest of the slots' levels, as the top level recorded them (CandidateBuffer::level).
-  int runLevel(const uint32_t* slots, size_t count) const;
+                        const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
+                        DicingCounters& counters);
+  // The finest level the run's rays need on `leaf` (the level the leaf is diced at).
+  // With `entryBits`, also each slot's leafEntry there (as float bits), for the intersection.
+  int runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const;
   void diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters);
-  // Every slot of the run against the diced leaf (rays at their own level <= m).
+  // Every slot of the run against the diced leaf (rays at their own level <= m); entryBits as
+  // runLevel wrote them, or null (then computed here).
   void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                    const Patch& patch, int m, TraceTimes& times, DicingCounters& counters);
+                    const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times, DicingCounters& counters);
   void offerHit(RayBatch& b, uint32_t ray, const RayHit& h);                             // 4
   uint64_t keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);           // 5
   // The ray a candidate slot of this iteration belongs to (slots are N per active ray).
@@ -185,8 +187,9 @@ class Tracer : public RayEngine {
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
     return settings_.closeBorders && leaf != b.ray[i].originLeaf;
   }
-  // m: the run's level (the ray's own under LodRule::Density).
-  void intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m);
+  // `entry`: leafEntry(b, ray of slot, leaf), the level's footprint distance and the hit's floor.
+  void intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m,
+                     float entry);
   DiceBuffer& localDiceBuffer();
 
   const TopLevelBvh& top_;
