@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include "core/next_float.h"
 #include "geometry/displaced_patch.h"
 #include "geometry/moving_patch.h"
 
@@ -22,7 +23,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // later iteration (the tie order must not depend on which iteration a leaf came in).
 float searchLimit(const RayBatch& b, uint32_t i, float best) {
   if (b.ray[i].kind == RayKind::Shadow) return b.ray[i].tmax;
-  return std::min(b.ray[i].tmax, std::nextafter(best, kInf));
+  return std::min(b.ray[i].tmax, nextFloatUp(best));
 }
 
 // The distance a hit on a leaf is ordered and kept by: its t, but never less than the ray's
@@ -320,7 +321,8 @@ void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
     if (entry > offered) return;  // every hit here is kept at t >= entry
   }
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
-  const float limit = std::min(searchLimit(b, i, bestT_[i]), std::nextafter(offered, kInf));
+  // The offered hit is never farther than bestT_ (hits only get nearer), so it is the bound.
+  const float limit = searchLimit(b, i, offered);
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
