@@ -290,7 +290,6 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   resumeEntry_.assign(n, -kInf);
   resumeLeaf_.assign(n, 0);
   nextEntry_.assign(n, kInf);
-  bestT_.assign(n, kInf);
   count_.assign(n, 0);
   if (hitLock_.size() < n) hitLock_ = std::vector<std::atomic_flag>(n);  // all clear
   activeRays(batch, stats, active_);
@@ -321,7 +320,7 @@ void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
     if (entry > offered) return;  // every hit here is kept at t >= entry
   }
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
-  // The offered hit is never farther than bestT_ (hits only get nearer), so it is the bound.
+  // The offered hit is the nearest any leaf has found so far, so it bounds the search.
   const float limit = searchLimit(b, i, offered);
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
@@ -391,7 +390,8 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
     for (size_t a = r.begin(); a != r.end(); ++a) {
       const uint32_t i = active_[a];
       float next = kInf;
-      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, bestT_[i]),
+      // The hit kept from earlier iterations bounds the search (no other thread writes it now).
+      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, b.hit[i].t),
                                    resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
       const size_t base = a * size_t(N);
       for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
@@ -611,7 +611,6 @@ uint64_t Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nN
       borderHits += b.hit[i].border;
       continue;
     }
-    bestT_[i] = b.hit[i].t;
     active_[kept++] = i;
   }
   active_.resize(kept);

@@ -99,10 +99,10 @@ class Tracer : public RayEngine {
   static constexpr uint8_t kReversedSeam = 4, kDisplacedSeam = 8;
   static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
                                                                std::vector<std::array<uint8_t, 4>>* sides = nullptr);
-  // Per ray: resume entry and leaf, next entry, best t of the previous iterations, candidate
-  // count, hit lock, and its place in the active list (compacted in place each iteration).
+  // Per ray: resume entry and leaf, next entry, candidate count, hit lock, and its place in the
+  // active list (compacted in place each iteration). The search limit is the ray's own hit.
   static constexpr size_t bytesPerRayState() {
-    return 3 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint16_t) + sizeof(std::atomic_flag);
+    return 2 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint16_t) + sizeof(std::atomic_flag);
   }
   static constexpr size_t kMaxCandidatesPerIteration = 65535;  // N per ray, so a count fits 16 bits
   // Everything one candidate slot costs: the slot itself and, when it is filled, its place in
@@ -206,7 +206,6 @@ class Tracer : public RayEngine {
   std::vector<uint32_t> active_;
   uint32_t slotsPerRay_ = 1;  // N of the current iteration
   std::vector<float> resumeEntry_, nextEntry_;
-  std::vector<float> bestT_;  // a ray's hit distance after the previous iteration: its search limit
   std::vector<uint32_t> resumeLeaf_;
   std::vector<uint16_t> count_;  // candidates got this iteration (N <= kMaxCandidatesPerIteration)
   std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
