@@ -142,6 +142,25 @@ bool BeamEnvelope::excludes(Vec3 xf) const {
   return outside > need + kMargin * (w + spread + std::fabs(t) + axialOffset);
 }
 
+namespace {
+
+// A glossy lobe that crosses its scatterer's horizon (grazing light) sends nothing below it: no
+// direction below a surface is a reflection off it, and the path tracer's lobe (GaussianLobe)
+// is 0 there too. The horizon is the plane of the corner rays' origins, which lie on the last
+// scatterer (exact on a flat facet, the chord plane of a curved one), on the side the beam
+// leaves by. Degenerate origins (collinear) give no plane and cut nothing.
+bool belowScattererHorizon(const D3 (&o)[3], D3 c, D3 x) {
+  const D3 e1 = sub(o[1], o[0]), e2 = sub(o[2], o[0]);
+  const D3 n = crossD(e1, e2);
+  const double len = lengthD(n);
+  if (!(len > 1e-9 * lengthD(e1) * lengthD(e2)) || !std::isfinite(len)) return false;
+  const double side = dotD(n, c);
+  if (side == 0) return false;  // the beam runs along its origins' plane: no side to cut
+  return dotD(sub(x, o[0]), n) * side < 0;
+}
+
+}  // namespace
+
 Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
   const D3 x = d3(xf);
   D3 d[3], o[3];
@@ -196,6 +215,7 @@ Rgb beamIrradiance(const BeamSegment& s, Vec3 xf, Vec3 nf, Vec3& psi) {
   }
   if (!(r > 0)) return {};
   if (s.sigma > 0 && !inside && farOutsideLobe(a, area2, r, s.sigma)) return {};
+  if (s.sigma > 0 && belowScattererHorizon(o, c, x)) return {};
   D3 end[3];
   for (int i = 0; i < 3; ++i) end[i] = add(o[i], mul(d[i], double(s.t[i])));
   D3 endNormal = crossD(sub(end[1], end[0]), sub(end[2], end[0]));
