@@ -56,6 +56,60 @@ TEST(Beams, PlanarMirrorThroughTheEngineMatchesTheClosedForm) {
   EXPECT_GT(r.stats().beams.trace.segments, 0u);
 }
 
+// Grazing incidence on a scatterer: a point light of I = 10 at (-6, 0, h) over a mirror
+// [-1, 1]² at z = 0 (ρ = 0.9, σ below the delta limit), light 2.9° above it at h = 0.3; a wall
+// at x = 6 (leaf 1) catches the reflection as if from the light's image (-6, 0, -h):
+// E = ρ·I·cos θ / D³·D = ρ·I·12 / D³ inside the footprint. The beams' cells are as fine as the
+// light sees the mirror, so the relative error is the planar mirror's (1.5e-3), and their flux
+// adds up to ρ·I·Ω with Ω the mirror's solid angle from the light, however thin it is. With
+// the light in the mirror's plane (h = 0) the mirror is edge-on: Ω = 0, no beams, no NaN.
+std::string grazingMirror(const TempFolder& tmp, float h) {
+  const std::string path = tmp.path("grazing.json");
+  std::ofstream(path) << R"({
+    "camera": {"position": [0, -8, 2], "look_at": [3, 0, 0.5], "up": [0, 0, 1], "fov": 50},
+    "film": {"resolution": [8, 6], "spp": 1},
+    "materials": {"mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.0001},
+      "wall": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
+    "shapes": [
+      {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
+      {"type": "bilinear", "material": "wall", "quads": [[[6, -6, -1], [6, 6, -1], [6, -6, 5], [6, 6, 5]]]}],
+    "lights": [{"type": "point", "position": [-6, 0, )" << h << R"(], "intensity": [10, 10, 10]}]})";
+  return path;
+}
+
+TEST(Beams, GrazingIncidenceOnAMirrorMatchesTheClosedFormAndEdgeOnGivesNothing) {
+  TempFolder tmp;
+  const float h = 0.3f;
+  const Scene scene = loadScene(grazingMirror(tmp, h));
+  Renderer r(scene, lbtOptions(64));
+  ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+  // Inside the footprint on the wall: z = h (6 - x0) / (6 + x0) in [0.214, 0.42] for mirror
+  // points x0 in [-1, 1], |y| < 1.7 at its narrow end.
+  for (float z : {0.25f, 0.3f, 0.38f})
+    for (float y : {0.0f, 0.7f, -1.1f}) {
+      const double d = std::sqrt(144.0 + double(y) * y + double(z + h) * (z + h));
+      const double exact = 0.9 * 10 * 12 / (d * d * d);
+      EXPECT_NEAR(gatherAt(*r.beams(), 1, {6, y, z}, {-1, 0, 0}), exact, 1.5e-3 * exact) << y << ", " << z;
+    }
+  EXPECT_EQ(gatherAt(*r.beams(), 1, {6, 0, 0.6f}, {-1, 0, 0}), 0.0);  // above the footprint
+  const Vec3 light{-6, 0, h};
+  Vec3 c[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  for (Vec3& v : c) v = normalize(v - light);
+  const double omega = sphericalTriangleArea(c[0], c[1], c[2]) + sphericalTriangleArea(c[0], c[2], c[3]);
+  double power = 0;
+  for (const BeamSegment& s : r.beams()->segments()) {
+    EXPECT_TRUE(isFinite(s.power));
+    power += s.scatterings == 1 ? s.power.x : 0;
+  }
+  EXPECT_NEAR(power, 0.9 * 10 * omega, 1e-3 * 0.9 * 10 * omega);
+
+  const Scene edgeOn = loadScene(grazingMirror(tmp, 0));
+  Renderer e(edgeOn, lbtOptions(64));
+  EXPECT_EQ(e.beams(), nullptr);  // no beam reaches past the mirror, and the stats say so
+  EXPECT_FALSE(e.stats().beams.skipped.empty());
+  for (float v : renderBeauty(edgeOn, lbtOptions(16), 2)) ASSERT_TRUE(std::isfinite(v));
+}
+
 // lbt-ring.json: a ring of radius R = 1 under parallel light 25° above the horizon, travelling
 // along +x. Reflections off a vertical wall keep the light's slope, so on the floor the
 // reflected rays' envelope is the nephroid of the 2D circle, its cusp at R/2 on the axis
