@@ -103,13 +103,23 @@ std::string htmlReport(const json& s, const std::string& preview) {
     o << "<tr class=data><td>" << escape(it.key()) << "</td><td class=num>" << count(it.value().get<uint64_t>()) << "</td></tr>";
   o << "</table>";
 
+  // By owner (docs/stats.md): what is fixed by the budgets and what grows with the scene.
   o << "<h2>Memory</h2>";
   const json& m = s["memory"];
+  const json& own = m["by_owner"];
+  const auto mib = [&](const char* key) { return double(own[key].get<uint64_t>()) / double(1 << 20); };
   bars(o,
-       {{"ray buffers (budget)", double(m["ray_budget_bytes"].get<uint64_t>()) / double(1 << 20),
-         count(m["paths_per_batch"].get<uint64_t>()) + " paths per batch at " + std::to_string(m["bytes_per_path"].get<uint64_t>()) + " B"},
-        {"dice buffers", double(m["dice_buffer_bytes"].get<uint64_t>()) / double(1 << 20), "one per thread, any scene size"},
-        {"top level", double(m["toplevel_bytes"].get<uint64_t>()) / double(1 << 20), "4-wide BVH over patch boxes"},
+       {{"ray buffers", mib("ray_buffers"),
+         count(m["paths_per_batch"].get<uint64_t>()) + " paths per batch at " + std::to_string(m["bytes_per_path"].get<uint64_t>()) +
+             " B (" + std::to_string(m["bytes_per_ray"].get<uint64_t>()) + " B per ray slot)"},
+        {"candidates and sort", mib("candidates_and_sort"), "per ray slot: candidate slots, sort scratch, trace state"},
+        {"top level", mib("top_level"), "4-wide BVH over patch boxes"},
+        {"dice buffers", mib("dice_buffers"), "one per thread, any scene size"},
+        {"grid cache", mib("dice_cache"), "diced grids kept between uses, at its peak"},
+        {"border bounds", mib("border_bounds"), "crack-closing border boxes kept between dicings"},
+        {"film", mib("film"), "per-pixel sums"},
+        {"scene description", mib("scene_description"),
+         number(m["scene_bytes_per_leaf"].get<double>()) + " B per leaf: grows with the scene"},
         {"peak resident", double(t["peak_rss_bytes"].get<uint64_t>()) / double(1 << 20), "whole process"}},
        " MiB");
 

@@ -114,7 +114,7 @@ struct MemoryByOwner {
   size_t candidatesAndSort = 0;  // the engine's per-ray-slot state: candidates, sort scratch, trace state
   size_t topLevel = 0;           // the top-level BVH's nodes
   size_t diceBuffers = 0;        // Rayes: the per-thread dice buffers; Embree: the whole tessellation
-  size_t diceCache = 0;          // diced grids kept between uses (none yet)
+  size_t diceCache = 0;          // diced grids kept between uses (--grid-cache, --dice-cache), at their peak
   size_t borderBounds = 0;       // Rayes: border boxes and radii kept between dicings (fixed capacity)
   size_t film = 0;
   size_t sceneDescription = 0;   // the leaves (records, boxes, stored patches) and every per-leaf table
