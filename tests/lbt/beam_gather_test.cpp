@@ -4,7 +4,8 @@
 // (0, 0, -1), so every reflected corner ray leaves its mirror point away from the image. On the
 // ceiling z = 2: E = ρ·I·cos θ / D² = 3ρI / D³ inside the footprint [-3, 3]², 0 outside; the
 // total flux is ρ·I·Ω = ρ·I·2π/3. Then the stiff cases: a focus, past a focus, collinear
-// corners, a gather point on a corner ray, grazing receivers.
+// corners, a gather point on a corner ray, grazing receivers, a glossy lobe crossing its
+// scatterer's horizon.
 #include <gtest/gtest.h>
 #include <cmath>
 #include <numbers>
