@@ -118,14 +118,14 @@ std::vector<BeamSegment> Renderer::traceBeamSeeds(const BeamSeeds& seeds, const 
   return traceBeams(data_.shading, seeds, to, trace, stats);
 }
 
-std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, BeamTraceStats& stats) {
+std::unique_ptr<BeamStore> Renderer::traceBeamRange(size_t first, size_t last, size_t budget, BeamTraceStats& stats) {
   const ShadingScene& shading = data_.shading;
   std::vector<BeamSegment> segments = traceBeamSeeds(beamSeeds_.range(first, last), beamTraceOptions(), stats);
   std::vector<uint8_t> leafReceives(shading.leafMaterial.size());
   for (size_t l = 0; l < leafReceives.size(); ++l)
     leafReceives[l] = isCausticScatterer(shading.materials[shading.leafMaterial[l]]) ? 0 : 1;
-  return std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, options_.beams.memoryBytes,
-                                     leafReceives, scene_.integrator.maxDepth);
+  return std::make_unique<BeamStore>(std::move(segments), data_.top, data_.leafBoxes, budget, leafReceives,
+                                     scene_.integrator.maxDepth);
 }
 
 // --beam-resolution, or the glossy rule's coarser grid (lbt/beam_resolution.h) from a probe of
@@ -170,13 +170,29 @@ void Renderer::buildBeams() {
   beamSeeds_ = seedBeams(lights, scatterers, data_.top.bounds(), bs.resolution);
   // The ranges of seed triangles whose beams fit the budget: all of them if they do, else
   // halves, quarters, ... (a tried range's segments are held once before they are binned).
+  // Batches keep a partial gather per (path, bounce) of a camera batch (BeamBatches): those
+  // share the budget, so every range's store gets what they leave.
   const size_t roots = beamSeeds_.triangles.size();
+  const size_t partialBytes = BeamBatches::bytesFor(stats_.pathsPerBatch, scene_.integrator.maxDepth);
+  size_t budget = options_.beams.memoryBytes;  // one store of every beam: no partial gathers
   size_t count = roots, segments = 0;
   for (size_t first = 0; first < roots; first += count) {
     count = std::min(count, roots - first);
     for (;;) {
       BeamTraceStats trial;
-      std::unique_ptr<BeamStore> store = traceBeamRange(first, first + count, trial);
+      std::unique_ptr<BeamStore> store = traceBeamRange(first, first + count, budget, trial);
+      if (count == roots && !store->fits()) {
+        const size_t oneBeam = BeamStore::minimumBytes(data_.leafBoxes.size());
+        if (partialBytes + oneBeam > options_.beams.memoryBytes)
+          throw InputError("--beam-memory", "",
+                           "a budget of " + std::to_string(options_.beams.memoryBytes) +
+                               " bytes cannot hold the beams in batches: the partial gathers of a camera batch take " +
+                               std::to_string(partialBytes) + " bytes (" + std::to_string(stats_.pathsPerBatch) +
+                               " paths x " + std::to_string(std::max(scene_.integrator.maxDepth, 1)) +
+                               " bounces x 12 B) besides " + std::to_string(oneBeam) +
+                               " for one beam; raise --beam-memory or lower --ray-memory");
+        budget = options_.beams.memoryBytes - partialBytes;  // what did not fit the whole budget fits no less
+      }
       if (store->fits()) {
         bs.trace.add(trial);  // a trial that did not fit is not counted
         bs.binEntries += store->binEntries();
@@ -187,13 +203,15 @@ void Renderer::buildBeams() {
         break;
       }
       if (count == 1)
-        throw InputError("--beam-memory", "", "a budget of " + std::to_string(options_.beams.memoryBytes) +
+        throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) +
                          " bytes cannot hold one beam (seed triangle " + std::to_string(first) + " needs " +
-                         std::to_string(store->neededBytes()) + " bytes for its segments and bins)");
+                         std::to_string(store->neededBytes()) + " bytes for its segments and bins" +
+                         (budget < options_.beams.memoryBytes ? " besides the partial gathers of a camera batch)" : ")"));
       count = (count + 1) / 2;
     }
   }
   bs.batches = beamRanges_.size();
+  beamStoreBudget_ = budget;
   bs.seconds = secondsSince(t0);
   if (segments == 0) {
     bs.skipped = "no beam reached past a specular or glossy surface: lbt is the path tracer";
@@ -294,7 +312,7 @@ Film Renderer::render(const Progress& progress) {
         for (const auto& [r0, r1] : beamRanges_) {
           beams_.reset();
           BeamTraceStats again;
-          beams_ = traceBeamRange(r0, r1, again);
+          beams_ = traceBeamRange(r0, r1, beamStoreBudget_, again);
           beamBatches_->use(beams_.get());
           runCameraBatch(first, count, pass, batch, rays);
         }

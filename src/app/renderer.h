@@ -171,12 +171,13 @@ class Renderer {
   // `--method lbt`: the light phase, run at setup through the engine; when the beams do not fit
   // --beam-memory, the ranges of seed triangles that do, each traced again per camera batch.
   void buildBeams();
-  std::unique_ptr<BeamStore> traceBeamRange(size_t first, size_t last, BeamTraceStats& stats);
+  std::unique_ptr<BeamStore> traceBeamRange(size_t first, size_t last, size_t budget, BeamTraceStats& stats);
   BeamTraceOptions beamTraceOptions() const;
   std::vector<BeamSegment> traceBeamSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to, BeamTraceStats& stats);
   int beamResolution(const BeamLights& lights, std::span<const ScattererSurface> scatterers);
   BeamSeeds beamSeeds_;
   std::vector<std::pair<size_t, size_t>> beamRanges_;
+  size_t beamStoreBudget_ = 0;  // each range's store: --beam-memory less the partial gathers when batched
   std::unique_ptr<BeamBatches> beamBatches_;
   void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays);
   // Generations of the batch in `rays` until no path goes on (camera paths, or the

@@ -26,6 +26,7 @@ class BeamBatches final : public CausticRadiance {
     return partial_[slot];
   }
   size_t bytes() const { return partial_.size() * sizeof(Rgb); }
+  static size_t bytesFor(size_t paths, int bounces) { return paths * size_t(std::max(bounces, 1)) * sizeof(Rgb); }
 
  private:
   size_t stride_;

@@ -10,6 +10,7 @@
 #include "mirror_caustic_scene.h"
 #include "render_fixtures.h"
 #include "support/temp_folder.h"
+#include "core/error.h"
 #include "shading/fresnel.h"
 
 namespace rayes::testing {
@@ -419,9 +420,24 @@ TEST(Beams, BatchesUnderTheBeamMemoryBudgetGiveTheSameImage) {
   Renderer several(scene, small);
   EXPECT_GE(several.stats().beams.batches, 3u);
   EXPECT_EQ(several.stats().beams.trace.segments, one.stats().beams.trace.segments);
+  // The budget holds everything beams keep: the largest range's store and the partial gathers
+  // of a camera batch (12 B per path and bounce).
+  EXPECT_LE(several.stats().beams.bytes, small.beams.memoryBytes);
+  EXPECT_GE(several.stats().beams.bytes,
+            several.stats().pathsPerBatch * size_t(scene.integrator.maxDepth) * sizeof(Rgb));
   const auto ref = renderBeauty(scene, whole, 2);
   EXPECT_EQ(renderBeauty(scene, small, 2), ref);
   EXPECT_NE(renderBeauty(scene, RenderOptions{}, 2), ref);  // the beams are in the image
+  // A budget the partial gathers alone fill: refused, naming both budgets' options.
+  RenderOptions tiny = whole;
+  tiny.beams.memoryBytes = several.stats().pathsPerBatch * size_t(scene.integrator.maxDepth) * sizeof(Rgb);
+  try {
+    Renderer refused(scene, tiny);
+    ADD_FAILURE() << "a budget the partial gathers fill was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("partial gathers"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--ray-memory"), std::string::npos) << e.what();
+  }
 }
 
 // A small rect light facing down onto a mirror, the ceiling above lit only through the mirror:
