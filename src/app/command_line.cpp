@@ -455,7 +455,9 @@ int runCommandLine(int argc, char** argv) {
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "rayes: " << e.what() << "\n(run 'rayes render --help' for the options)\n";
+    // Point at the help of the subcommand that was being parsed.
+    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : "";
+    std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
   try {

@@ -67,6 +67,10 @@ TEST_F(Converge, RefusesBadInputAndWritesNothing) {
       {"--reference", ref(), "--reference", dir.path("small.exr"), "--budget", "1"},  // a summand of another size
       {"--reference", ref(), "--budget", "1", "--method", "lbt", "--beam-growth", "0.5"},  // beams would coarsen
   };
+  // A parse error points at converge's own help.
+  const auto noReference = testing::runRayes(args(bad[0]));
+  EXPECT_NE(noReference.err.find("--reference"), std::string::npos) << noReference.err;
+  EXPECT_NE(noReference.err.find("'rayes converge --help'"), std::string::npos) << noReference.err;
   for (const auto& extra : bad) {
     const auto r = testing::runRayes(args(extra));
     EXPECT_EQ(r.code, 2) << extra[0] << " " << extra[1] << ": " << r.err;
