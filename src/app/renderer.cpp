@@ -189,7 +189,7 @@ void Renderer::buildBeams() {
                                " bytes cannot hold the beams in batches: the partial gathers of a camera batch take " +
                                std::to_string(partialBytes) + " bytes (" + std::to_string(stats_.pathsPerBatch) +
                                " paths x " + std::to_string(std::max(scene_.integrator.maxDepth, 1)) +
-                               " bounces x 12 B) besides " + std::to_string(oneBeam) +
+                               " bounces x " + std::to_string(sizeof(Rgb)) + " B) besides " + std::to_string(oneBeam) +
                                " for one beam; raise --beam-memory or lower --ray-memory");
         budget = options_.beams.memoryBytes - partialBytes;  // what did not fit the whole budget fits no less
       }

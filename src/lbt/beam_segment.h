@@ -11,8 +11,9 @@
 // barycentrics in that triangle, P = 1 inside / 0 outside for a specular segment and the
 // Gaussian lobe's mass over the triangle of angular offsets (lbt/gaussian_triangle.h) for a
 // glossy one; a glossy lobe that crosses its scatterer's horizon (grazing light) gives nothing
-// below it, the horizon being the plane of the corner rays' origins. Finite for every input: a specular focus (A⊥ → 0) gives 0 and is counted by the
-// caller; a glossy focus takes the limit P/A⊥ → g(φ)/r², so E → power·|cos|/(2πσ²r²).
+// below it, the horizon being the plane of the corner rays' origins. Finite for every input: a
+// specular focus (A⊥ → 0) gives 0 and is counted by the caller; a glossy focus takes the limit
+// P/A⊥ → g(φ)/r², so E → power·|cos|/(2πσ²r²).
 #pragma once
 #include "core/box.h"
 #include "core/vec.h"
