@@ -37,11 +37,11 @@ std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& option
   double spent = 0;
   RenderOptions o = options;
   o.reference.clear();
-  const bool beams = options.method == IntegratorMethod::LightBeams;
   for (int step = 0, spp = 1; spp <= (1 << 20); ++step, spp *= 2) {
     Scene scene = base;
     scene.samplesPerPixel = spp;
-    if (beams) o.beams.resolution = schedule.beamResolution(options.beams.resolution, step);
+    // Beams grow with the samples (a method without beams ignores the option).
+    o.method.beams.resolution = schedule.beamResolution(options.method.beams.resolution, step);
     const auto t0 = Clock::now();
     const std::clock_t c0 = std::clock();
     Renderer renderer(scene, o);
@@ -54,15 +54,15 @@ std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& option
                           cpuSeconds,
                           spp,
                           renderer.stats().shade.photonsTraced.load(),
-                          beams ? renderer.stats().beams.resolution : 0,  // the glossy rule's, if coarser
-                          renderer.stats().beams.trace.segments,
+                          int(renderer.stats().method.number("resolution")),  // the glossy rule's, if coarser
+                          uint64_t(renderer.stats().method.number("segments")),
                           error.rmse,
                           error.relMse,
                           regionBias(rgba, reference, region, errorPixels, scene.width, scene.height)};
     rows.push_back(row);
     if (report) report(row);
     spent += seconds;
-    // The next render costs about twice this one (lbt: its beams double too).
+    // The next render costs about twice this one (beams, where the method has them, double too).
     if (spent + 2 * seconds > budgetSeconds) break;
   }
   return rows;

@@ -5,9 +5,11 @@
 // docs/design.md, "Caustic paths"). One CSV row per render, and an SVG chart of RMSE against
 // seconds (log-log).
 // The effort schedule (ConvergeSchedule): spp doubles at every step for every method; photon
-// counts are per sample, so pm and ppm double their photons with it; lbt also refines its beams,
-// the light grid's resolution growing by `beamGrowth` per step (sqrt 2: twice the beams), since
-// more samples alone leave the beam discretisation, and so its bias, where it was.
+// counts are per sample, so the photon methods double their photons with it; the beam method
+// also refines its beams, the light grid's resolution growing by `beamGrowth` per step (sqrt 2:
+// twice the beams), since more samples alone leave the beam discretisation, and so its bias,
+// where it was. The columns of a method's own work read its statistics (Integrator::
+// methodStats, ShadeStats), so this file names no method.
 #pragma once
 #include <string>
 #include <vector>
@@ -20,16 +22,16 @@ struct ConvergeRow {
   double seconds;   // wall clock of this render alone (setup and render, not loading)
   double cpuSeconds;  // the process's CPU time over the same span (all threads; steadier under load)
   int spp;
-  uint64_t photons; // photons traced (pm, ppm), else 0
-  int beamResolution;       // lbt: cells per side of each light's grid of beams, else 0
-  uint64_t beamSegments;    // lbt: beam segments built, else 0
+  uint64_t photons; // photons traced (0 for a method without photons)
+  int beamResolution;       // cells per side of each light's grid of beams (0 for a method without beams)
+  uint64_t beamSegments;    // beam segments built (0 for a method without beams)
   double rmse, relMse, regionBias;
 };
 
 struct ConvergeSchedule {
-  double beamGrowth = 1.4142135623730951;  // lbt: resolution factor per doubling of spp (1: fixed)
+  double beamGrowth = 1.4142135623730951;  // beams: resolution factor per doubling of spp (1: fixed)
   int maxBeamResolution = 4096;            // the resolution stops growing here
-  // lbt's beam resolution at step k (spp = 2^k), from `first`.
+  // The beam resolution at step k (spp = 2^k), from `first`.
   int beamResolution(int first, int step) const;
 };
 

@@ -67,6 +67,9 @@ void OutputSet::add(const std::string& target, const std::string& what) {
     if (fs::path(e.target).lexically_normal() == fs::path(target).lexically_normal())
       throw InputError(target, "", "given as the " + e.what + " and as the " + what);
   std::error_code ec;
+  for (const std::string& input : inputs_)
+    if (fs::equivalent(target, input, ec))
+      throw InputError(target, "", "the " + what + " would overwrite an input of this run");
   if (fs::is_directory(target, ec)) throw InputError(target, "", "cannot write the " + what + ": is a directory");
   // Renaming onto a device or a pipe would replace it, not write into it.
   if (fs::exists(target, ec) && !fs::is_regular_file(target, ec))

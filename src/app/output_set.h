@@ -26,7 +26,14 @@ class OutputSet {
   // Claims `target` (what: "image", "stats", ...): it must not be a directory, a device or a
   // pipe, nor claimed twice; its folder is created, and the temporary is created at once, so
   // that an unwritable place fails before the render rather than after it.
+  // A target that is the same file as an input named by addInput is refused ("the <what>
+  // would overwrite an input of this run").
   void add(const std::string& target, const std::string& what);
+  // Names a file this run reads (the scene, a reference, a mask); empty names are ignored.
+  // Call before the add() of the targets it must protect.
+  void addInput(const std::string& path) {
+    if (!path.empty()) inputs_.push_back(path);
+  }
   // Fills the temporary of a claimed target: `write` gets the temporary's path and may throw
   // (any std::exception becomes an InputError naming the target).
   void write(const std::string& target, const std::function<void(const std::string& temporary)>& write);
@@ -42,6 +49,7 @@ class OutputSet {
   const Entry& entry(const std::string& target) const;
   void removeTemporaries();
   std::vector<Entry> entries_;
+  std::vector<std::string> inputs_;
   std::vector<std::string> createdFolders_;  // outermost first
   bool committed_ = false;
 };

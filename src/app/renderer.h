@@ -1,22 +1,27 @@
-// START HERE for the whole program. The Renderer turns a Scene into a Film:
+// START HERE for the whole program. The Renderer is the scheduler: it turns a Scene into a
+// Film by driving one Integrator (made by app/methods.h from --method; the Renderer knows no
+// method by name) and one RayEngine through memory-bounded batches. It owns the budget, the
+// passes, the batches and the generations, and nothing else:
 //
 //   setup:  RenderData (leaf boxes, TopLevelBvh, shading's view of the scene, feature counts);
-//           the integrator (--method: PathTracer or LightTracer) and the ray engine (--engine:
-//           the Rayes Tracer, or the Embree engine that tessellates everything here); the ray
-//           memory budget divided by the bytes one path costs (the integrator's state, its ray
-//           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
-//           the candidate capacity.
+//           the integrator, and the ray engine (--engine: the sorted engine, the caching engine,
+//           or the Embree engine that tessellates everything here); the ray memory budget
+//           divided by the bytes one path costs (the integrator's state, its ray slots and the
+//           engine's bytes per ray slot) fixes how many paths a batch holds and the candidate
+//           capacity; then Integrator::prepare, with a way to trace through the engine.
 //   passes: one pass of all samples per pixel, split into batches of whole paths that fit the
 //           budget, so every leaf is diced as few times as the budget allows: by blocks of
 //           pixels, each batch every sample of a stripe of the image (Integrator::
-//           setPixelBlock), where the integrator allows it. Progressive
-//           (--progressive, or a --reference to measure against): passes of 1, 1, 2, 4, ...
-//           samples per pixel, a complete image after each (the error-against-time curve is
-//           recorded per pass), for about 1 + log2(spp) times the dicings. All give the same
-//           bits: a path's pixel and sample do not depend on the order of ids, and the film adds
-//           a pixel's samples in sample order.
-//   batch:  Integrator::start -> repeat { RayEngine::trace (one generation) ->
-//           Integrator::shade (next generation) } until no ray is left -> Integrator::finish.
+//           setPixelBlock), where the integrator allows it. Progressive (--progressive, a
+//           --reference to measure against, or an integrator whose traits ask for it): passes
+//           of 1, 1, 2, 4, ... samples per pixel, a complete image after each (the
+//           error-against-time curve is recorded per pass), for about 1 + log2(spp) times the
+//           dicings. All give the same bits: a path's pixel and sample do not depend on the
+//           order of ids, and the film adds a pixel's samples in sample order. Before a pass's
+//           camera paths, the integrator's light paths (Integrator::lightPaths), if any.
+//   batch:  for each of Integrator::roundsPerBatch rounds: startRound, start -> repeat
+//           { RayEngine::trace (one generation) -> Integrator::shade (next generation) } until
+//           no ray is left; then Integrator::finish.
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
 // per-ray LOD: batches cover whole sample indices or whole pixels, the film adds samples in order.
@@ -28,9 +33,7 @@
 #include <string>
 #include <vector>
 #include "app/render_data.h"
-#include "lbt/beam_batches.h"
-#include "lbt/beam_store.h"
-#include "lbt/beam_tracer.h"
+#include "app/methods.h"
 #include "rays/caching_engine.h"
 #include "rays/embree_engine.h"
 #include "rays/tracer.h"
@@ -41,30 +44,6 @@
 namespace rayes {
 
 enum class EngineKind { Rayes, Embree };
-
-struct BeamOptions {
-  int resolution = 128;           // cells per side of a light's grid
-  int maxDepth = 4;               // specular/glossy bounces
-  int splitDepth = 4;             // times an incoherent beam is split before it is dropped
-  int areaSamples = 2;            // k: an area light is k×k point sources (0: no beams from area lights)
-  size_t memoryBytes = size_t(1) << 30;
-  // Glossy beams: the grid is coarsened to about this many lobe widths σ per beam
-  // (lbt/beam_resolution.h); 0 keeps `resolution`.
-  double lobeCells = 2;
-};
-
-// What the light phase of `--method lbt` did (the stats file's "beams" section), or why
-// nothing was built (skipped).
-struct BeamRenderStats {
-  bool built = false;
-  std::string skipped;            // the reason, when not built
-  BeamTraceStats trace;
-  uint64_t binEntries = 0;
-  size_t bytes = 0;               // the largest batch's segments and bins
-  size_t batches = 0;             // ranges of seed triangles processed one after another
-  int resolution = 0;             // the grid used: --beam-resolution, or the glossy rule's if coarser
-  double seconds = 0;
-};
 
 // The default ray memory budget on a machine of `physicalBytes`: an eighth of it, at least
 // 256 MiB and at most 2 GiB, so that a render's peak (the budget, one dice buffer per thread,
@@ -86,12 +65,7 @@ struct RenderOptions {
   size_t gridCacheBytes = size_t(512) << 20;  // TraceSettings::gridCacheBytes (--grid-cache); 0: off
   bool sortByLeaf = true;
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
-  IntegratorMethod method = IntegratorMethod::PathTracing;
-  BeamOptions beams;
-  // lbt: the beam gathers in the shading step, as pm's (not leaf queries of the next trace):
-  // the reference the leaf queries are checked against, bit for bit (tests/app/beams_test.cpp).
-  bool beamGathersInShading = false;
-  IntegratorOptions integrator;  // --caustic-paths, the photon options
+  MethodOptions method;          // --method and the options of each method
   std::vector<float> reference;  // RGB per pixel; empty: no error curve; else one point per pass
 };
 
@@ -131,13 +105,13 @@ struct RenderStats {
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
   uint64_t pixelsPerBlock = 0;   // batches by blocks of this many pixels, all their samples (0: sample-major)
-  bool progressive = false;      // rendered in passes (asked for, or ppm's own passes)
+  bool progressive = false;      // rendered in passes (asked for, or the integrator's traits)
   size_t raysPerPath = 0;        // ray slots per path (bytes_per_ray = bytesPerPath / raysPerPath)
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
   MemoryByOwner memory;
   std::vector<ErrorSample> errorCurve;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;
-  BeamRenderStats beams;
+  MethodStats method;            // the method's own section (Integrator::methodStats)
 };
 
 class Renderer {
@@ -152,8 +126,8 @@ class Renderer {
   const RenderStats& stats() const { return stats_; }
   // What one path costs in the ray memory budget (the unit of --ray-memory).
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
-  // `--method lbt`: the beams built at setup (null when none were: stats().beams.skipped says why).
-  const BeamStore* beams() const { return beams_.get(); }
+  // The method being rendered with (its own statistics: Integrator::methodStats).
+  const Integrator& integrator() const { return *integrator_; }
 
  private:
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
@@ -166,20 +140,9 @@ class Renderer {
   RenderData data_;
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<RayEngine> engine_;
-  std::unique_ptr<BeamStore> beams_;   // the only batch, or the one in use
   RenderStats stats_;
-  // `--method lbt`: the light phase, run at setup through the engine; when the beams do not fit
-  // --beam-memory, the ranges of seed triangles that do, each traced again per camera batch.
-  void buildBeams();
-  std::unique_ptr<BeamStore> traceBeamRange(size_t first, size_t last, size_t budget, BeamTraceStats& stats);
-  BeamTraceOptions beamTraceOptions() const;
-  std::vector<BeamSegment> traceBeamSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to, BeamTraceStats& stats);
-  int beamResolution(const BeamLights& lights, std::span<const ScattererSurface> scatterers);
-  BeamSeeds beamSeeds_;
-  std::vector<std::pair<size_t, size_t>> beamRanges_;
-  size_t beamStoreBudget_ = 0;  // each range's store: --beam-memory less the partial gathers when batched
-  std::unique_ptr<BeamBatches> beamBatches_;
-  void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays);
+  // One camera batch: every round of the integrator, then its film.
+  void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film);
   // Generations of the batch in `rays` until no path goes on (camera paths, or the
   // integrator's light paths).
   void runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths);

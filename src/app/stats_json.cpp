@@ -14,7 +14,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   json kinds = json::object();
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
   j["scene"]["leaf_kinds"] = kinds;
-  j["settings"] = {{"threads", run.threads}, {"method", integratorMethodName(options.method)}, {"max_lod", options.maxLod},
+  j["settings"] = {{"threads", run.threads}, {"method", options.method.name}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"lod_bias", options.lodBias},
@@ -147,21 +147,21 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
   if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";
   if (!f.environment) skipped["environment"] = "no environment light: escaping rays gather nothing";
-  if (s.beams.built) {
-    const BeamRenderStats& b = s.beams;
-    j["beams"] = {{"generator_triangles", b.trace.generatorTriangles}, {"corner_rays", b.trace.cornerRays},
-                  {"generations", b.trace.generations}, {"segments", b.trace.segments},
-                  {"bin_entries", b.binEntries}, {"bytes", b.bytes}, {"seconds", b.seconds},
-                  {"resolution", b.resolution}, {"requested_resolution", options.beams.resolution},
-                  {"lobe_cells", options.beams.lobeCells}, {"max_depth", options.beams.maxDepth},
-                  {"memory_budget_bytes", options.beams.memoryBytes}, {"batches", b.batches},
-                  {"split_depth", options.beams.splitDepth}, {"splits", b.trace.splits},
-                  {"reflected_branches", b.trace.reflectedBranches}, {"dropped_flux_watts", b.trace.droppedFlux},
-                  {"stopped", {{"mixed", b.trace.stoppedMixed}, {"silhouette", b.trace.stoppedSilhouette},
-                               {"tir_straddle", b.trace.stoppedTir}, {"divergent", b.trace.stoppedDivergent}}}};
-  } else {
-    skipped["beams"] = s.beams.skipped;
+  // The method's own section (beams), or why it was not built; a method without beams says so.
+  for (const auto& [section, why] : s.method.skipped) skipped[section] = why;
+  if (!s.method.section.empty() && !s.method.wasSkipped(s.method.section)) {
+    json section = json::object();
+    for (const auto& [key, value] : s.method.values) {
+      json* at = &section;
+      std::string_view rest = key;
+      for (size_t dot; (dot = rest.find('.')) != std::string_view::npos; rest = rest.substr(dot + 1))
+        at = &(*at)[std::string(rest.substr(0, dot))];
+      std::visit([&](const auto& v) { (*at)[std::string(rest)] = v; }, value);
+    }
+    j[s.method.section] = section;
   }
+  if (s.method.section != "beams" && !skipped.contains("beams"))
+    skipped["beams"] = "--method " + options.method.name + " traces no beams";
   skipped["volumes"] = "volumes are not built yet: OpenVDB not used";
   j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {

@@ -5,7 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include "shading/fresnel.h"
-#include "shading/path_tracer.h"
+#include "shading/ray_spawning.h"
 #include "shading/surface_hit.h"
 
 namespace rayes {
@@ -86,7 +86,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
     s.event = Event::Stop;
     return s;
   }
-  const float offset = PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
+  const float offset = originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
   const SurfaceHit at{p, ng, offset};
   s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, c.reflectAt, SeedAim{}};
   return s;

@@ -1,7 +1,12 @@
-// START HERE for integrators. An Integrator turns the hits of one generation of rays into the
-// next generation and, at the end of a batch, into film contributions. The Renderer drives
-// every integrator the same way (thesis §6.2.2, "group rays by generation"):
+// START HERE for integrators. Every method (path tracing, light tracing, photon mapping,
+// progressive photon mapping, light beams) is an Integrator: it turns the hits of one
+// generation of rays into the next generation and, at the end of a batch, into film
+// contributions. The Renderer drives every integrator the same way (thesis §6.2.2, "group rays
+// by generation") and knows none of them by name; app/methods.h makes them from the options.
 //
+//   prepare(setup)             once, after the ray engine exists and before the first pass:
+//                              work the method does up front through the engine (lbt traces
+//                              its beams); most do nothing;
 //   start(first, count, rays)  paths [first, first + count) of the render begin; their first
 //                              rays are written into `rays`;
 //   shade(bounce, rays, stats) after the rays were traced: consume their hits, write the next
@@ -11,6 +16,10 @@
 //                              adds them);
 //   finish(film, stats)        add the batch's results to the film in a fixed order.
 //
+// Rounds: an integrator whose estimate does not fit memory at once (lbt's beams in batches
+// under --beam-memory) asks for each camera batch to be traced roundsPerBatch() times;
+// startRound(r) comes before round r's start(), and finish() once after the last round.
+//
 // Slots: path k of a batch owns ray slots [k * raysPerPath(), (k + 1) * raysPerPath()) and
 // touches no others, so paths are shaded in parallel without locks. Path ids are sample-major
 // (sample * pixels + pixel) unless the integrator accepts setPixelBlock (then block by block of
@@ -19,24 +28,27 @@
 // so the image is bit-identical for any thread count, batch size, pixel block and trace order
 // (docs/design.md, invariant 2).
 // bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
-// memory budget can be divided into whole paths.
+// memory budget can be divided into whole paths; it must not change after prepare().
 //
 // Light passes (photon mapping): before the camera paths of the pass over samples [s0, s1),
 // the Renderer traces the integrator's own paths with ids lightPaths(s0, s1) = [first, end)
 // the same way, in batches: startLight / { trace, shadeLight } / finishLightBatch, then
 // lightPassDone once. The default is none.
 //
+// An integrator is driven by one thread (the Renderer's); its kernels parallelise inside.
 // This header sees only core and shading: the rays side (src/rays) traces the RayBatch and
-// never sees an integrator; the app holds both.
+// never sees an integrator; the app holds both and hands prepare() a way to trace.
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 #include "core/ray_batch.h"
 #include "core/timer.h"
 #include "shading/film.h"
+#include "shading/method_stats.h"
 #include "shading/shading_scene.h"
 
 namespace rayes {
@@ -52,14 +64,30 @@ struct ShadeStats {
   TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
 };
 
+// What an integrator may do once before the first pass (Integrator::prepare).
+struct IntegratorSetup {
+  std::function<void(RayBatch&)> trace;  // one generation of rays through the render's engine
+  uint64_t pathsPerBatch = 0;            // the most paths one camera batch holds
+};
+
+// What the Renderer must know of a method to schedule it.
+struct IntegratorTraits {
+  bool progressive = false;  // renders in passes of 1, 1, 2, 4, ... spp (ppm: a map and radius per pass)
+  bool lightPasses = false;  // traces paths of its own before each pass's camera paths (lightPaths)
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
+  virtual IntegratorTraits traits() const { return {}; }
   virtual uint32_t raysPerPath() const = 0;
   virtual size_t bytesPerPath() const = 0;
   // Bytes the integrator keeps per leaf of the scene, made once (counted in the stats' scene
   // description).
   virtual size_t leafTableBytes() const { return 0; }
+  virtual void prepare(const IntegratorSetup& /*setup*/) {}
+  virtual uint32_t roundsPerBatch() const { return 1; }
+  virtual void startRound(uint32_t /*round*/) {}
   virtual void start(uint64_t first, uint32_t count, RayBatch& rays) = 0;
   virtual size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) = 0;
   virtual void finish(Film& film, ShadeStats& stats) = 0;
@@ -73,11 +101,10 @@ class Integrator {
   virtual size_t shadeLight(uint32_t /*bounce*/, RayBatch& /*rays*/, ShadeStats& /*stats*/) { return 0; }
   virtual void finishLightBatch(ShadeStats& /*stats*/) {}
   virtual void lightPassDone(ShadeStats& /*stats*/) {}
-};
 
-// LightBeams: the path tracer without caustic paths plus the caustic gather of light beams
-// (src/lbt; the app builds the beams and hands them to the path tracer).
-enum class IntegratorMethod { PathTracing, LightTracing, PhotonMapping, ProgressivePhotonMapping, LightBeams };
+  // The method's own section of the stats file (beams), and what it left out and why.
+  virtual MethodStats methodStats() const { return {}; }
+};
 
 // Which paths an estimate counts, split at caustic paths (light -> (caustic scatterer)+ ->
 // diffuse vertex -> ..., isCausticScatterer in shading/material.h): all, all but those, or
@@ -91,32 +118,10 @@ CausticPaths causticPathsFromName(const std::string& name, const std::string& wh
 const char* causticPathsName(CausticPaths which);
 
 // The default roulette on caustic estimates at diffuse vertices after a path's first: none.
-// Measured (bench/RESULTS.md, "Fewer gathers after the first diffuse vertex"): q = 0.25 made
-// lbt on lbt-discoball-glossy 27 % more efficient (its glossy gathers are dear), but cost
-// lbt and pm on lbt-discoball (σ = 0.001) a third of theirs: cheap gathers save no time and
-// the room's indirect caustic light gets noisier.
+// Measured (bench/history/2026-11.md, "Fewer gathers after the first diffuse vertex"): q = 0.25
+// made lbt on lbt-discoball-glossy 27 % more efficient (its glossy gathers are dear), but cost lbt
+// and pm on lbt-discoball (σ = 0.001) a third of theirs: cheap gathers save no time and the room's
+// indirect caustic light gets noisier.
 inline constexpr float kLaterGatherProbability = 1.0f;
-
-// What the methods take besides the scene. Photon counts are per sample per pixel of the
-// render, so doubling --spp doubles every method's effort (rayes converge relies on it).
-struct IntegratorOptions {
-  CausticPaths causticPaths = CausticPaths::All;  // pt and lt
-  uint64_t photonsPerSample = 20000;   // pm: one map of photonsPerSample * spp; ppm: per pass
-  int photonNeighbours = 32;           // pm: k of the k-nearest estimate
-  float photonRadius = 0;              // ppm: first radius; 0: from the first map's k-nearest
-  float photonAlpha = 2.0f / 3.0f;     // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
-  // lbt, pm, ppm: the probability a caustic estimate is taken at a diffuse vertex after the
-  // path's first (--later-gathers; PathTracer::Options::laterGatherProbability).
-  float laterGatherProbability = kLaterGatherProbability;
-};
-
-// "pt", "lt", "pm", "ppm", "lbt": the names of the command line and the stats.
-const std::vector<std::string>& integratorMethodNames();
-// Throws InputError naming `where` for an unknown name.
-IntegratorMethod integratorMethodFromName(const std::string& name, const std::string& where);
-const char* integratorMethodName(IntegratorMethod method);
-// The path and light tracers (the photon mappers live in src/lbt: lbt/photon_mapper.h).
-std::unique_ptr<Integrator> makeIntegrator(IntegratorMethod method, const ShadingScene& scene,
-                                           const IntegratorOptions& options = {});
 
 }  // namespace rayes

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include "shading/path_tracer.h"
+#include "shading/ray_spawning.h"
 #include "shading/roulette.h"
 
 namespace rayes {
@@ -21,13 +21,13 @@ bool sampleLightPathStart(const ShadingScene& scene, const RngKey& key, LightPat
       isBlack(e.weight))
     return false;
   out.time = scene.camera.timeAt(sample1D(key, kTime));
-  out.back = e.onSurface ? PathTracer::originOffset(scene.leafSide[e.leaf], scene.leafDicingError[e.leaf], 0, e.org, e.org)
+  out.back = e.onSurface ? originOffset(scene.leafSide[e.leaf], scene.leafDicingError[e.leaf], 0, e.org, e.org)
                          : 0.0f;
   return true;
 }
 
 void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayBatch& rays) {
-  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, kInf, 0.0f, PathTracer::kDiffuseSpread,
+  rays.set(cs, RayKind::Closest, s.leaving(s.e.dir), s.e.dir, kInf, 0.0f, kDiffuseSpread,
            s.e.leaf, kNoLeaf, 0, s.time);
 }
 
@@ -47,7 +47,7 @@ bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, Sh
   out.h = h;
   out.wi = wi;
   out.ns = h.ns();
-  out.at = {p, ng, PathTracer::originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org)};
+  out.at = {p, ng, originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org)};
   out.arrival = std::fabs(dot(out.ns, wi)) / std::fabs(wiNg);
   out.mat = &scene.materials[scene.leafMaterial[h.leaf]];
   return true;
@@ -70,7 +70,7 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
     return false;
   const float width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
   rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, kInf, width,
-           PathTracer::spreadAfterBounce(rays.ray[cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
+           spreadAfterBounce(rays.ray[cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
            rays.timeOf(cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;

@@ -7,7 +7,7 @@
 #include "core/rng.h"
 #include "shading/bsdf.h"
 #include "shading/light_path.h"
-#include "shading/path_tracer.h"
+#include "shading/ray_spawning.h"
 #include "shading/sampling.h"
 #include "shading/surface_hit.h"
 

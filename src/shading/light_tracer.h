@@ -31,6 +31,7 @@
 #include <vector>
 #include "shading/integrator.h"
 #include "shading/light_path.h"
+#include "shading/ray_spawning.h"
 
 namespace rayes {
 
@@ -38,7 +39,6 @@ class LightTracer final : public Integrator {
  public:
   explicit LightTracer(const ShadingScene& scene, CausticPaths causticPaths = CausticPaths::All);
 
-  static constexpr uint32_t kRaysPerPath = 2;
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override;
   void start(uint64_t first, uint32_t count, RayBatch& rays) override;

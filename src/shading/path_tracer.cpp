@@ -9,6 +9,7 @@
 #include "core/box.h"
 #include "core/rng.h"
 #include "shading/bsdf.h"
+#include "shading/ray_spawning.h"
 #include "shading/sampling.h"
 #include "shading/surface_hit.h"
 
@@ -27,32 +28,6 @@ PathTracer::PathIds PathTracer::idsOf(uint64_t id) const {
   const IdBlocks l = idBlocks();
   const uint64_t b = id / l.perBlock, size = l.pixelsIn(b), r = id - b * l.perBlock;
   return {static_cast<uint32_t>(b * l.block + r % size), static_cast<uint32_t>(r / size)};
-}
-
-// The offset is a bound, not a guess: how far the origin may lie on the wrong side of the
-// surface it leaves, along the geometric normal.
-//   Dicing: the micro-triangle hit at level m lies within C / 4^m of the true surface
-//   (Patch::dicingErrorCoefficient; 0 for planar patches). The ray sees its own leaf at that
-//   same level, but neighbours and emitters are the true surface diced at their own levels.
-//   Rounding: p = o + t d with t from the watertight test. Its sheared-space t is a sum of the
-//   vertices' distances along the ray weighted by non-negative barycentrics, so t |d| is off by
-//   a few gamma of |p - o| + side; the vertices themselves are evaluations off the surface by
-//   a few gamma of |p| + side; o + t d rounds by u (|o| + |p|). With |p - o| <= |p| + |o| (and
-//   sqrt 3 between the norms) all of it is below gamma(32) (|p| + |o| + side), max norms.
-// Computed in double so no input overflows on the way; an infinite or NaN C (a broken patch)
-// falls back to the rounding term; the result is clamped to the largest float.
-float PathTracer::originOffset(float side, float errorCoefficient, int level, Vec3 p, Vec3 from) {
-  const double dicing = double(errorCoefficient) * std::ldexp(1.0, -2 * level);  // C / 4^level
-  const double magnitude = double(maxComponent(vabs(p))) + double(maxComponent(vabs(from))) + double(side);
-  const double rounding = double(gammaBound(32)) * magnitude + double(std::numeric_limits<float>::min());
-  const double offset = std::isfinite(dicing) ? dicing + rounding : rounding;
-  return float(std::min(offset, double(std::numeric_limits<float>::max())));
-}
-
-float PathTracer::spreadAfterBounce(float incoming, float pdf, bool delta) {
-  if (delta) return incoming;
-  const float lobe = pdf > 0 ? std::sqrt(1.0f / pdf) : kDiffuseSpread;
-  return std::max(incoming, std::min(kDiffuseSpread, lobe));
 }
 
 void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const {
@@ -176,7 +151,7 @@ bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFra
     Vec3 target = ls.point;
     if (ls.leaf != kNoLeaf) {
       const float back =
-          PathTracer::originOffset(scene.leafSide[ls.leaf], scene.leafDicingError[ls.leaf], 0, ls.point, ls.point);
+          originOffset(scene.leafSide[ls.leaf], scene.leafDicingError[ls.leaf], 0, ls.point, ls.point);
       target += ls.normal * (dot(ls.normal, v.at.p - ls.point) >= 0 ? back : -back);
     }
     tmax = length(target - origin);
@@ -185,7 +160,7 @@ bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFra
   // A light point within the offsets of the receiver leaves no segment to test.
   if (!(tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0)) return false;
   paths.shadowContribution[v.k] = c;
-  rays.set(v.ss, RayKind::Shadow, origin, dir, tmax, v.width, PathTracer::kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
+  rays.set(v.ss, RayKind::Shadow, origin, dir, tmax, v.width, kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
   stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
   return true;
@@ -215,7 +190,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
                           stats))
     return false;
   rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, kInf, v.width,
-           PathTracer::spreadAfterBounce(rays.ray[v.cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
+           spreadAfterBounce(rays.ray[v.cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;

@@ -37,6 +37,7 @@
 #include "shading/bsdf.h"
 #include "shading/integrator.h"
 #include "shading/light.h"
+#include "shading/ray_spawning.h"
 
 namespace rayes {
 
@@ -142,7 +143,6 @@ class PathTracer final : public Integrator {
 
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
-  static constexpr uint32_t kRaysPerPath = 2;  // slot 2k: closest hit, 2k+1: shadow ray
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
     return PathBatch::bytesPerPath() + sizeof(SortItem) + (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0);
@@ -157,8 +157,8 @@ class PathTracer final : public Integrator {
   // [b·n·spp, (b+1)·n·spp), sample-major within a block (sample s of the block's pixel q is
   // id b·n·spp + s·(the block's pixels) + q; the last block may be smaller). n = 0, or the
   // image's pixel count, is one block: the sample-major ids sample · pixels + pixel. A batch of
-  // whole blocks then holds every sample of fewer pixels, so its rays meet fewer leaves, each
-  // more often (bench/RESULTS.md, "Batches by pixel blocks"). The pixel and sample of every path
+  // whole blocks then holds every sample of fewer pixels, so its rays meet fewer leaves, each more
+  // often (bench/history/2026-11.md, "Batches by pixel blocks"). The pixel and sample of every path
   // and the order each pixel's samples reach the film are the same for every n.
   bool setPixelBlock(uint32_t n) override {
     blockPixels_ = n;
@@ -180,22 +180,6 @@ class PathTracer final : public Integrator {
   // radiance overflowed to a non-finite value is dropped (added as black, AOVs kept) and
   // counted in stats.nonFinite.
   void finish(const PathBatch& paths, Film& film, ShadeStats& stats) const;
-
-  // Cone spread given to rays leaving a diffuse surface (radians per unit distance). A
-  // Lambertian lobe spreads rays over the hemisphere, so its rays want coarse geometry; the
-  // constant is the footprint of one of ~64 directions covering the cosine lobe (pi / 64 sr).
-  // A narrower lobe gives a narrower cone: sqrt(1 / pdf) of the sampled direction, the angle
-  // of the solid angle it stands for; a delta bounce keeps the incoming spread.
-  static constexpr float kDiffuseSpread = 0.22f;
-  static float spreadAfterBounce(float incoming, float pdf, bool delta);
-
-  // How far a secondary ray's origin is pushed off a hit p at `level` on a leaf of longest side
-  // `side` (along the geometric normal, to the side the ray leaves), found by a ray from `from`
-  // (p itself for a point evaluated on the surface): the patch's dicing-error bound at that
-  // level, C / 4^level (zero for planar patches), plus the rounding error of the hit point,
-  // gamma(32) (|p| + |from| + side). The derivation is at the definition and in docs/design.md,
-  // "Secondary-ray offsets". Finite and positive for any input.
-  static float originOffset(float side, float errorCoefficient, int level, Vec3 p, Vec3 from);
 
  private:
   // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).

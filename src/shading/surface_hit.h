@@ -1,5 +1,5 @@
 // One surface hit as both integrators leave it: the point, the geometric normal and the
-// origin offset of rays that leave it (PathTracer::originOffset), and the test that keeps
+// origin offset of rays that leave it (originOffset), and the test that keeps
 // shading normals from leaking light through the true surface.
 #pragma once
 #include "core/vec.h"

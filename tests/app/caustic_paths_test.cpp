@@ -10,17 +10,17 @@
 //    stand more than 4 standard errors above zero.
 #include <cmath>
 #include <gtest/gtest.h>
-#include "mirror_caustic_scene.h"
-#include "render_fixtures.h"
+#include "support/mirror_caustic_scene.h"
+#include "support/render_fixtures.h"
 #include "shading/material.h"
 
 namespace rayes {
 namespace {
 
-RenderOptions methodWith(IntegratorMethod method, CausticPaths which) {
+RenderOptions methodWith(const std::string& method, CausticPaths which) {
   RenderOptions o;
-  o.method = method;
-  o.integrator.causticPaths = which;
+  o.method.name = method;
+  o.method.causticPaths = which;
   o.lod = LodRule::Fixed;  // one geometry for camera and light paths
   o.maxLod = 3;
   return o;
@@ -28,10 +28,10 @@ RenderOptions methodWith(IntegratorMethod method, CausticPaths which) {
 
 TEST(CausticPaths, OnlyAndWithoutPartitionThePathTracer) {
   const Scene scene = testing::mirrorCausticScene(16, 12, 4);
-  const auto all = testing::renderBeauty(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::All), 2);
-  const auto only = testing::renderBeauty(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Only), 2);
+  const auto all = testing::renderBeauty(scene, methodWith("pt", CausticPaths::All), 2);
+  const auto only = testing::renderBeauty(scene, methodWith("pt", CausticPaths::Only), 2);
   const auto without =
-      testing::renderBeauty(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Without), 2);
+      testing::renderBeauty(scene, methodWith("pt", CausticPaths::Without), 2);
   double caustic = 0;
   for (size_t i = 0; i < all.size(); i += 4)
     for (int c = 0; c < 3; ++c) {
@@ -48,29 +48,29 @@ TEST(CausticPaths, OnlyAndWithoutPartitionThePathTracer) {
 TEST(CausticPaths, CausticMethodsOnlyPlusThePathTracerWithoutIsTheMethod) {
   const Scene scene = testing::mirrorCausticScene(16, 12, 4);
   const auto without =
-      testing::renderBeauty(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Without), 2);
-  for (IntegratorMethod m : {IntegratorMethod::LightBeams, IntegratorMethod::PhotonMapping}) {
+      testing::renderBeauty(scene, methodWith("pt", CausticPaths::Without), 2);
+  for (const char* m : {"lbt", "pm"}) {
     RenderOptions all = methodWith(m, CausticPaths::All), only = methodWith(m, CausticPaths::Only);
-    all.beams.resolution = only.beams.resolution = 16;
-    all.integrator.photonsPerSample = only.integrator.photonsPerSample = 200;
+    all.method.beams.resolution = only.method.beams.resolution = 16;
+    all.method.photons.photonsPerSample = only.method.photons.photonsPerSample = 200;
     const auto full = testing::renderBeauty(scene, all, 2), caustic = testing::renderBeauty(scene, only, 2);
     double sum = 0;
     for (size_t i = 0; i < full.size(); i += 4)
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(caustic[i + c] + without[i + c], full[i + c], 1e-5 * (std::fabs(full[i + c]) + 1e-3))
-            << int(m) << ": pixel " << i / 4;
+            << m << ": pixel " << i / 4;
         sum += caustic[i + c];
       }
-    EXPECT_GT(sum, 0) << int(m) << ": no caustic estimate";
+    EXPECT_GT(sum, 0) << m << ": no caustic estimate";
   }
 }
 
 TEST(CausticPaths, PathTracerWithoutThemPlusLightTracedCausticsIsThePathTracer) {
   const Scene scene = testing::mirrorCausticScene(16, 12, 4);
   constexpr int kSeeds = 64;
-  const testing::BlockEstimate all = testing::blockEstimate(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::All), kSeeds);
-  const testing::BlockEstimate without = testing::blockEstimate(scene, methodWith(IntegratorMethod::PathTracing, CausticPaths::Without), kSeeds);
-  const testing::BlockEstimate caustic = testing::blockEstimate(scene, methodWith(IntegratorMethod::LightTracing, CausticPaths::Only), kSeeds);
+  const testing::BlockEstimate all = testing::blockEstimate(scene, methodWith("pt", CausticPaths::All), kSeeds);
+  const testing::BlockEstimate without = testing::blockEstimate(scene, methodWith("pt", CausticPaths::Without), kSeeds);
+  const testing::BlockEstimate caustic = testing::blockEstimate(scene, methodWith("lt", CausticPaths::Only), kSeeds);
   EXPECT_GT(caustic.mean.back(), 4 * caustic.se.back()) << "no caustic to split";
   for (size_t b = 0; b < all.mean.size(); ++b) {
     const double se = std::sqrt(all.se[b] * all.se[b] + without.se[b] * without.se[b] + caustic.se[b] * caustic.se[b]);

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include "app/command_line.h"
 #include "core/vector_isa.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
 namespace rayes {

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <gtest/gtest.h>
 #include "app/converge.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
 namespace rayes {

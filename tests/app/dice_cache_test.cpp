@@ -3,7 +3,7 @@
 // bit for bit, whatever K; only the number of dicings changes with K, and it is a function of
 // (scene, settings, K) alone.
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 #include <unistd.h>
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
 namespace rayes {

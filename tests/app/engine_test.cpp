@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <gmock/gmock.h>
 #include "app/stats_json.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {
@@ -33,9 +33,9 @@ Mean meanOf(const Scene& scene, const RenderOptions& o) {
 // Embree dices each patch at the finest level any camera ray needs and every secondary ray
 // hits that level too; Rayes gives each ray its own level (diffuse bounces coarse) and closes
 // borders. The level a ray hits at also sets how far its secondary rays start off the surface
-// (PathTracer::originOffset), so scenes with many bounces between close walls differ most
+// (originOffset), so scenes with many bounces between close walls differ most
 // (Embree brighter). Measured with the same seed at 96x72, 64 spp, --max-lod 8, Embree at
-// --embree-lod auto (bench/RESULTS.md, "LOD difference"): the largest channel's difference,
+// --embree-lod auto (bench/history/2026-11.md, "LOD difference"): the largest channel's difference,
 // rounded up to a 0.5 % step with at least 0.25 % to spare for that measurement's own noise.
 struct SceneCase {
   const char* file;

@@ -20,7 +20,7 @@
 #include "geometry/forest_leaves.h"
 #include "rays/trace_settings.h"
 #include "rays/tracer.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "scene/scene_loader.h"
 
 namespace rayes {

@@ -4,7 +4,7 @@
 // the tolerance is 4 standard errors of the pixel mean (pixels are i.i.d. estimates here).
 #include <cmath>
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

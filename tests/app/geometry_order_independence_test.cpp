@@ -3,7 +3,7 @@
 // bit-identical images for 1 and 2 threads, with every ray traced alone, and under a ray
 // budget small enough to force many batches and iterations.
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

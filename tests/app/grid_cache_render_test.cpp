@@ -4,7 +4,7 @@
 // either a dicing or a cache hit, so dicings fall by exactly the hits; and the counts do not
 // depend on the thread count (the cache is asked serially, in run order).
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

@@ -13,7 +13,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include "app/image_io.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "support/exr_test_file.h"
 #include "support/temp_folder.h"
 

@@ -3,7 +3,7 @@
 // level comes from the ray count per leaf, not from each ray's footprint).
 #include <cmath>
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

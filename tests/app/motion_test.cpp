@@ -12,7 +12,7 @@
 #include "app/command_line.h"
 #include "core/error.h"
 #include "core/transform.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
 namespace rayes {

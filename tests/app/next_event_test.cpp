@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <numbers>
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

@@ -4,7 +4,7 @@
 // memory budgets that force different batch sizes and numbers of iterations, and in progressive
 // passes.
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 #include "app/command_line.h"
 #include "app/image_io.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 #include "scene/texture_reader.h"
 

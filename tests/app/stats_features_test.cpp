@@ -3,7 +3,7 @@
 // scene with moving shapes and an open shutter dices two time samples and says so.
 #include <gtest/gtest.h>
 #include "app/stats_json.h"
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {

@@ -15,7 +15,7 @@
 #include <map>
 #include <set>
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "scene_transform.h"
 
 namespace rayes {

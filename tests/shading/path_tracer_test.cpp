@@ -24,29 +24,29 @@ float roundingOf(Vec3 p, Vec3 from, float side) {
 
 TEST(OriginOffset, DicingErrorOfTheLevelPlusRounding) {
   // A curved patch: C / 4^m dominates, exactly 4x smaller per level.
-  EXPECT_FLOAT_EQ(PathTracer::originOffset(1.0f, 0.5f, 0, {0, 0, 0}, {0, 0, 0}), 0.5f + kRounding);
-  EXPECT_FLOAT_EQ(PathTracer::originOffset(1.0f, 0.5f, 3, {0, 0, 0}, {0, 0, 0}), 0.5f / 64 + kRounding);
+  EXPECT_FLOAT_EQ(originOffset(1.0f, 0.5f, 0, {0, 0, 0}, {0, 0, 0}), 0.5f + kRounding);
+  EXPECT_FLOAT_EQ(originOffset(1.0f, 0.5f, 3, {0, 0, 0}, {0, 0, 0}), 0.5f / 64 + kRounding);
   // Level 10: 4^-10 of C.
-  const float fine = PathTracer::originOffset(1.0f, 0.5f, 10, {1, 1, 1}, {0, 0, 5});
+  const float fine = originOffset(1.0f, 0.5f, 10, {1, 1, 1}, {0, 0, 5});
   EXPECT_FLOAT_EQ(fine, 0.5f / 1048576 + roundingOf({1, 1, 1}, {0, 0, 5}, 1));
   // A planar patch: rounding alone, whatever the level.
   for (int level : {0, 10})
-    EXPECT_FLOAT_EQ(PathTracer::originOffset(2.0f, 0.0f, level, {3, 0, 0}, {0, 0, 0}), roundingOf({3, 0, 0}, {}, 2));
+    EXPECT_FLOAT_EQ(originOffset(2.0f, 0.0f, level, {3, 0, 0}, {0, 0, 0}), roundingOf({3, 0, 0}, {}, 2));
 }
 
 TEST(OriginOffset, RoundingScalesWithCoordinatesAndExtent) {
   // Far from the origin: several ulps of the coordinates (the spacing at 1e6 is 0.0625), and
   // no more than the bound.
-  const float far = PathTracer::originOffset(1.0f, 0.0f, 4, {1e6f, 0, 0}, {1e6f, 0, 10});
+  const float far = originOffset(1.0f, 0.0f, 4, {1e6f, 0, 0}, {1e6f, 0, 10});
   EXPECT_GT(far, 8 * 0.0625f);
   EXPECT_LE(far, roundingOf({1e6f, 0, 0}, {1e6f, 0, 10}, 1) * (1 + 1e-6f));
   // Huge and tiny patches: proportional to their size.
-  EXPECT_FLOAT_EQ(PathTracer::originOffset(1e30f, 0.0f, 0, {0, 0, 0}, {0, 0, 0}), kRounding * 1e30f);
-  const float tiny = PathTracer::originOffset(1e-20f, 0.0f, 0, {0, 0, 0}, {0, 0, 0});
+  EXPECT_FLOAT_EQ(originOffset(1e30f, 0.0f, 0, {0, 0, 0}, {0, 0, 0}), kRounding * 1e30f);
+  const float tiny = originOffset(1e-20f, 0.0f, 0, {0, 0, 0}, {0, 0, 0});
   EXPECT_GT(tiny, 0.0f);
   EXPECT_LE(tiny, kRounding * 1e-20f * (1 + 1e-6f));
   // A zero-size patch at the origin: still positive (the smallest normal float), never zero.
-  const float zero = PathTracer::originOffset(0.0f, 0.0f, 0, {0, 0, 0}, {0, 0, 0});
+  const float zero = originOffset(0.0f, 0.0f, 0, {0, 0, 0}, {0, 0, 0});
   EXPECT_GT(zero, 0.0f);
   EXPECT_LE(zero, 2 * std::numeric_limits<float>::min());
 }
@@ -56,7 +56,7 @@ TEST(OriginOffset, FiniteAndPositiveForExtremeInputs) {
   for (float c : {0.0f, 1.0f, big, kInf, NAN})
     for (int level : {0, 10, 40})
       for (Vec3 p : {Vec3{0, 0, 0}, Vec3{big, big, big}, Vec3{-1e6f, 2, 3}}) {
-        const float o = PathTracer::originOffset(big, c, level, p, p);
+        const float o = originOffset(big, c, level, p, p);
         EXPECT_TRUE(std::isfinite(o)) << c << " " << level;
         EXPECT_GT(o, 0.0f) << c << " " << level;
       }

@@ -6,7 +6,7 @@
 #include <string>
 #include <cmath>
 #include <vector>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 #include "scene/scene_loader.h"
 
 namespace rayes::testing {

@@ -1,11 +1,11 @@
-#include "lbt/photon_mapper.h"
+#include "photons/photon_mapper.h"
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include "lbt/photon_map.h"
+#include "photons/photon_map.h"
 #include "shading/light_path.h"
 #include "shading/path_tracer.h"
 
@@ -19,8 +19,8 @@ constexpr float kMaxRadiusOverR0 = 4.0f;
 
 class PhotonMapper final : public Integrator, private CausticRadiance {
  public:
-  PhotonMapper(bool progressive, const ShadingScene& scene, const IntegratorOptions& options)
-      : scene_(scene), options_(options), progressive_(progressive),
+  PhotonMapper(const ShadingScene& scene, const PhotonOptions& options)
+      : scene_(scene), options_(options), progressive_(options.progressive),
         // Photons leave every kind of light: the estimate alone (Only) keeps no path-traced
         // caustic path, and Without leaves out those of every light.
         pt_(scene, options.causticPaths == CausticPaths::Only
@@ -30,7 +30,8 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
                                              .causticLights = kAllLights,
                                              .laterGatherProbability = options.laterGatherProbability}) {}
 
-  uint32_t raysPerPath() const override { return PathTracer::kRaysPerPath; }
+  IntegratorTraits traits() const override { return {.progressive = progressive_, .lightPasses = true}; }
+  uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
     return std::max(pt_.bytesPerPath(), sizeof(Rgb) + sizeof(LightRun) + sizeof(Photon) + 1);
   }
@@ -51,10 +52,10 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     run_.assign(count, LightRun::AtLight);
     landed_.assign(count, 0);
     landing_.resize(count);
-    rays.resize(PathTracer::kRaysPerPath * size_t(count));
+    rays.resize(kRaysPerPath * size_t(count));
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const auto& r) {
       for (uint32_t k = r.begin(); k != r.end(); ++k) {
-        const size_t cs = PathTracer::kRaysPerPath * size_t(k);
+        const size_t cs = kRaysPerPath * size_t(k);
         rays.ray[cs].kind = rays.ray[cs + 1].kind = RayKind::Inactive;
         LightPathStart start;
         if (scene_.integrator.maxDepth < 1 || !sampleLightPathStart(scene_, keyOf(first + k, 0), start)) continue;
@@ -70,7 +71,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(throughput_.size()), 256), [&](const auto& r) {
       size_t local = 0;
       for (uint32_t k = r.begin(); k != r.end(); ++k) {
-        const size_t cs = PathTracer::kRaysPerPath * size_t(k);
+        const size_t cs = kRaysPerPath * size_t(k);
         if (rays.ray[cs].kind != RayKind::Closest) continue;
         rays.ray[cs].kind = RayKind::Inactive;
         LightPathHit hit;
@@ -110,11 +111,11 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     uint64_t peak = stats.photonMapBytes.load();
     while (map_.bytes() > peak && !stats.photonMapBytes.compare_exchange_weak(peak, map_.bytes())) {}
     if (!(r0_ > 0)) {
-      r0_ = options_.photonRadius > 0 ? options_.photonRadius : medianNeighbourDistance();
+      r0_ = options_.radius > 0 ? options_.radius : medianNeighbourDistance();
       // ppm's radius of every camera sample, fixed before any is shaded (shading is parallel).
       radius2_.resize(size_t(std::max(1, scene_.samplesPerPixel)));
       for (size_t i = 0; i < radius2_.size(); ++i)
-        radius2_[i] = i == 0 ? r0_ * r0_ : radius2_[i - 1] * (float(i) + options_.photonAlpha) / float(i + 1);
+        radius2_[i] = i == 0 ? r0_ * r0_ : radius2_[i - 1] * (float(i) + options_.alpha) / float(i + 1);
     }
   }
 
@@ -127,7 +128,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     if (map_.size() < 2) return 0;
     std::vector<float> d;
     std::vector<uint32_t> near;
-    const int k = int(std::min<size_t>(size_t(options_.photonNeighbours), map_.size()));
+    const int k = int(std::min<size_t>(size_t(options_.neighbours), map_.size()));
     const size_t step = std::max<size_t>(1, map_.size() / 64);
     for (size_t i = 0; i < map_.size(); i += step)
       d.push_back(std::sqrt(map_.nearest(map_[i].p, k, std::numeric_limits<float>::max(), near)));
@@ -154,14 +155,14 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
     } else {
       thread_local std::vector<uint32_t> near;
       const float maxR = kMaxRadiusOverR0 * r0_;
-      r2 = map_.nearest(v.p, options_.photonNeighbours, maxR * maxR, near);
+      r2 = map_.nearest(v.p, options_.neighbours, maxR * maxR, near);
       for (uint32_t i : near) add(i);
     }
     return r2 > 0 ? sum * float(1.0 / (std::numbers::pi * double(r2))) : Rgb{};
   }
 
   const ShadingScene& scene_;
-  IntegratorOptions options_;
+  PhotonOptions options_;
   bool progressive_;
   PathTracer pt_;
   // The light batch in flight.
@@ -179,9 +180,8 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
 
 }  // namespace
 
-std::unique_ptr<Integrator> makePhotonMapper(bool progressive, const ShadingScene& scene,
-                                             const IntegratorOptions& options) {
-  return std::make_unique<PhotonMapper>(progressive, scene, options);
+std::unique_ptr<Integrator> makePhotonMapper(const ShadingScene& scene, const PhotonOptions& options) {
+  return std::make_unique<PhotonMapper>(scene, options);
 }
 
 }  // namespace rayes

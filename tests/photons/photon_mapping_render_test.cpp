@@ -17,25 +17,25 @@
 //    side's share, bounce + photon vertex <= max_depth, is the same comparison in the gather.)
 #include <cmath>
 #include <gtest/gtest.h>
-#include "mirror_caustic_scene.h"
-#include "render_fixtures.h"
+#include "support/mirror_caustic_scene.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {
 
-RenderOptions method(IntegratorMethod m) {
+RenderOptions method(const std::string& m) {
   RenderOptions o;
-  o.method = m;
+  o.method.name = m;
   o.lod = LodRule::Fixed;
   o.maxLod = 3;
-  o.integrator.photonsPerSample = 4000;
+  o.method.photons.photonsPerSample = 4000;
   return o;
 }
 
-void expectMatchesLightTracer(IntegratorMethod m) {
+void expectMatchesLightTracer(const std::string& m) {
   const Scene scene = testing::mirrorCausticScene(16, 12, 4);
   constexpr int kSeeds = 32;
-  const testing::BlockEstimate lt = testing::blockEstimate(scene, method(IntegratorMethod::LightTracing), kSeeds);
+  const testing::BlockEstimate lt = testing::blockEstimate(scene, method("lt"), kSeeds);
   const testing::BlockEstimate pm = testing::blockEstimate(scene, method(m), kSeeds);
   for (size_t b = 0; b < lt.mean.size(); ++b) {
     const double se = std::hypot(lt.se[b], pm.se[b]);
@@ -44,18 +44,18 @@ void expectMatchesLightTracer(IntegratorMethod m) {
   }
 }
 
-TEST(PhotonMapping, ConvergesToTheLightTracer) { expectMatchesLightTracer(IntegratorMethod::PhotonMapping); }
+TEST(PhotonMapping, ConvergesToTheLightTracer) { expectMatchesLightTracer("pm"); }
 
 TEST(ProgressivePhotonMapping, ConvergesToTheLightTracer) {
-  expectMatchesLightTracer(IntegratorMethod::ProgressivePhotonMapping);
+  expectMatchesLightTracer("ppm");
 }
 
 TEST(ProgressivePhotonMapping, BiasShrinksWithPasses) {
   const testing::BlockEstimate lt =
-      testing::blockEstimate(testing::mirrorCausticScene(16, 12, 16), method(IntegratorMethod::LightTracing), 16);
+      testing::blockEstimate(testing::mirrorCausticScene(16, 12, 16), method("lt"), 16);
   auto error = [&](int spp) {
     const testing::BlockEstimate e =
-        testing::blockEstimate(testing::mirrorCausticScene(16, 12, spp), method(IntegratorMethod::ProgressivePhotonMapping), 4);
+        testing::blockEstimate(testing::mirrorCausticScene(16, 12, spp), method("ppm"), 4);
     double sum = 0;
     for (size_t b = 0; b + 1 < e.mean.size(); ++b) sum += std::fabs(e.mean[b] - lt.mean[b]);
     return sum;
@@ -64,10 +64,10 @@ TEST(ProgressivePhotonMapping, BiasShrinksWithPasses) {
 }
 
 TEST(PhotonMapping, MaxDepthBoundsCameraAndPhotonBouncesTogether) {
-  for (const IntegratorMethod m : {IntegratorMethod::PhotonMapping, IntegratorMethod::ProgressivePhotonMapping}) {
+  for (const char* m : {"pm", "ppm"}) {
     Scene scene = testing::mirrorCausticScene(12, 9, 2);
-    RenderOptions without = method(IntegratorMethod::PathTracing);
-    without.integrator.causticPaths = CausticPaths::Without;
+    RenderOptions without = method("pt");
+    without.method.causticPaths = CausticPaths::Without;
     scene.integrator.maxDepth = 1;
     EXPECT_EQ(testing::renderBeauty(scene, method(m), 2), testing::renderBeauty(scene, without, 2));
     // One bounce more and the caustic is there (the check above is not vacuous).
@@ -77,9 +77,9 @@ TEST(PhotonMapping, MaxDepthBoundsCameraAndPhotonBouncesTogether) {
 }
 
 TEST(PhotonMapping, OrderIndependent) {
-  testing::expectOrderIndependent(testing::mirrorCausticScene(12, 9, 2), 37, method(IntegratorMethod::PhotonMapping));
+  testing::expectOrderIndependent(testing::mirrorCausticScene(12, 9, 2), 37, method("pm"));
   testing::expectOrderIndependent(testing::mirrorCausticScene(12, 9, 4), 37,
-                                  method(IntegratorMethod::ProgressivePhotonMapping));
+                                  method("ppm"));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "lbt/photon_map.h"
+#include "photons/photon_map.h"
 #include <algorithm>
 #include <limits>
 #include <tbb/parallel_invoke.h>

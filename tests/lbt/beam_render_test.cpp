@@ -7,8 +7,8 @@
 #include <fstream>
 #include <numbers>
 #include <nlohmann/json.hpp>
-#include "mirror_caustic_scene.h"
-#include "render_fixtures.h"
+#include "support/mirror_caustic_scene.h"
+#include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 #include "core/error.h"
 #include "shading/fresnel.h"
@@ -16,10 +16,13 @@
 namespace rayes::testing {
 namespace {
 
+// The beam integrator of a render with --method lbt: its beams and what its light phase did.
+const BeamIntegrator& beamsOf(const Renderer& r) { return dynamic_cast<const BeamIntegrator&>(r.integrator()); }
+
 RenderOptions lbtOptions(int resolution = 64) {
   RenderOptions o;
-  o.method = IntegratorMethod::LightBeams;
-  o.beams.resolution = resolution;
+  o.method.name = "lbt";
+  o.method.beams.resolution = resolution;
   return o;
 }
 
@@ -43,7 +46,7 @@ double gatherAt(const BeamStore& beams, uint32_t leaf, Vec3 x, Vec3 n) {
 TEST(Beams, PlanarMirrorThroughTheEngineMatchesTheClosedForm) {
   const Scene scene = loadScene(sourcePath("scenes/lbt-mirror.json"));
   Renderer r(scene, lbtOptions(64));
-  ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+  ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
   // Away from the footprint's edge (where cells straddling the mirror's border are split, down
   // to a sixteenth of a cell, then dropped) the error is the per-triangle blend, of the order of the cell's angle squared
   // ((2/64)² ≈ 1e-3), plus the lobe's curvature σ² ≈ 1e-6.
@@ -51,10 +54,10 @@ TEST(Beams, PlanarMirrorThroughTheEngineMatchesTheClosedForm) {
     for (float y : {0.0f, -0.6f, 2.1f}) {
       const double d = std::sqrt(double(x) * x + double(y) * y + 9);
       const double exact = 3 * 0.9 * 10 / (d * d * d);
-      EXPECT_NEAR(gatherAt(*r.beams(), 1, {x, y, 2}, {0, 0, -1}), exact, 1.5e-3 * exact) << x << ", " << y;
+      EXPECT_NEAR(gatherAt(*beamsOf(r).beams(), 1, {x, y, 2}, {0, 0, -1}), exact, 1.5e-3 * exact) << x << ", " << y;
     }
-  for (float x : {3.2f, -3.6f}) EXPECT_EQ(gatherAt(*r.beams(), 1, {x, 0.3f, 2}, {0, 0, -1}), 0.0);
-  EXPECT_GT(r.stats().beams.trace.segments, 0u);
+  for (float x : {3.2f, -3.6f}) EXPECT_EQ(gatherAt(*beamsOf(r).beams(), 1, {x, 0.3f, 2}, {0, 0, -1}), 0.0);
+  EXPECT_GT(beamsOf(r).stats().trace.segments, 0u);
 }
 
 // Grazing incidence on a scatterer: a point light of I = 10 at (-6, 0, h) over a mirror
@@ -83,22 +86,22 @@ TEST(Beams, GrazingIncidenceOnAMirrorMatchesTheClosedFormAndEdgeOnGivesNothing) 
   const float h = 0.3f;
   const Scene scene = loadScene(grazingMirror(tmp, h));
   Renderer r(scene, lbtOptions(64));
-  ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+  ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
   // Inside the footprint on the wall: z = h (6 - x0) / (6 + x0) in [0.214, 0.42] for mirror
   // points x0 in [-1, 1], |y| < 1.7 at its narrow end.
   for (float z : {0.25f, 0.3f, 0.38f})
     for (float y : {0.0f, 0.7f, -1.1f}) {
       const double d = std::sqrt(144.0 + double(y) * y + double(z + h) * (z + h));
       const double exact = 0.9 * 10 * 12 / (d * d * d);
-      EXPECT_NEAR(gatherAt(*r.beams(), 1, {6, y, z}, {-1, 0, 0}), exact, 1.5e-3 * exact) << y << ", " << z;
+      EXPECT_NEAR(gatherAt(*beamsOf(r).beams(), 1, {6, y, z}, {-1, 0, 0}), exact, 1.5e-3 * exact) << y << ", " << z;
     }
-  EXPECT_EQ(gatherAt(*r.beams(), 1, {6, 0, 0.6f}, {-1, 0, 0}), 0.0);  // above the footprint
+  EXPECT_EQ(gatherAt(*beamsOf(r).beams(), 1, {6, 0, 0.6f}, {-1, 0, 0}), 0.0);  // above the footprint
   const Vec3 light{-6, 0, h};
   Vec3 c[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
   for (Vec3& v : c) v = normalize(v - light);
   const double omega = sphericalTriangleArea(c[0], c[1], c[2]) + sphericalTriangleArea(c[0], c[2], c[3]);
   double power = 0;
-  for (const BeamSegment& s : r.beams()->segments()) {
+  for (const BeamSegment& s : beamsOf(r).beams()->segments()) {
     EXPECT_TRUE(isFinite(s.power));
     power += s.scatterings == 1 ? s.power.x : 0;
   }
@@ -106,8 +109,8 @@ TEST(Beams, GrazingIncidenceOnAMirrorMatchesTheClosedFormAndEdgeOnGivesNothing) 
 
   const Scene edgeOn = loadScene(grazingMirror(tmp, 0));
   Renderer e(edgeOn, lbtOptions(64));
-  EXPECT_EQ(e.beams(), nullptr);  // no beam reaches past the mirror, and the stats say so
-  EXPECT_FALSE(e.stats().beams.skipped.empty());
+  EXPECT_EQ(beamsOf(e).beams(), nullptr);  // no beam reaches past the mirror, and the stats say so
+  EXPECT_FALSE(beamsOf(e).stats().skipped.empty());
   for (float v : renderBeauty(edgeOn, lbtOptions(16), 2)) ASSERT_TRUE(std::isfinite(v));
 }
 
@@ -120,7 +123,7 @@ TEST(Beams, RingCausticCuspLiesAtHalfTheRadius) {
   for (Material& m : scene.materials)
     if (m.type == MaterialType::Glossy) m.sigma = 0.01f;  // a finite peak to locate
   Renderer r(scene, lbtOptions(128));
-  ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+  ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
   // The floor is the last shape, in tiles: gather on the tile under each point.
   const auto floorLeafAt = [&](float x, float y) {
     for (size_t l = scene.leaves.size(); l-- > 0;) {
@@ -132,7 +135,7 @@ TEST(Beams, RingCausticCuspLiesAtHalfTheRadius) {
   double best = -1, bestX = 0;
   for (int i = 0; i <= 120; ++i) {
     const float x = 0.2f + 0.6f * float(i) / 120;
-    const double e = gatherAt(*r.beams(), floorLeafAt(x, 0), {x, 0, 0}, {0, 0, 1});
+    const double e = gatherAt(*beamsOf(r).beams(), floorLeafAt(x, 0), {x, 0, 0}, {0, 0, 1});
     if (e > best) best = e, bestX = x;
   }
   // The lobe (σ = 0.01 over ~0.5 of travel) and the cusp's own asymmetry shift the peak by a
@@ -159,12 +162,12 @@ TEST(Beams, TwoGlossyBouncesCombineInQuadrature) {
     "lights": [{"type": "point", "position": [0, 0, 1], "intensity": [10, 10, 10]}]})";
   const Scene scene = loadScene(path);
   Renderer r(scene, lbtOptions(16));
-  ASSERT_NE(r.beams(), nullptr);
+  ASSERT_NE(beamsOf(r).beams(), nullptr);
   // The light sees both mirrors and beams bounce between them (up to --beam-depth): a segment
   // after n_a reflections on a and n_b on b (alternating: |n_a - n_b| ≤ 1) carries
   // σ² = n_a·σa² + n_b·σb², exactly; one a-then-b bounce gives 0.05.
   int twoBounce = 0;
-  for (const BeamSegment& s : r.beams()->segments()) {
+  for (const BeamSegment& s : beamsOf(r).beams()->segments()) {
     bool found = false;
     for (int na = 0; na <= 4 && !found; ++na)
       for (int nb = std::max(0, na - 1); nb <= na + 1 && na + nb <= 4 && !found; ++nb)
@@ -229,16 +232,16 @@ TEST(Beams, AMirrorsEdgeNeverCutsABeam) {
   const uint32_t ceiling = uint32_t(scene.leaves.size() - 1);
   for (const int splitDepth : {4, 0}) {
     RenderOptions o = lbtOptions(16);
-    o.beams.splitDepth = splitDepth;
+    o.method.beams.splitDepth = splitDepth;
     Renderer r(scene, o);
-    ASSERT_NE(r.beams(), nullptr);
-    EXPECT_EQ(r.stats().beams.trace.splits, 0u);
-    EXPECT_EQ(r.stats().beams.trace.droppedFlux, 0.0);
+    ASSERT_NE(beamsOf(r).beams(), nullptr);
+    EXPECT_EQ(beamsOf(r).stats().trace.splits, 0u);
+    EXPECT_EQ(beamsOf(r).stats().trace.droppedFlux, 0.0);
     // The footprint lies inside [-2.7, 3.3]²; the midpoint rule's error is at the footprint's
     // edge: below perimeter·h/2·E_edge ≈ 24·0.01·0.4 ≈ 0.1 (0.5 % of the 18.7 W); the aim
     // points' inset loses at most 4·10⁻⁴.
-    EXPECT_NEAR(ceilingFlux(*r.beams(), ceiling, 4, 400), exact, 0.005 * exact) << splitDepth;
-    EXPECT_NEAR(firstBouncePower(*r.beams()), exact, 4e-4 * exact) << splitDepth;
+    EXPECT_NEAR(ceilingFlux(*beamsOf(r).beams(), ceiling, 4, 400), exact, 0.005 * exact) << splitDepth;
+    EXPECT_NEAR(firstBouncePower(*beamsOf(r).beams()), exact, 4e-4 * exact) << splitDepth;
   }
 }
 
@@ -263,26 +266,26 @@ TEST(Beams, SplittingKeepsTheFluxAroundAShadowAndNothingIsCountedTwice) {
   {
     const Scene scene = loadScene(offAxisMirror(tmp, mirror, R"({"type": "diffuse", "albedo": [0.5, 0.5, 0.5]})"));
     Renderer r(scene, lbtOptions(16));
-    ASSERT_NE(r.beams(), nullptr);
-    EXPECT_GT(r.stats().beams.trace.splits, 0u);
-    EXPECT_LT(firstBouncePower(*r.beams()), shadowed * (1 + 1e-4));
-    EXPECT_GT(firstBouncePower(*r.beams()), 0.99 * shadowed);
-    EXPECT_LT(r.stats().beams.trace.droppedFlux, 0.01 * shadowed);
+    ASSERT_NE(beamsOf(r).beams(), nullptr);
+    EXPECT_GT(beamsOf(r).stats().trace.splits, 0u);
+    EXPECT_LT(firstBouncePower(*beamsOf(r).beams()), shadowed * (1 + 1e-4));
+    EXPECT_GT(firstBouncePower(*beamsOf(r).beams()), 0.99 * shadowed);
+    EXPECT_LT(beamsOf(r).stats().trace.droppedFlux, 0.01 * shadowed);
     RenderOptions whole = lbtOptions(16);
-    whole.beams.splitDepth = 0;
+    whole.method.beams.splitDepth = 0;
     Renderer w(scene, whole);
-    ASSERT_NE(w.beams(), nullptr);
-    EXPECT_GT(w.stats().beams.trace.droppedFlux, 0);
-    EXPECT_LT(firstBouncePower(*w.beams()), 0.98 * shadowed);
+    ASSERT_NE(beamsOf(w).beams(), nullptr);
+    EXPECT_GT(beamsOf(w).stats().trace.droppedFlux, 0);
+    EXPECT_LT(firstBouncePower(*beamsOf(w).beams()), 0.98 * shadowed);
   }
   {
     // The occluder a mirror too: its own beams carry what it hides from the big one, and the
     // big one's beams toward it are not counted again: ρ·I·Ω_mirror in all.
     const Scene scene = loadScene(offAxisMirror(tmp, mirror, mirror));
     Renderer r(scene, lbtOptions(16));
-    ASSERT_NE(r.beams(), nullptr);
-    EXPECT_LT(firstBouncePower(*r.beams()), mirrorPower * (1 + 1e-4));
-    EXPECT_GT(firstBouncePower(*r.beams()), 0.99 * mirrorPower);
+    ASSERT_NE(beamsOf(r).beams(), nullptr);
+    EXPECT_LT(firstBouncePower(*beamsOf(r).beams()), mirrorPower * (1 + 1e-4));
+    EXPECT_GT(firstBouncePower(*beamsOf(r).beams()), 0.99 * mirrorPower);
   }
 }
 
@@ -323,8 +326,8 @@ TEST(Beams, APatchFoldedInTheLightsViewSendsItsFluxOnce) {
     f.close();
     const Scene scene = loadScene(path);
     Renderer r(scene, lbtOptions(64));
-    EXPECT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
-    return r.beams() ? firstBouncePower(*r.beams()) : 0.0;
+    EXPECT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
+    return beamsOf(r).beams() ? firstBouncePower(*beamsOf(r).beams()) : 0.0;
   };
   const double one = trough(false), two = trough(true);
   EXPECT_GT(two, 0);
@@ -340,8 +343,8 @@ TEST(Beams, DielectricsReflectTheirFresnelPart) {
   const Scene scene = loadScene(offAxisMirror(tmp, R"({"type": "dielectric", "ior": 1.5})"));
   const int n = 64;
   Renderer r(scene, lbtOptions(n));
-  ASSERT_NE(r.beams(), nullptr);
-  EXPECT_GT(r.stats().beams.trace.reflectedBranches, 0u);
+  ASSERT_NE(beamsOf(r).beams(), nullptr);
+  EXPECT_GT(beamsOf(r).stats().trace.reflectedBranches, 0u);
   const uint32_t ceiling = uint32_t(scene.leaves.size() - 1);
   // The light at (0.13, 0.07, 1), its image at (0.13, 0.07, -1); E = F·3I/D³ with D the
   // distance from the image. Error: the corner blend, ~(2/n)² (as the mirror's), plus F
@@ -355,7 +358,7 @@ TEST(Beams, DielectricsReflectTheirFresnelPart) {
       const double df = std::fabs(fresnelDielectric(float(std::cos(theta + cell)), 1.5f) -
                                   fresnelDielectric(float(std::cos(std::max(0.0, theta - cell))), 1.5f));
       const double exact = f * 3 * 10 / (d * d * d);
-      EXPECT_NEAR(gatherAt(*r.beams(), ceiling, {x, y, 2}, {0, 0, -1}), exact, (1.5e-3 + df / f) * exact)
+      EXPECT_NEAR(gatherAt(*beamsOf(r).beams(), ceiling, {x, y, 2}, {0, 0, -1}), exact, (1.5e-3 + df / f) * exact)
           << x << ", " << y;
     }
 }
@@ -380,14 +383,14 @@ TEST(Beams, BeamsStraddlingTotalInternalReflectionSplitAndKeepTheirFlux) {
     "lights": [{"type": "point", "position": [0.05, 0.03, -1], "intensity": [1, 1, 1]}]})";
   const Scene scene = loadScene(path);
   RenderOptions o = lbtOptions(24);
-  o.beams.maxDepth = 1;
+  o.method.beams.maxDepth = 1;
   Renderer r(scene, o);
-  ASSERT_NE(r.beams(), nullptr);
-  const BeamRenderStats& b = r.stats().beams;
+  ASSERT_NE(beamsOf(r).beams(), nullptr);
+  const BeamRenderStats& b = beamsOf(r).stats();
   EXPECT_GT(b.trace.splits, 0u);
   EXPECT_GT(b.trace.reflectedBranches, 0u);
   double up = 0, down = 0;
-  for (const BeamSegment& s : r.beams()->segments()) {
+  for (const BeamSegment& s : beamsOf(r).beams()->segments()) {
     for (int i = 0; i < 3; ++i) EXPECT_TRUE(isFinite(s.d[i]) && std::isfinite(s.t[i]));
     (s.d[0].z > 0 ? up : down) += s.power.x;
   }
@@ -413,24 +416,24 @@ TEST(Beams, BatchesUnderTheBeamMemoryBudgetGiveTheSameImage) {
   Scene scene = shippedScene("scenes/lbt-mirror-glossy.json", 20, 15, 1);
   const RenderOptions whole = lbtOptions(12);
   Renderer one(scene, whole);
-  ASSERT_NE(one.beams(), nullptr);
-  EXPECT_EQ(one.stats().beams.batches, 1u);
+  ASSERT_NE(beamsOf(one).beams(), nullptr);
+  EXPECT_EQ(beamsOf(one).stats().batches, 1u);
   RenderOptions small = whole;
-  small.beams.memoryBytes = one.stats().beams.bytes / 3;
+  small.method.beams.memoryBytes = beamsOf(one).stats().bytes / 3;
   Renderer several(scene, small);
-  EXPECT_GE(several.stats().beams.batches, 3u);
-  EXPECT_EQ(several.stats().beams.trace.segments, one.stats().beams.trace.segments);
+  EXPECT_GE(beamsOf(several).stats().batches, 3u);
+  EXPECT_EQ(beamsOf(several).stats().trace.segments, beamsOf(one).stats().trace.segments);
   // The budget holds everything beams keep: the largest range's store and the partial gathers
   // of a camera batch (12 B per path and bounce).
-  EXPECT_LE(several.stats().beams.bytes, small.beams.memoryBytes);
-  EXPECT_GE(several.stats().beams.bytes,
+  EXPECT_LE(beamsOf(several).stats().bytes, small.method.beams.memoryBytes);
+  EXPECT_GE(beamsOf(several).stats().bytes,
             several.stats().pathsPerBatch * size_t(scene.integrator.maxDepth) * sizeof(Rgb));
   const auto ref = renderBeauty(scene, whole, 2);
   EXPECT_EQ(renderBeauty(scene, small, 2), ref);
   EXPECT_NE(renderBeauty(scene, RenderOptions{}, 2), ref);  // the beams are in the image
   // A budget the partial gathers alone fill: refused, naming both budgets' options.
   RenderOptions tiny = whole;
-  tiny.beams.memoryBytes = several.stats().pathsPerBatch * size_t(scene.integrator.maxDepth) * sizeof(Rgb);
+  tiny.method.beams.memoryBytes = several.stats().pathsPerBatch * size_t(scene.integrator.maxDepth) * sizeof(Rgb);
   try {
     Renderer refused(scene, tiny);
     ADD_FAILURE() << "a budget the partial gathers fill was accepted";
@@ -461,8 +464,8 @@ TEST(Beams, AreaLightsSendBeamsFromSamplePointsAndMatchTheLightTracer) {
   Scene scene = loadScene(path);
   {
     Renderer r(scene, lbtOptions(24));
-    ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
-    EXPECT_GT(r.stats().beams.trace.segments, 0u);
+    ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
+    EXPECT_GT(beamsOf(r).stats().trace.segments, 0u);
   }
   auto mean = [](const std::vector<float>& rgba) {
     double sum = 0;
@@ -482,7 +485,7 @@ TEST(Beams, AreaLightsSendBeamsFromSamplePointsAndMatchTheLightTracer) {
     se = std::sqrt(var / seeds);
   };
   RenderOptions lt;
-  lt.method = IntegratorMethod::LightTracing;
+  lt.method.name = "lt";
   double mLt, seLt, mLbt, seLbt;
   stats(lt, 8, mLt, seLt);
   stats(lbtOptions(24), 4, mLbt, seLbt);
@@ -517,13 +520,13 @@ TEST(Beams, EnvironmentLightCausticsStayWithThePathTracer) {
                                    {"type": "point", "position": [-0.5, 0, 1.0], "intensity": [2, 2, 2]}])");
   {
     Renderer r(both, lbtOptions(16));
-    ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
+    ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
   }
   constexpr int kSeeds = 32;
   RenderOptions pt, ptOnly;
   pt.lod = ptOnly.lod = LodRule::Fixed;
   pt.maxLod = ptOnly.maxLod = 3;
-  ptOnly.integrator.causticPaths = CausticPaths::Only;
+  ptOnly.method.causticPaths = CausticPaths::Only;
   RenderOptions lbt = lbtOptions(16);
   lbt.lod = LodRule::Fixed;
   lbt.maxLod = 3;
@@ -559,9 +562,9 @@ TEST(Beams, TheRouletteOnLaterGathersKeepsTheMean) {
   const Scene scene = loadScene(path);
   constexpr int kSeeds = 24;
   RenderOptions all = lbtOptions(16), roulette = lbtOptions(16), without;
-  all.integrator.laterGatherProbability = 1;
-  roulette.integrator.laterGatherProbability = 0.25f;
-  without.integrator.causticPaths = CausticPaths::Without;
+  all.method.laterGatherProbability = 1;
+  roulette.method.laterGatherProbability = 0.25f;
+  without.method.causticPaths = CausticPaths::Without;
   for (RenderOptions* o : {&all, &roulette, &without}) o->lod = LodRule::Fixed, o->maxLod = 3;
   const BlockEstimate a = blockEstimate(scene, all, kSeeds), r = blockEstimate(scene, roulette, kSeeds),
                       w = blockEstimate(scene, without, kSeeds);
@@ -584,11 +587,11 @@ TEST(Beams, TheRouletteOnLaterGathersKeepsTheMean) {
 TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
   Scene scene = shippedScene("scenes/glass-caustic.json", 8, 6, 1);
   RenderOptions o = lbtOptions(8);
-  o.beams.areaSamples = 1;
+  o.method.beams.areaSamples = 1;
   Renderer r(scene, o);
-  ASSERT_NE(r.beams(), nullptr) << r.stats().beams.skipped;
-  EXPECT_GT(r.stats().beams.trace.reflectedBranches, 0u);
-  for (const BeamSegment& s : r.beams()->segments()) EXPECT_TRUE(isFinite(s.power) && maxComponent(s.power) > 0);
+  ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
+  EXPECT_GT(beamsOf(r).stats().trace.reflectedBranches, 0u);
+  for (const BeamSegment& s : beamsOf(r).beams()->segments()) EXPECT_TRUE(isFinite(s.power) && maxComponent(s.power) > 0);
 }
 
 // As pm, lbt complements the path tracer within max_depth: camera bounces and the beam's
@@ -597,7 +600,7 @@ TEST(Beams, GlassCausticGetsBeamsFromItsAreaLight) {
 TEST(Beams, MaxDepthBoundsCameraBouncesAndBeamScatteringsTogether) {
   Scene scene = shippedScene("scenes/lbt-mirror.json", 12, 9, 2);
   RenderOptions without;
-  without.integrator.causticPaths = CausticPaths::Without;
+  without.method.causticPaths = CausticPaths::Without;
   scene.integrator.maxDepth = 1;
   EXPECT_EQ(renderBeauty(scene, lbtOptions(8), 2), renderBeauty(scene, without, 2));
   scene.integrator.maxDepth = 2;
@@ -616,14 +619,14 @@ TEST(Beams, GathersAsLeafQueriesEqualGathersInTheShadingStepBitForBit) {
     embree.engine = EngineKind::Embree;
     embree.maxLod = 4;
     fewPaths.rayMemoryBytes = 29 * bytesPerPath(scene, base);
-    beamBatches.beams.memoryBytes = Renderer(scene, base).stats().beams.bytes / 2;
+    beamBatches.method.beams.memoryBytes = beamsOf(Renderer(scene, base)).stats().bytes / 2;
     for (const RenderOptions& leafQueries : {base, embree, fewPaths, beamBatches}) {
       RenderOptions inShading = leafQueries;
-      inShading.beamGathersInShading = true;
+      inShading.method.beams.gathersInShading = true;
       EXPECT_EQ(renderBeauty(scene, leafQueries, 2), renderBeauty(scene, inShading, 2)) << file;
     }
     RenderOptions without;
-    without.integrator.causticPaths = CausticPaths::Without;
+    without.method.causticPaths = CausticPaths::Without;
     EXPECT_NE(renderBeauty(scene, base, 2), renderBeauty(scene, without, 2)) << file << ": no caustic in view";
   }
 }
@@ -647,16 +650,16 @@ TEST(Beams, MaxDepthCountsTheCameraBouncesBeforeTheGather) {
       "lights": [{"type": "point", "position": [0, 0, 1], "intensity": [10, 10, 10]}]})",
                                       "floor.json");
   RenderOptions pm;
-  pm.method = IntegratorMethod::PhotonMapping;
-  pm.integrator.photonsPerSample = 2000;
+  pm.method.name = "pm";
+  pm.method.photons.photonsPerSample = 2000;
   RenderOptions without;
-  without.integrator.causticPaths = CausticPaths::Without;
+  without.method.causticPaths = CausticPaths::Without;
   for (const RenderOptions& method : {lbtOptions(8), pm}) {
     Scene s = floorScene;
     s.integrator.maxDepth = 2;
-    EXPECT_EQ(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << integratorMethodName(method.method);
+    EXPECT_EQ(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << method.method.name;
     s.integrator.maxDepth = 3;
-    EXPECT_NE(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << integratorMethodName(method.method);
+    EXPECT_NE(renderBeauty(s, method, 2), renderBeauty(s, without, 2)) << method.method.name;
   }
 }
 
@@ -671,8 +674,8 @@ TEST(Beams, ScenesWithoutLitScatterersAreThePathTracerBitForBit) {
   for (const char* file : {"scenes/cornell-box.json", "scenes/materials.json"}) {
     Scene scene = shippedScene(file, 16, 12, 2);
     Renderer r(scene, lbtOptions());
-    EXPECT_EQ(r.beams(), nullptr) << file;
-    EXPECT_FALSE(r.stats().beams.skipped.empty()) << file;
+    EXPECT_EQ(beamsOf(r).beams(), nullptr) << file;
+    EXPECT_FALSE(beamsOf(r).stats().skipped.empty()) << file;
     EXPECT_EQ(renderBeauty(scene, lbtOptions(), 2), renderBeauty(scene, RenderOptions{}, 2)) << file;
   }
 }

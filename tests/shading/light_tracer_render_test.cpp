@@ -9,7 +9,7 @@
 // Light tracing is order independent too: the splats of a batch are added in path-id order.
 #include <cmath>
 #include <gtest/gtest.h>
-#include "render_fixtures.h"
+#include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {
@@ -36,9 +36,9 @@ struct Estimate {
   std::vector<double> mean, stderr_;
 };
 
-Estimate estimate(Scene scene, IntegratorMethod method, int seeds) {
+Estimate estimate(Scene scene, const std::string& method, int seeds) {
   RenderOptions o;
-  o.method = method;
+  o.method.name = method;
   // Both methods must see one geometry: with per-ray LOD the camera's rays and the lights' rays
   // see the curved teapot at the levels of their own footprints, so the two images converge to
   // renders of different surfaces (11-15 % apart on the teapot at this resolution).
@@ -61,8 +61,8 @@ Estimate estimate(Scene scene, IntegratorMethod method, int seeds) {
 }
 
 void expectSameImage(const Scene& scene, int seeds) {
-  const Estimate pt = estimate(scene, IntegratorMethod::PathTracing, seeds);
-  const Estimate lt = estimate(scene, IntegratorMethod::LightTracing, seeds);
+  const Estimate pt = estimate(scene, "pt", seeds);
+  const Estimate lt = estimate(scene, "lt", seeds);
   for (size_t b = 0; b < pt.mean.size(); ++b) {
     const double se = std::hypot(pt.stderr_[b], lt.stderr_[b]);
     const std::string what = b + 1 == pt.mean.size() ? "image mean" : "block " + std::to_string(b);
@@ -90,7 +90,7 @@ TEST(LightTracer, TeapotConvergesToThePathTracersImage) {
 
 TEST(LightTracer, OrderIndependent) {
   RenderOptions lt;
-  lt.method = IntegratorMethod::LightTracing;
+  lt.method.name = "lt";
   testing::expectOrderIndependent(small("scenes/cornell-box.json", 12, 12, 2), 37, lt);
 }
 

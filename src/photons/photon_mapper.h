@@ -25,7 +25,20 @@
 
 namespace rayes {
 
-std::unique_ptr<Integrator> makePhotonMapper(bool progressive, const ShadingScene& scene,
-                                             const IntegratorOptions& options);
+// Photon counts are per sample per pixel of the render, so doubling --spp doubles the effort
+// (rayes converge relies on it).
+struct PhotonOptions {
+  bool progressive = false;            // ppm (else pm)
+  CausticPaths causticPaths = CausticPaths::Without;  // Without: pt's other paths too; Only: the estimate alone
+  uint64_t photonsPerSample = 20000;   // pm: one map of photonsPerSample * spp; ppm: per pass
+  int neighbours = 32;                 // pm: k of the k-nearest estimate
+  float radius = 0;                    // ppm: first radius; 0: from the first map's k-nearest
+  float alpha = 2.0f / 3.0f;           // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
+  // The probability a caustic estimate is taken at a diffuse vertex after the path's first
+  // (--later-gathers; PathTracer::Options::laterGatherProbability).
+  float laterGatherProbability = kLaterGatherProbability;
+};
+
+std::unique_ptr<Integrator> makePhotonMapper(const ShadingScene& scene, const PhotonOptions& options);
 
 }  // namespace rayes

@@ -1,0 +1,11 @@
+// The subcommands of the `rayes` command line, each from its parsed arguments; both return the
+// exit code and throw InputError for bad input (command_line.cpp turns it into exit code 2).
+#pragma once
+#include "app/render_args.h"
+
+namespace rayes {
+
+int runRender(const RenderArgs& a);    // render_command.cpp
+int runConverge(const RenderArgs& a);  // converge_command.cpp
+
+}  // namespace rayes

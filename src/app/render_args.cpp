@@ -1,0 +1,147 @@
+#include "app/render_args.h"
+#include <charconv>
+#include <cmath>
+#include "app/image_io.h"
+#include "core/error.h"
+#include "core/memory.h"
+#include "scene/scene_loader.h"
+
+namespace rayes {
+namespace {
+
+// "1G", "512M", "64K" or plain bytes, for the option `option`.
+size_t parseBytes(const std::string& s, const char* option) {
+  size_t pos = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &pos);
+  } catch (...) {
+    throw InputError(option, "", "expected a byte count such as 1G, 512M or 1048576, got '" + s + "'");
+  }
+  std::string suffix = s.substr(pos);
+  double mul = 1;
+  if (suffix == "K" || suffix == "k" || suffix == "KiB") mul = 1024.0;
+  else if (suffix == "M" || suffix == "m" || suffix == "MiB") mul = 1024.0 * 1024;
+  else if (suffix == "G" || suffix == "g" || suffix == "GiB") mul = 1024.0 * 1024 * 1024;
+  else if (!suffix.empty())
+    throw InputError(option, "", "unknown unit '" + suffix + "' (use K, M or G)");
+  if (!(v > 0) || v * mul > 1e15) throw InputError(option, "", "must be a positive byte count");
+  return size_t(v * mul);
+}
+
+// WIDTHxHEIGHT, each positive, at most 2^28 pixels in all (64-bit arithmetic: 65536x65536
+// must not wrap to 0).
+void parseResolution(const std::string& text, int& width, int& height) {
+  const auto bad = [&](const std::string& why) { throw InputError("--res", "", why + ", got '" + text + "'"); };
+  const size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) bad("expected WIDTHxHEIGHT");
+  int64_t v[2] = {0, 0};
+  const std::string part[2] = {text.substr(0, x), text.substr(x + 1)};
+  for (int k = 0; k < 2; ++k) {
+    const auto [p, ec] = std::from_chars(part[k].data(), part[k].data() + part[k].size(), v[k]);
+    if (ec == std::errc::result_out_of_range) bad("width and height must be at most 2^28");
+    if (part[k].empty() || ec != std::errc() || p != part[k].data() + part[k].size())
+      bad("expected WIDTHxHEIGHT with whole numbers");
+    if (v[k] <= 0) bad("width and height must be positive");
+    if (v[k] > (int64_t(1) << 28)) bad("width and height must be at most 2^28");
+  }
+  if (v[0] * v[1] > (int64_t(1) << 28)) bad("more than 2^28 pixels");
+  width = int(v[0]);
+  height = int(v[1]);
+}
+
+}  // namespace
+
+// Checks every option that does not need the scene, so that a bad option costs no loading.
+RenderOptions checkedOptions(const RenderArgs& a) {
+  if (a.spp && (*a.spp < 1 || *a.spp > (1 << 20))) throw InputError("--spp", "", "must be in [1, 2^20]");
+  if (a.threads < 0 || a.threads > 4096) throw InputError("--threads", "", "must be in [0, 4096] (0: all cores)");
+  if (a.seed && (*a.seed < 0 || *a.seed > (int64_t(1) << 62)))
+    throw InputError("--seed", "", "must be in [0, 2^62]");
+  RenderOptions options;
+  MethodOptions& method = options.method;
+  method.name = a.method;
+  method.causticPaths = causticPathsFromName(a.causticPaths, "--caustic-paths");
+  checkMethodOptions(method);
+  if (a.photons < 1 || a.photons > (int64_t(1) << 32)) throw InputError("--photons", "", "must be in [1, 2^32]");
+  if (a.photonK < 1 || a.photonK > 4096) throw InputError("--photon-k", "", "must be in [1, 4096]");
+  if (!(a.laterGathers >= 1.0f / 64 && a.laterGathers <= 1))
+    throw InputError("--later-gathers", "", "must be in [1/64, 1] (the probability of a caustic estimate after a path's first diffuse vertex)");
+  if (!(a.photonRadius >= 0) || !std::isfinite(a.photonRadius))
+    throw InputError("--photon-radius", "", "must be a finite radius >= 0 (0: chosen from the first photon map)");
+  if (!(a.photonAlpha > 0 && a.photonAlpha < 1))
+    throw InputError("--photon-alpha", "", "must lie in (0, 1): the radius shrinks as r² (i + alpha) / (i + 1)");
+  method.photons.photonsPerSample = uint64_t(a.photons);
+  method.photons.neighbours = a.photonK;
+  method.laterGatherProbability = a.laterGathers;
+  method.photons.radius = a.photonRadius;
+  method.photons.alpha = a.photonAlpha;
+  if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
+  options.maxLod = a.maxLod;
+  if (a.beamResolution < 1 || a.beamResolution > 4096) throw InputError("--beam-resolution", "", "must be in [1, 4096]");
+  if (a.beamDepth < 1 || a.beamDepth > 64) throw InputError("--beam-depth", "", "must be in [1, 64]");
+  method.beams.resolution = a.beamResolution;
+  method.beams.maxDepth = a.beamDepth;
+  if (a.beamSplitDepth < 0 || a.beamSplitDepth > 12) throw InputError("--beam-split-depth", "", "must be in [0, 12]");
+  method.beams.splitDepth = a.beamSplitDepth;
+  if (a.beamAreaSamples < 0 || a.beamAreaSamples > 64) throw InputError("--beam-area-samples", "", "must be in [0, 64]");
+  method.beams.areaSamples = a.beamAreaSamples;
+  method.beams.memoryBytes = parseBytes(a.beamMemory, "--beam-memory");
+  if (!(a.beamLobeCells >= 0 && a.beamLobeCells <= 64))
+    throw InputError("--beam-lobe-cells", "", "must lie in [0, 64] (a glossy beam's width in lobe widths sigma; 0: keep --beam-resolution)");
+  method.beams.lobeCells = a.beamLobeCells;
+  options.lod = a.lod == "density" ? LodRule::Density : a.lod == "fixed" ? LodRule::Fixed : LodRule::PerRay;
+  options.sortByLeaf = a.traceMode == "sorted";
+  if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
+  if (!a.gridCache.empty()) options.gridCacheBytes = a.gridCache == "0" ? 0 : parseBytes(a.gridCache, "--grid-cache");
+  if (a.candidatesPerRay < 1 || a.candidatesPerRay > 1000)
+    throw InputError("--candidates-per-ray", "", "must be a whole number in [1, 1000]");
+  options.candidatesPerRay = a.candidatesPerRay;
+  options.progressive = a.progressive;
+  options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
+  if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
+    throw InputError("--embree-lod", "", "only applies to --engine embree");
+  options.embreeAutoLod = a.embreeLod == "auto";
+  if (a.diceCache) {
+    if (*a.diceCache < 1 || *a.diceCache > (int64_t(1) << 32))
+      throw InputError("--dice-cache", "", "must be a whole number of entries in [1, 2^32]");
+    if (options.engine == EngineKind::Embree) throw InputError("--dice-cache", "", "does not apply to --engine embree");
+    if (!options.sortByLeaf)
+      throw InputError("--dice-cache", "", "traces every ray alone already; leave out --trace-mode alone");
+    options.diceCacheEntries = size_t(*a.diceCache);
+  }
+  if (a.lodBias < -TraceSettings::kMaxLodBias || a.lodBias > TraceSettings::kMaxLodBias)
+    throw InputError("--lod-bias", "", "must be a whole number of levels in [-12, 12]");
+  if (a.lodBias != 0 && options.engine == EngineKind::Embree)
+    throw InputError("--lod-bias", "", "does not apply to --engine embree");
+  options.lodBias = a.lodBias;
+  // The default limit keeps a fifth of the machine for everything else.
+  options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(physicalMemoryBytes() / 5 * 4)
+                                                   : parseBytes(a.memoryLimit, "--memory-limit");
+  return options;
+}
+
+// The scene with the command line's resolution, samples and seed.
+Scene preparedScene(const RenderArgs& a) {
+  int width = 0, height = 0;
+  if (!a.res.empty()) parseResolution(a.res, width, height);
+  Scene scene = loadScene(a.scene);
+  if (a.spp) scene.samplesPerPixel = *a.spp;
+  if (!a.res.empty()) {
+    scene.width = width;
+    scene.height = height;
+  }
+  if (a.seed) scene.integrator.seed = uint64_t(*a.seed);
+  return scene;
+}
+
+std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what) {
+  int w = 0, h = 0;
+  std::vector<float> rgb = readExrRgb(path, w, h);
+  if (w != scene.width || h != scene.height)
+    throw InputError(path, "", std::string(what) + " is " + std::to_string(w) + "x" + std::to_string(h) +
+                                   ", the render " + std::to_string(scene.width) + "x" + std::to_string(scene.height));
+  return rgb;
+}
+
+}  // namespace rayes

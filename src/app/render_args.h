@@ -1,0 +1,44 @@
+// The command line's arguments as parsed (RenderArgs: the strings and numbers CLI11 fills in,
+// shared by `render` and `converge`), and their checked form: RenderOptions, and the Scene
+// with the command line's resolution, samples and seed. Every check that needs no scene runs
+// in checkedOptions, so a bad option costs no loading; each throws InputError naming the
+// option.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+#include "app/renderer.h"
+#include "scene/scene.h"
+
+namespace rayes {
+
+struct RenderArgs {
+  std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
+              method = MethodOptions{}.name, causticPaths = "all";
+  std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G", gridCache;
+  int beamResolution = 128, beamDepth = 4, beamSplitDepth = 4, beamAreaSamples = 2;
+  std::optional<int> spp;
+  int64_t photons = 20000;
+  int photonK = 32;
+  float laterGathers = kLaterGatherProbability;
+  float photonRadius = 0, photonAlpha = 2.0f / 3.0f;
+  std::optional<int64_t> seed, diceCache;
+  int lodBias = 0;
+  int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;
+  int threads = 0, maxLod = 10;
+  bool quiet = false, progressive = false;
+  // converge
+  double beamLobeCells = 2;
+  double budget = 0, beamGrowth = 1.4142135623730951;
+  std::string region, mask, errorMask, svg;
+  std::vector<std::string> references;
+};
+
+// Throws InputError naming the option.
+RenderOptions checkedOptions(const RenderArgs& a);
+// Loads the scene and applies --res, --spp and --seed.
+Scene preparedScene(const RenderArgs& a);
+// An RGB image of the scene's size from `path`, for `what` (a reference, a mask).
+std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what);
+
+}  // namespace rayes
