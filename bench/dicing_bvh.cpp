@@ -1,6 +1,6 @@
 // Bottom level: dicing cost, implicit-BVH build cost (per micropolygon, m = 4..10) and
 // single-ray traversal speed on a diced teapot patch. Not part of ctest; see
-// bench/RESULTS-dicing.md for figures and the command line.
+// bench/history/RESULTS-dicing.md for figures and the command line.
 #include <benchmark/benchmark.h>
 #include <limits>
 #include <string>

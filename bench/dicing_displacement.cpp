@@ -1,4 +1,4 @@
-// Dicing throughput with and without displacement (bench/RESULTS-displacement.md): the
+// Dicing throughput with and without displacement (bench/history/RESULTS-displacement.md): the
 // teapot body patch of the other dicing benchmarks, diced into a DiceBuffer (grid + implicit
 // tree) at m = 6 and 8, bare, with fractal noise (3 and 8 octaves) and with a height map; and
 // the cost of one boundsOver() of a micro-quad (what crack-free borders call).

@@ -4,7 +4,7 @@
 // cube face: all four corners have valence 3), a sub-face of a pentagon, and a Loop
 // sub-quad. Also the cost of one Bfr surface set-up (InitVertexSurface + PreparePatchPoints),
 // which the per-thread surface cache saves when a face is diced again. See
-// bench/RESULTS-subdiv.md for figures and the command line.
+// bench/history/RESULTS-subdiv.md for figures and the command line.
 #include <benchmark/benchmark.h>
 #include <cmath>
 #include <vector>

@@ -29,7 +29,7 @@
 // Run (from anywhere): bench_peer_embree [--teapot PATH] [--levels 4,6,8] [--size 512]
 //                      [--repeat 3] [--no-floor] [--no-single]
 // For whole renders, Rayes against the Embree engine: bench/peer_render.sh.
-// Figures in bench/RESULTS-peer.md.
+// Figures in bench/history/RESULTS-peer.md.
 #include <embree3/rtcore_config.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>

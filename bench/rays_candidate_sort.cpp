@@ -5,8 +5,8 @@
 // random in [0, 100000). Both sides include their own packing/unpacking: CandidateSort copies
 // its input in (it consumes it), reads each slot's leaf in every pass and writes `order` and
 // `runs`; the 64-bit side packs the keys, sorts, and unpacks the slot order (runs are not
-// computed for it, which favours it slightly).
-// Run: bench_rays_candidate_sort ; figures in bench/RESULTS-toplevel.md (candidate sort section).
+// computed for it, which favours it slightly). Run: bench_rays_candidate_sort ; figures in
+// bench/history/RESULTS-toplevel.md (candidate sort section).
 #include <benchmark/benchmark.h>
 #include <tbb/parallel_sort.h>
 

@@ -5,7 +5,7 @@ A reference and its independent check (another seed, a quarter of the samples) a
 pixel by pixel with bench_app_image_diff. With N pixels of independent, roughly Gaussian noise,
 the largest single pixel carries about 2 ln(N) / N of the squared difference (0.1 % at 160x120);
 a pixel carrying more than SHARE (default 5 %, fifty times that) holds one sample of huge weight,
-a firefly, which floors every method's RMSE against the reference (bench/RESULTS.md, "lbt-ring
+a firefly, which floors every method's RMSE against the reference (bench/history/2026-11.md, "lbt-ring
 (σ = 0.001) against pm: a failed re-measurement"). Looks at the pixels the tool lists (the five
 largest differences); prints each such pixel, says which image holds it, and exits 1; exits 0
 when there is none.

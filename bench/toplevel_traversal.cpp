@@ -1,7 +1,7 @@
 // Top-level figures: collect() throughput (one thread and all threads), build time and Embree's
 // own traversal as a peer. (The candidate sort, now production code in src/rays, is measured by
-// bench/rays_candidate_sort.cpp.)
-// Run: bench_toplevel_traversal --benchmark_min_time=0.2 ; figures in bench/RESULTS-toplevel.md.
+// bench/rays_candidate_sort.cpp.) Run: bench_toplevel_traversal --benchmark_min_time=0.2 ; figures
+// in bench/history/RESULTS-toplevel.md.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
 #include <tbb/enumerable_thread_specific.h>

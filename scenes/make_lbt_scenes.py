@@ -146,8 +146,8 @@ def discoball(sigma):
     # Flat facets that tile the sphere: a latitude-longitude cell's corners form an isosceles
     # trapezoid (symmetric about its middle meridian plane), so it is planar, and neighbouring cells
     # share their edges. (Parallelograms on three of the corners, as before, overlapped their
-    # neighbours, and lbt lost about 2 % of the caustic where a facet hid part of another; bench/
-    # RESULTS.md.) The polar caps are left open (seen from below: dark).
+    # neighbours, and lbt lost about 2 % of the caustic where a facet hid part of another;
+    # bench/history/2026-11.md.) The polar caps are left open (seen from below: dark).
     for i in range(1, rings - 1):
         for j in range(sectors):
             quads.append(quad(point(i, j), point(i, j + 1), point(i + 1, j), point(i + 1, j + 1)))

@@ -2,12 +2,11 @@
 //
 // Why: Linux in THP "madvise" mode (Debian's default) backs anonymous memory with 2 MiB pages
 // only where madvise(MADV_HUGEPAGE) asked for them. A render allocates hundreds of MiB of ray
-// batches, candidates and diced grids; first-touch page faults were 7 % of a small render's
-// perf samples, and the tunable below saved 8-22 % of its wall time (bench/RESULTS.md, "Huge
-// pages for the whole process").
-// glibc (2.35 and later) advises every block its malloc maps when GLIBC_TUNABLES holds
-// glibc.malloc.hugetlb=1; tunables are read only at process start, so the process starts itself
-// again with the tunable added. Advice only: images never depend on it.
+// batches, candidates and diced grids; first-touch page faults were 7 % of a small render's perf
+// samples, and the tunable below saved 8-22 % of its wall time (bench/history/2026-11.md, "Huge
+// pages for the whole process"). glibc (2.35 and later) advises every block its malloc maps when
+// GLIBC_TUNABLES holds glibc.malloc.hugetlb=1; tunables are read only at process start, so the
+// process starts itself again with the tunable added. Advice only: images never depend on it.
 #pragma once
 
 namespace rayes {

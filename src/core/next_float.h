@@ -1,7 +1,7 @@
 // The neighbouring float towards +inf or -inf: exactly std::nextafter(x, +-inf), bit for bit
 // (NaN stays NaN, an infinity towards itself stays, +-0 steps to +-denorm_min), but inline.
 // Interval bounds call it once per endpoint of every operation; the library call was 7 % of
-// a displaced forest render (bench/RESULTS.md, "Cheaper dicings of displaced leaves").
+// a displaced forest render (bench/history/2026-11.md, "Cheaper dicings of displaced leaves").
 #pragma once
 #include <cstdint>
 #include <cstring>

@@ -51,9 +51,9 @@ struct RayHit {
 static_assert(sizeof(RayHit) == 32);
 
 // What to trace, one record per ray (48 bytes): the tracer reads most of these fields together
-// for every (ray, leaf) pair of the bottom level and the top level, in an order set by the
-// sort, so one record is one cache miss where separate arrays cost one each (bench/RESULTS.md).
-// A ray spans t in [0, tmax] from org: it leaves a surface by originLeaf, not by an offset tmin.
+// for every (ray, leaf) pair of the bottom level and the top level, in an order set by the sort, so
+// one record is one cache miss where separate arrays cost one each (bench/history/2026-11.md). A
+// ray spans t in [0, tmax] from org: it leaves a surface by originLeaf, not by an offset tmin.
 struct Ray {
   Vec3 org, dir;                // dir need not be unit; t is in units of |dir|
   float tmax = 0;

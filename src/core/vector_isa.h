@@ -2,7 +2,7 @@
 // vectorises (ValueNoise::evalRow, NoiseDisplacement::sampleRow, DisplacedPatch::rowFrames)
 // are compiled twice, for the x86-64 baseline (SSE2, four floats a step) and for AVX2 (eight),
 // and each call takes the one vectorIsa() names. Measured: 15-30 % less time per displaced
-// dicing (bench/RESULTS.md, "Row kernels for AVX2").
+// dicing (bench/history/2026-11.md, "Row kernels for AVX2").
 //
 // Same bits on every instruction set: the kernels do per lane the IEEE operations of one point
 // alone (adds, multiplies, divisions, square roots, compares, selects, conversions), which round

@@ -124,13 +124,14 @@ void DiceBuffer::buildBorders(int sample, const Sample& s, GridArray<float>& out
 // with wide footprints use, would otherwise make curved objects visibly fatter for them (a
 // moving dicing, computed per query: k + 3). Level 6, not 7: a level-0 radius of a displaced
 // forest leaf from 128 pieces cost about twice a level-5 dicing of it (estimated), and such
-// radii were about a quarter of a forest render's profile; 64 pieces fatten a level-0 region by 1/64 of the patch instead of 1/128
-// (bench/RESULTS.md, "Border radii from pieces of level 6"). The pieces come from the patch in one call
-// (Patch::borderPieceBoundsAt: a Bézier border is restricted once and halved, not restricted
-// from the whole patch per piece, which was a third of a forest render's time); they are not
-// the region boxes (curveBox), whose bits differ. (Tried: branch and bound, splitting only the
-// piece that reaches farthest; on displaced borders every piece's box reaches about as far,
-// so it split nearly all and made up to twice the boundsOver calls.)
+// radii were about a quarter of a forest render's profile; 64 pieces fatten a level-0 region by
+// 1/64 of the patch instead of 1/128 (bench/history/2026-11.md, "Border radii from pieces of level
+// 6"). The pieces come from the patch in one call (Patch::borderPieceBoundsAt: a Bézier border is
+// restricted once and halved, not restricted from the whole patch per piece, which was a third of a
+// forest render's time); they are not the region boxes (curveBox), whose bits differ. (Tried:
+// branch and bound, splitting only the piece that reaches farthest; on displaced borders every
+// piece's box reaches about as far, so it split nearly all and made up to twice the boundsOver
+// calls.)
 double DiceBuffer::borderRadius(int e, int k, uint32_t j, Vec3 a, Vec3 b, int split, bool blend, float w0,
                                 float w1) const {
   const double ax[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};

@@ -150,7 +150,7 @@ class DiceBuffer {
   // float are implicit-lifetime types), so a buffer sized for --max-lod touches only the pages
   // the levels actually diced use. Zeroing all of it up front touched each thread's level-10
   // buffer whole (59 MiB), which the first touch of memory costs on this machine
-  // (bench/RESULTS.md, "Smaller ray slots, and less work per (ray, leaf) pair").
+  // (bench/history/2026-11.md, "Smaller ray slots, and less work per (ray, leaf) pair").
   template <class T>
   struct UninitializedAllocator : std::allocator<T> {
     template <class U>

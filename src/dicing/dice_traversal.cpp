@@ -18,15 +18,14 @@
 // origin. It is per ray and per patch, never per box, so containment (and hence the exactness
 // above) is kept.
 //
-// Why it is written this way (each step measured, bench/RESULTS-dicing.md): a step tests the 4
-// children of a node at once, one SSE slab test on their SoA group (DiceBuffer::nodes_), with
-// intersectBox's arithmetic lane by lane so that culling and entry distances are unchanged to
-// the bit; the nearest hit child is visited next without touching the stack, the others are
-// pushed far first; the next level's groups are prefetched while this one is tested (at m = 8
-// the tree and grid exceed L2). Tried and dropped as no faster: a branch-free SIMD sort of the
-// children, visiting micro-quads straight from their parent's test instead of via the stack,
-// nearest-first order for shadow rays, a sqrt-free normal check for shadow rays, skipping the
-// root box test.
+// Why it is written this way (each step measured, bench/history/RESULTS-dicing.md): a step tests
+// the 4 children of a node at once, one SSE slab test on their SoA group (DiceBuffer::nodes_), with
+// intersectBox's arithmetic lane by lane so that culling and entry distances are unchanged to the
+// bit; the nearest hit child is visited next without touching the stack, the others are pushed far
+// first; the next level's groups are prefetched while this one is tested (at m = 8 the tree and
+// grid exceed L2). Tried and dropped as no faster: a branch-free SIMD sort of the children,
+// visiting micro-quads straight from their parent's test instead of via the stack, nearest-first
+// order for shadow rays, a sqrt-free normal check for shadow rays, skipping the root box test.
 #include <xmmintrin.h>
 #include <algorithm>
 #include <cmath>

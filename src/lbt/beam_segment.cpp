@@ -34,7 +34,7 @@ D3 load(const double (&in)[3]) { return {in[0], in[1], in[2]}; }
 // atan(z)/z falls with z while atan(z) ≥ z/(1+z), so φ_k·n ≥ h·atan(ρmax/r)/ρmax ≥ h/(r+ρmax):
 // the angular triangle lies beyond a line h/(r+ρmax) from the lobe's centre, whose far side
 // holds mass Q(h/((r+ρmax)σ)). At σ = 0.001 about 99 % of the gathers that reach the
-// footprint integral end here (lbt-discoball, lbt-ring; bench/RESULTS.md).
+// footprint integral end here (lbt-discoball, lbt-ring; bench/history/2026-11.md).
 bool farOutsideLobe(const FlatPoint (&a)[3], double area2, double r, double sigma) {
   if (!(area2 != 0)) return false;
   double rhoMax2 = 0;

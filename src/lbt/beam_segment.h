@@ -44,7 +44,7 @@ inline constexpr float kCapSlack = 0.02f;
 // A segment's flux that lands beyond the reach is at most the lobe's mass outside a disc of
 // radius 4: e^(-8) = 3.4e-4 (5σ: e^(-12.5) = 3.7e-6); measured, 5σ → 4σ darkened
 // lbt-ring-glossy's image by 0.010 % and cut lbt-discoball-glossy's CPU by 25 %
-// (bench/RESULTS.md, "Glossy gathers"). BeamStore's pieces bin wider (kPieceReach): their
+// (bench/history/2026-11.md, "Glossy gathers"). BeamStore's pieces bin wider (kPieceReach): their
 // boxes lose more than this, an open bias of theirs.
 inline constexpr double kLobeReach = 4;
 
@@ -56,7 +56,7 @@ Box3 beamBounds(const BeamSegment& s);
 Rgb beamIrradiance(const BeamSegment& s, Vec3 x, Vec3 n, Vec3& psi);
 
 // Where a segment's gather can be nonzero, as two tests made before the gather's own set-up
-// (about 97 % of the gathers a bin offers are 0 on the caustic scenes: bench/RESULTS.md):
+// (about 97 % of the gathers a bin offers are 0 on the caustic scenes: bench/history/2026-11.md):
 //  - the spread: the flux triangle at axial distance t from the corners' centroid O (along Ψ̄)
 //    lies within S(t) of the axis (S: each corner's offset is linear in t, so its length is
 //    convex: below the chord between the levels 0 and the farthest end, growing at most V per

@@ -40,9 +40,9 @@ int safeCell(const BeamStore::LeafGrid& g, int a, float x) { return std::isfinit
 // specular). Wider than the gather's kLobeReach on purpose: the pieces' boxes are not a proven
 // superset of the points the gather reaches (a footprint stretched along a tilted receiver
 // reaches past them). Measured on lbt-ring-glossy (160x120 8 spp): pieces at 4σ lose 0.23 % of
-// the image mean against 5σ, and 5σ still 0.22 % against 10σ (bench/RESULTS.md, "Glossy
-// gathers"). Bins that provably hold the envelope's reach were built and measured (bench/
-// RESULTS.md, "Exact bins for glossy beams, tried"): against the light tracer they make the
+// the image mean against 5σ, and 5σ still 0.22 % against 10σ (bench/history/2026-11.md,
+// "Glossy gathers"). Bins that provably hold the envelope's reach were built and
+// measured (same file, "Exact bins for glossy beams, tried"): against the light tracer they make the
 // ring's glossy caustic 1.3 % bright instead of 0.24 % dark (the σ = 0.001 ring: +0.21 %), so
 // the gather's flux-plane formula itself is about 1 % bright at σ = 0.05 -- errors of order σ²,
 // presumably the receiver's cosine taken with Ψ rather than with the direction the light

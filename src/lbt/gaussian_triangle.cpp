@@ -152,8 +152,9 @@ double rule7(const FlatPoint (&v)[3], FlatPoint c) {
 // density's mass over the triangle. Returns false (and leaves `mass`) when it is not.
 //
 // Written by hand, not from a library: none of the five has it, and it replaces the three
-// edges' Owen series (their exp, erfc and up to ~40 series terms each) by seven exps where
-// the gather's triangles are small against σ (most of lbt-discoball-glossy's: bench/RESULTS.md).
+// edges' Owen series (their exp, erfc and up to ~40 series terms each) by seven exps where the
+// gather's triangles are small against σ (most of lbt-discoball-glossy's:
+// bench/history/2026-11.md).
 bool smallTriangleMass(const FlatPoint (&v)[3], double allowed, double& mass) {
   const FlatPoint c{(v[0].x + v[1].x + v[2].x) / 3, (v[0].y + v[1].y + v[2].y) / 3};
   double r2 = 0;

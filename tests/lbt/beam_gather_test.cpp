@@ -175,12 +175,12 @@ TEST(BeamGather, FocusIsFiniteAndGlossyTendsToItsLimit) {
   EXPECT_NEAR(near.x, limit, 2e-3 * limit);
 }
 
-// The spike of lbt-ring-glossy (bench/RESULTS.md): a curved reflector's beam nearly focuses,
-// its corner rays leaving the reflector at different distances from the focus. Off the focus
-// by about the lobe's width, the flux triangle is tiny (A⊥ ~ ε²) while x sees it at a large
-// angle: P/A⊥ must still stay below the lobe's peak density over r² (E ≤ Φ|cos|/(2πσ²r²), r
-// the nearest corner's distance), as it did not when each corner's angle was measured from its
-// own origin (the angular triangle then shrinks only like δ·ε: E was 2-800x the bound here).
+// The spike of lbt-ring-glossy (bench/history/2026-11.md): a curved reflector's beam nearly
+// focuses, its corner rays leaving the reflector at different distances from the focus. Off the
+// focus by about the lobe's width, the flux triangle is tiny (A⊥ ~ ε²) while x sees it at a large
+// angle: P/A⊥ must still stay below the lobe's peak density over r² (E ≤ Φ|cos|/(2πσ²r²), r the
+// nearest corner's distance), as it did not when each corner's angle was measured from its own
+// origin (the angular triangle then shrinks only like δ·ε: E was 2-800x the bound here).
 TEST(BeamGather, NearAGlossyFocusOfACurvedReflectorEStaysBelowThePeakBound) {
   Vec3 psi;
   const Vec3 up{0, 0, 1}, focus{0, 0, 2};
