@@ -155,6 +155,9 @@ int runCommandLine(int argc, char** argv) {
   try {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
+  } catch (const ResourceError& e) {
+    std::cerr << "rayes: " << e.message() << "\n";
+    return 3;
   } catch (const InputError& e) {
     std::cerr << "rayes: " << e.message() << "\n";
     return 2;
