@@ -24,6 +24,19 @@ class Bsdf {
   bool sample(Vec3 wo, float u1, float u2, float uc, BsdfSample& s) const {
     return std::visit([&](const auto& b) { return b.sample(wo, u1, u2, uc, s); }, m_);
   }
+  // The adjoint, for paths traced from the lights (shading/light_path.h): light arriving along
+  // `in` (toward where it came from) leaves along s.wi with weight f(s.wi, in) |cos θ(s.wi)| /
+  // pdf. For the reciprocal models (f(a, b) = f(b, a), refraction's η² in etaRel as for
+  // sample) that is sample() with the slots swapped; the glossy lobe is not reciprocal and
+  // samples its own (GaussianLobe::sampleAdjoint).
+  bool sampleAdjoint(Vec3 in, float u1, float u2, float uc, BsdfSample& s) const {
+    return std::visit(
+        [&](const auto& b) {
+          if constexpr (requires { b.sampleAdjoint(in, u1, u2, uc, s); }) return b.sampleAdjoint(in, u1, u2, uc, s);
+          else return b.sample(in, u1, u2, uc, s);
+        },
+        m_);
+  }
   // A colour for the albedo AOV (the model's characteristic reflectance).
   Rgb reflectance() const { return std::visit([](const auto& b) { return b.reflectance(); }, m_); }
   // Only delta lobes: next-event estimation cannot help.

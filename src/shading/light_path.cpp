@@ -61,7 +61,7 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
   const Vec3 wiL = frame.toLocal(hit.wi);
   BsdfSample bs;
   const Sample2D bu = sample2D(key, kBsdf);
-  if (!bsdf.sample(wiL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) return false;
+  if (!bsdf.sampleAdjoint(wiL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) return false;
   const Vec3 wo = normalize(frame.toWorld(bs.wi));
   const float woNs = std::fabs(bs.wi.z);
   if (!hit.at.consistent(hit.wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) return false;

@@ -1,9 +1,11 @@
 // Every BSDF against the analytic checks of docs/design.md, "Analytic checks":
-//  - energy: for 100 directions wo, the estimate of ∫ f |cos θi| dωi (times etaRel² for
-//    refracted samples: the power form) is ≤ 1, and = 1 for the lossless models, within
-//    4 standard errors;
+//  - energy: for 100 directions of arriving light, the estimate of the flux reflected and
+//    transmitted, ∫ f(w, wIn) |cos θ| dω (times etaRel² for refracted samples: the power form),
+//    is ≤ 1, and = 1 for the lossless models, within 4 standard errors (for the reciprocal
+//    models the same integral as over the viewer's incoming directions; the glossy lobe is not
+//    reciprocal and conserves the flux it reflects, docs/design.md);
 //  - sampling agrees with pdf(): a χ² test on a sphere histogram, and the weight of every
-//    sample equals f |cos| / pdf;
+//    sample equals f |cos| / pdf (and of every adjoint sample f(out, in) |cos θout| / pdf);
 //  - reciprocity for the models that claim it (generalised for refraction; the Gaussian lobe's
 //    own documented ratio);
 //  - smooth limits against Fresnel's formulas, and no NaN at any edge.
@@ -76,7 +78,8 @@ TEST(BsdfEnergy, AtMostOneAndOneForLosslessWithinFourSigma) {
       for (int i = 0; i < n; ++i) {
         const RngKey key{uint32_t(i), uint32_t(dirIndex), 1, 11};
         BsdfSample s;
-        if (!c.bsdf.sample(wo, sampleUniform(key, 0), sampleUniform(key, 1), sampleUniform(key, 2), s)) continue;
+        // Light arriving along wo, scattered: the adjoint (sample() itself for reciprocal models).
+        if (!c.bsdf.sampleAdjoint(wo, sampleUniform(key, 0), sampleUniform(key, 1), sampleUniform(key, 2), s)) continue;
         ASSERT_TRUE(isFinite(s.weight)) << c.name;
         const Rgb w = s.weight * (s.etaRel * s.etaRel);  // the power form
         for (int ch = 0; ch < 3; ++ch) { sum[ch] += w[ch]; sum2[ch] += double(w[ch]) * w[ch]; }
@@ -98,7 +101,8 @@ TEST(BsdfEnergy, AtMostOneAndOneForLosslessWithinFourSigma) {
 
 // The same integral without the BSDF's own sampler, for the non-delta models: cosine-weighted
 // directions (and their mirror images below for transmission), f |cos| / pdf. Checks that
-// eval() itself, not only sample(), conserves energy (fewer directions: higher variance).
+// eval() itself, not only sample(), conserves energy (fewer directions: higher variance). For
+// the glossy lobe, light arriving along wo: f(wi, wo) (it is not reciprocal).
 TEST(BsdfEnergy, EvalIntegratedIndependentlyIsAtMostOne) {
   const int n = 40000;
   for (const Case& c : cases()) {
@@ -115,7 +119,8 @@ TEST(BsdfEnergy, EvalIntegratedIndependentlyIsAtMostOne) {
           if (sampleUniform(key, 2) < 0.5f) wi.z = -wi.z;
         }
         if (!(pdf > 0)) continue;
-        const Rgb f = c.bsdf.eval(wo, wi);
+        const bool lobe = std::holds_alternative<GaussianLobe>(c.bsdf.model());
+        const Rgb f = lobe ? c.bsdf.eval(wi, wo) : c.bsdf.eval(wo, wi);
         // Power form for refraction: etaRel = n(wi side) / n(wo side).
         const float eta = c.bsdf.transmits() && wi.z < 0 ? std::get<Dielectric>(c.bsdf.model()).eta : 1.0f;
         const double v = average(f) * std::fabs(wi.z) / pdf * eta * eta;
@@ -186,6 +191,26 @@ TEST(BsdfSampling, WeightIsEvalCosOverPdf) {
   }
 }
 
+// The glossy lobe's adjoint (light arriving along `in`, leaving along s.wi): the weight is
+// f(out, in) |cos θout| / pdf(in, out), with the same density as the camera side's sampler.
+TEST(BsdfSampling, GlossyAdjointWeightIsEvalOfTheReversedPairCosOverPdf) {
+  for (const GaussianLobe g : {GaussianLobe{{1, 1, 1}, 0.1f}, GaussianLobe{{0.9f, 0.8f, 0.7f}, 0.5f}}) {
+    int checked = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const RngKey key{uint32_t(i), 0, 4, 19};
+      const Vec3 in = dirWithCos(sampleUniform(key, 3), 6.28f * sampleUniform(key, 4));
+      BsdfSample s;
+      if (!Bsdf(g).sampleAdjoint(in, sampleUniform(key, 0), sampleUniform(key, 1), sampleUniform(key, 2), s)) continue;
+      const float pdf = g.pdf(in, s.wi);
+      EXPECT_NEAR(s.pdf, pdf, 1e-3f * pdf);
+      const Rgb expect = g.eval(s.wi, in) * (s.wi.z / pdf);
+      for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(s.weight[ch], expect[ch], 1e-3f * std::max(1.0f, expect[ch]));
+      ++checked;
+    }
+    EXPECT_GT(checked, 500);
+  }
+}
+
 TEST(BsdfReciprocity, ModelsThatClaimIt) {
   for (const Case& c : cases()) {
     if (c.bsdf.isDelta() || std::holds_alternative<GaussianLobe>(c.bsdf.model())) continue;
@@ -209,14 +234,14 @@ TEST(BsdfReciprocity, ModelsThatClaimIt) {
 }
 
 TEST(BsdfReciprocity, GaussianLobeRatioIsCosineRatio) {
-  // lbt.md: only approximately reciprocal, f(i -> o) / f(o -> i) = |cos θo| / |cos θi|.
+  // Not reciprocal: f(wo, wi) / f(wi, wo) = cos θi / cos θo (the cosine divides by θo's).
   const GaussianLobe g{{1, 1, 1}, 0.3f};
   for (int i = 0; i < 1000; ++i) {
     const RngKey key{uint32_t(i), 0, 6, 16};
     const Vec3 a = dirWithCos(sampleUniform(key, 0), 6.28f * sampleUniform(key, 1));
     const Vec3 b = dirWithCos(sampleUniform(key, 2), 6.28f * sampleUniform(key, 3));
     const float fab = g.eval(a, b).x, fba = g.eval(b, a).x;
-    EXPECT_NEAR(fab * b.z, fba * a.z, 1e-4f * std::max(1.0f, fab * b.z)) << i;
+    EXPECT_NEAR(fab * a.z, fba * b.z, 1e-4f * std::max(1.0f, fab * a.z)) << i;
   }
 }
 
@@ -280,14 +305,24 @@ TEST(BsdfSmooth, ConductorAndLobeAreMirrors) {
   ASSERT_TRUE(g.sample(wo, 0.2f, 0.7f, 0.1f, s));
   EXPECT_TRUE(s.delta);
   EXPECT_EQ(s.weight.x, 0.7f);
-  // A narrow (non-delta) lobe converges to the mirror: the weight of every sample is within
-  // ρ (1 - σ²/6)-ish of ρ, and all samples are within a few σ of the mirror direction.
+  // A narrow (non-delta) lobe converges to the mirror: the flux weight of every sample (the
+  // adjoint's) is within ρ (1 - σ²/6)-ish of ρ, and all samples are within a few σ of the
+  // mirror direction. The camera side's weight is that times cos θi / cos θo, which tends to 1
+  // with the sample's angle φ ≤ 6σ from the mirror: |cos θi - cos θo| ≤ φ sin θo + φ²/2.
   const GaussianLobe narrow{{1, 1, 1}, 0.002f};
+  const Vec3 at = dirWithCos(0.5f, 0);
+  const float phiMax = 6 * 0.002f, ratioBound = (phiMax * std::sqrt(0.75f) + phiMax * phiMax / 2) / 0.5f;
   for (int i = 0; i < 100; ++i) {
     const RngKey key{uint32_t(i), 0, 8, 18};
-    ASSERT_TRUE(narrow.sample(dirWithCos(0.5f, 0), sampleUniform(key, 0), sampleUniform(key, 1), 0, s));
-    EXPECT_LT(angleBetween(s.wi, mirrorLocal(dirWithCos(0.5f, 0))), 6 * 0.002f);
+    ASSERT_TRUE(narrow.sampleAdjoint(at, sampleUniform(key, 0), sampleUniform(key, 1), 0, s));
+    EXPECT_LT(angleBetween(s.wi, mirrorLocal(at)), phiMax);
     EXPECT_GT(s.weight.x, 1 - 1e-4f);
+    EXPECT_LE(s.weight.x, 1.0f);
+    BsdfSample camera;
+    ASSERT_TRUE(narrow.sample(at, sampleUniform(key, 0), sampleUniform(key, 1), 0, camera));
+    EXPECT_EQ(camera.wi, s.wi);  // one sampler: the same direction
+    EXPECT_FLOAT_EQ(camera.weight.x, s.weight.x * (camera.wi.z / at.z));
+    EXPECT_NEAR(camera.weight.x, 1.0f, ratioBound + 1e-4f);
   }
 }
 
