@@ -2,7 +2,7 @@
 //
 //   setup:  RenderData (leaf boxes, TopLevelBvh, shading's view of the scene, feature counts);
 //           the integrator (--method: PathTracer or LightTracer) and the ray engine (--engine:
-//           the Rayes Tracer, or the Embree engine that tessellates everything here); the ray
+//           the Rayes SortedEngine, or the Embree engine that tessellates everything here); the ray
 //           memory budget divided by the bytes one path costs (the integrator's state, its ray
 //           slots and the engine's bytes per ray slot) fixes how many paths a batch holds and
 //           the candidate capacity.
@@ -33,7 +33,7 @@
 #include "lbt/beam_tracer.h"
 #include "rays/caching_engine.h"
 #include "rays/embree_engine.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 #include "scene/scene.h"
 #include "shading/film.h"
 #include "shading/integrator.h"

@@ -46,7 +46,7 @@ struct RayHit {
   }
 };
 
-// 32 bytes; Tracer::offerHit copies it field by field (two fields atomically): a new field
+// 32 bytes; SortedEngine::offerHit copies it field by field (two fields atomically): a new field
 // must be added there too.
 static_assert(sizeof(RayHit) == 32);
 

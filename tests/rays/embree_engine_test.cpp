@@ -15,7 +15,7 @@
 #include "geometry/moving_patch.h"
 #include "rays/embree_engine.h"
 #include "rays/teapot_on_floor.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 
 namespace rayes {
 namespace {
@@ -67,10 +67,10 @@ void traceRayes(const World& w, RayBatch& b) {
   TraceSettings s;
   s.maxLod = kLod;
   s.closeBorders = false;
-  Tracer tracer(w.top, w.source, s);
+  SortedEngine engine(w.top, w.source, s);
   GenerationStats stats;
   TraceTimes times;
-  tracer.trace(b, stats, times);
+  engine.trace(b, stats, times);
 }
 
 // Traces `b` with every patch of `w` at kLod.

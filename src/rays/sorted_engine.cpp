@@ -1,4 +1,4 @@
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 #include <algorithm>
 #include <atomic>
 #include <bit>
@@ -27,7 +27,7 @@ float searchLimit(const RayBatch& b, uint32_t i, float best) {
 }
 
 // The distance a hit on a leaf is ordered and kept by: its t, but never less than the ray's
-// entry into the leaf's box as the top level computed it (`entry`, Tracer::leafEntry). A hit
+// entry into the leaf's box as the top level computed it (`entry`, SortedEngine::leafEntry). A hit
 // can be reported a few roundings before that entry (on the box's face, where the rounded slab
 // distance and the watertight test's t err in opposite directions, or in a crack-closing
 // region that bulges past the box), and a ray is finished when its hit is nearer than its next
@@ -57,12 +57,12 @@ RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
 }
 }  // namespace
 
-Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
-    : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)),
-      cache_(s.gridCacheBytes),
-      // A small scene needs a small table: 64 entries per leaf at most, so forest-1's 664 leaves
-      // take 2.6 MiB instead of the 160 MiB that forest-100's re-dicings pay for.
-      borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
+SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
+          : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)),
+            cache_(s.gridCacheBytes),
+            // A small scene needs a small table: 64 entries per leaf at most, so forest-1's 664 leaves
+            // take 2.6 MiB instead of the 160 MiB that forest-100's re-dicings pay for.
+            borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
   leafSize_.resize(leaves.size());
   leafBox_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
@@ -81,8 +81,8 @@ Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSett
 // points (in either order) and the same midpoint: canonical border evaluation makes these
 // bits equal exactly when the border control rows are the same. A border with no partner or
 // more than one keeps its regions, unless it is free (no other leaf's box meets its box).
-std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
-                                                              std::vector<std::array<uint8_t, 4>>* sideOut) {
+std::vector<std::array<uint32_t, 4>> SortedEngine::borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
+                                                                    std::vector<std::array<uint8_t, 4>>* sideOut) {
   using Key = std::array<float, 9>;
   struct Side {
     uint32_t leaf;
@@ -157,19 +157,19 @@ std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& 
   return out;
 }
 
-bool Tracer::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
+bool SortedEngine::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
   float exit;
   const Box3& box = leafBox_[leaf];
   return intersectBox(q, box.lo, box.hi, 0.0f, kInf, entry, exit);
 }
 
-float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+float SortedEngine::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
   float entry;
   return crossesLeafBox(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir), leaf, entry) ? entry : 0.0f;
 }
 
-void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
-                                       BottomQuery& query) const {
+void SortedEngine::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
+                                             BottomQuery& query) const {
   if (borderNeighbour_.empty()) return;
   const RayBoxQuery q(b.ray[i].org, b.ray[i].dir);
   for (int e = 0; e < 4; ++e) {
@@ -205,7 +205,7 @@ std::pair<float, float> borderPoint(int e, float t) {
 }
 }  // namespace
 
-double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+double SortedEngine::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
   SeamGapMemo& memo = seamGapMemo_.local();
   if (memo.leaf != leaf) {
     memo.leaf = leaf;
@@ -225,7 +225,7 @@ double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
   return gap;
 }
 
-double Tracer::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+double SortedEngine::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
   const uint32_t nb = borderNeighbour_[leaf][size_t(e)];
   const uint8_t side = borderSide_[leaf][size_t(e)];
   const int eb = side & 3;
@@ -245,13 +245,13 @@ double Tracer::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) 
   return std::sqrt(worst) * (1.0 + 1e-9);  // the rounding of the sum and the root (double, on float inputs)
 }
 
-size_t Tracer::diceBufferBytes() const {
+size_t SortedEngine::diceBufferBytes() const {
   size_t b = 0;
   for (const auto& d : dice_) if (d) b += d->bytesAllocated();
   return b;
 }
 
-EngineStats Tracer::engineStats() const {
+EngineStats SortedEngine::engineStats() const {
   EngineStats s;
   s.name = "rayes";
   s.fixedBytes = fixedBytes();
@@ -264,13 +264,13 @@ EngineStats Tracer::engineStats() const {
   return s;
 }
 
-DiceBuffer& Tracer::localDiceBuffer() {
+DiceBuffer& SortedEngine::localDiceBuffer() {
   auto& d = dice_.local();
   if (!d) d = std::make_unique<DiceBuffer>(settings_.maxLod);
   return *d;
 }
 
-int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
+int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
   int level;
   if (settings_.lod == LodRule::Fixed) {
     level = biasedLevel(settings_.maxLod, settings_.lodBias, settings_.maxLod);
@@ -285,7 +285,7 @@ int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry
   return level;
 }
 
-void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   const size_t n = batch.size();
   resumeEntry_.assign(n, -kInf);
   resumeLeaf_.assign(n, 0);
@@ -305,8 +305,8 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
 // its time, on a moving leaf), a hit offered to the ray.
-void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
-                           int m, float entry) {
+void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
+                                 int m, float entry) {
   const uint32_t i = rayOfSlot(s);
   // What another leaf of this iteration already offered the ray: a hit this leaf cannot beat
   // makes its intersection moot (see offerHit).
@@ -343,7 +343,7 @@ void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
 // offers first. The lock is per ray and held for a compare and a copy, so a waiter spins:
 // atomic_flag::wait/notify_one cost a locked add on a waiter-pool word every thread shares on
 // every offer (46 % of offerHit's samples on subdiv-creature; bench/RESULTS.md).
-void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
+void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
   std::atomic_flag& lock = hitLock_[i];
   while (lock.test_and_set(std::memory_order_acquire))
     while (lock.test(std::memory_order_relaxed)) spinPause();
@@ -359,7 +359,7 @@ void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
 }
 
 // One iteration of the sorted pipeline per loop, in the five steps of the header comment.
-void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t capacity = cand_.capacity();
   while (!active_.empty()) {
     const size_t nActive = active_.size();
@@ -382,7 +382,7 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
 }
 
 // 1. Top level: up to N candidates per ray into its own slots.
-void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times) {
+void SortedEngine::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.toplevel);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 256), [&](const auto& r) {
     auto& scratch = scratch_.local();
@@ -406,7 +406,7 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
 }
 
 // 2. Sort the filled slots by leaf. Returns how many slots were filled.
-size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
+size_t SortedEngine::sortCandidates(size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.sort);
   std::vector<uint32_t>& filled = sort_.order;
   filled.clear();
@@ -424,13 +424,13 @@ size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
 // moving leaf once per time interval its rays fall in; and, in the first iteration, run the
 // leaf's queries. The cache is asked serially, in run
 // order, so its history does not depend on the thread count (rays/grid_cache.h).
-void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
   auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
-  // Each sorted slot's entry into its leaf's box (Tracer::leafEntry, as float bits), written by
-  // runLevel and read by the intersection, in the sort's scratch: free until the next sort,
-  // which left it as long as `order`.
+  // Each sorted slot's entry into its leaf's box (SortedEngine::leafEntry, as float bits),
+  // written by runLevel and read by the intersection, in the sort's scratch: free until the next
+  // sort, which left it as long as `order`.
   auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
   if (cache_.enabled()) {
@@ -501,9 +501,9 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
 
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
 // changes) and dices each interval present once.
-void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
-                                    uint32_t leaf, const Patch& patch, TraceTimes& times,
-                                    DicingCounters& counters) {
+void SortedEngine::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+                                          uint32_t leaf, const Patch& patch, TraceTimes& times,
+                                          DicingCounters& counters) {
   IntervalScratch& sc = intervals_.local();
   const int intervals = patch.timeSamples() - 1;
   sc.interval.resize(count);
@@ -530,14 +530,14 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
 
 // Dices `leaf` (its time interval, or static when interval < 0) at level m, the finest level of
 // `count` slots (runLevel), and intersects them all.
-void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                              const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
-                              DicingCounters& counters) {
+void SortedEngine::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                                    const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
+                                    DicingCounters& counters) {
   diceRun(b, dice, slots, count, leaf, patch, interval, m, times, counters);
   intersectRun(b, dice, slots, count, leaf, patch, m, entryBits, times, counters);
 }
 
-int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
+int SortedEngine::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
   const bool density = settings_.lod == LodRule::Density;
   int m = 0;
   if (!density || entryBits)
@@ -553,8 +553,8 @@ int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uin
   return m;
 }
 
-void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                     const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
+void SortedEngine::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                           const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
   {
     ScopedTimer timer(times.dice);
     if (interval < 0) dice.dice(patch, m, sharedBorders(leaf));
@@ -572,9 +572,9 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
 // thread, so its rays are split into chunks that other threads intersect against the same, now
 // read-only, buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
 // (which would re-dice its buffer) while it waits.
-void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                          const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times,
-                          DicingCounters& counters) {
+void SortedEngine::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                                const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times,
+                                DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     for (size_t k = k0; k < k1; ++k) {
@@ -598,7 +598,7 @@ void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* s
 // becomes their search limit for the next iteration. Returns how many of the finished rays'
 // hits lie in a border region: counted on the final hits, so the figure does not depend on
 // which leaf's intersection a thread happened to run first.
-uint64_t Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
+uint64_t SortedEngine::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
   size_t kept = 0;  // compacted in place: kept <= a, so no ray is overwritten before it is read
   uint64_t borderHits = 0;
   for (size_t a = 0; a < nActive; ++a) {
@@ -619,7 +619,7 @@ uint64_t Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nN
 
 // Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at
 // that ray's level. No sorting, no sharing: the reference the sorted pipeline must match.
-void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   std::atomic<uint64_t> diced{0}, micropolygons{0}, moving{0};
   ScopedTimer timer(times.bottom);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
@@ -640,7 +640,7 @@ void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) 
   stats.iterations.push_back({active_.size(), 16.0, 0});
 }
 
-void Tracer::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active) {
+void SortedEngine::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active) {
   active.clear();
   for (uint32_t i = 0; i < batch.size(); ++i) {
     if (batch.ray[i].kind == RayKind::Inactive) continue;
@@ -651,7 +651,7 @@ void Tracer::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uin
   }
 }
 
-void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const {
+void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const {
   RayHit& best = b.hit[i];
   float resumeEntry = -kInf;
   uint32_t resumeLeaf = 0;

@@ -1,4 +1,4 @@
-// START HERE for the pipeline. The Tracer traces one generation of rays (a RayBatch) through
+// START HERE for the pipeline. The SortedEngine traces one generation of rays (a RayBatch) through
 // both levels, in iterations (thesis §6.2):
 //
 //   1. toplevel   every active ray collects up to N candidate leaves, front to back, resuming
@@ -63,11 +63,11 @@
 
 namespace rayes {
 
-class Tracer : public RayEngine {
+class SortedEngine : public RayEngine {
  public:
-  // `leaves` must outlive the Tracer; a generated leaf's patch is made once per dicing and
+  // `leaves` must outlive the SortedEngine; a generated leaf's patch is made once per dicing and
   // dropped after its rays are intersected.
-  Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& settings);
+  SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& settings);
 
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
@@ -77,7 +77,7 @@ class Tracer : public RayEngine {
 
   const TraceSettings& settings() const { return settings_; }
   // The rays of `batch` to trace (kind not Inactive) into `active`, in batch order; their hits
-  // reset and counted into stats. The first step of every engine built on this Tracer.
+  // reset and counted into stats. The first step of every engine built on this SortedEngine.
   static void activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active);
   // Where traceRayAlone gets a leaf's grid: a DiceBuffer holding that leaf's time interval (0 for
   // a static leaf) diced at `level` or finer (the coarser levels are exact subgrids). `patch` is the
@@ -118,7 +118,7 @@ class Tracer : public RayEngine {
   // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
   static constexpr size_t kBorderBoundsPerLeaf = 64;
   // Per ray slot: the trace state and kCandidatesPerRay candidate slots. (bytesPerRay() of a
-  // Tracer; static so the budget can be set before the Tracer exists.)
+  // SortedEngine; static so the budget can be set before the SortedEngine exists.)
   static constexpr size_t bytesPerRaySlot() {
     return bytesPerRayState() + kCandidatesPerRay * bytesPerCandidate();
   }
