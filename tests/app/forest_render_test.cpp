@@ -1,5 +1,5 @@
 // The forest end to end: scenes/forest-1.json renders at a small resolution with both engines,
-// which see the same micro-geometry at a fixed level (the Rayes tracer makes each patch from
+// which see the same micro-geometry at a fixed level (the SortedEngine makes each patch from
 // its compact record when it dices it; the Embree engine tessellates every patch up front), so
 // their image means agree within the noise; the memory of a render does not grow with the
 // forest, only its scene description does, within the bound the loader refuses forests by; and

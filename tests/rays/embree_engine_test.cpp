@@ -1,4 +1,4 @@
-// The Embree engine finds the Rayes tracer's hits when both see the same tessellation: every
+// The Embree engine finds the SortedEngine's hits when both see the same tessellation: every
 // patch at one fixed level, the Rayes rays with zero footprint (so at that level) and without
 // border regions (the Embree engine has none). Same leaf, t within the float error of the two
 // triangle tests, (u, v) within one micro-quad, the same triangle's normal; shadow rays occluded
