@@ -86,6 +86,7 @@ class SortedEngine : public RayEngine {
   // Traces ray i of `b` alone and fills b.hit[i]: its candidates front to back, each leaf at the
   // ray's own level, the same hit as the sorted pipeline (a pure function of ray, scene, maxLod).
   // Used by the debug mode (--trace-mode alone) and the CachingEngine (rays/caching_engine.h).
+  // Defined, with traceAlone, in rays/single_ray_walk.cpp.
   void traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const;
   // Per leaf and border e (DiceBuffer's numbering: v = 0, u = 1, v = 1, u = 0), the static
   // Bézier leaf across it; kFreeBorder where no other leaf's box meets the border's box (an
@@ -94,7 +95,8 @@ class SortedEngine : public RayEngine {
   // Empty when no leaf has a neighbour or a free border. `top` is built over the leaves' boxes.
   // Displaced Bézier leaves are paired by their bases' borders. With `sides`, per leaf and
   // border the neighbour's border (bits 0-1), whether it runs the other way (bit 2) and whether
-  // the pair is displaced (bit 3); 0 where there is no neighbour.
+  // the pair is displaced (bit 3); 0 where there is no neighbour. Defined, with
+  // bordersClosedByNeighbours and seamGap, in rays/border_neighbours.cpp.
   static constexpr uint32_t kFreeBorder = 0xfffffffeu;  // leaf ids stay below 2^31
   static constexpr uint8_t kReversedSeam = 4, kDisplacedSeam = 8;
   static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
