@@ -3,7 +3,7 @@
 // displaced, share a border, and which borders are free), then asked per ray and leaf
 // (bordersClosedByNeighbours: the crack-closing regions a ray need not test, or may test thin,
 // with seamGap measuring a displaced seam's slit). Apart from the pipeline because it is one
-// subject of its own: crack closure between neighbours (docs/architecture.md, "Coarser side").
+// subject of its own: crack closure between neighbours (docs/architecture.md, "Coarser side only").
 #include "rays/sorted_engine.h"
 #include <cmath>
 #include <cstring>
