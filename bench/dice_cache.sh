@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Reordering against caching (issue 10, item 3; the thesis's Table 6.2): dicings of the Rayes
-# Tracer (rays sorted by patch) and of --dice-cache K (rays one at a time, LRU cache of K grids),
+# SortedEngine (rays sorted by patch) and of --dice-cache K (rays one at a time, LRU cache of K grids),
 # K = 10, 100, 1000, on each scene at the same image settings. Reordering is run twice: as the
 # thesis's (every iteration dices its leaves: --grid-cache 0) and with the default grid cache
 # (grids kept across iterations and generations, rays/grid_cache.h). Prints a markdown table for

@@ -86,7 +86,7 @@ void BM_Occluded(benchmark::State& state) {
 BENCHMARK(BM_Traverse)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Occluded)->Arg(4)->Arg(6)->Arg(8)->Arg(10)->Unit(benchmark::kMillisecond);
 
-// The same rays with the crack-free border boxes (what the Tracer does on curved patches),
+// The same rays with the crack-free border boxes (what the SortedEngine does on curved patches),
 // and on the patch moving between two samples at a random time weight (motion blur).
 void BM_TraverseVariant(benchmark::State& state, bool borders, bool moving) {
   const int m = int(state.range(0));

@@ -12,15 +12,15 @@
 //   forced      coneWidth = coneSpread = 0, so every ray is intersected at level m exactly:
 //               the like-for-like comparison with Embree's full tessellation at m.
 // Engines:
-//   Rayes   TopLevelBvh over the patch boxes + Tracer::trace of the whole RayBatch (all threads,
-//           then 1 thread via tbb::global_control); a fresh Tracer per thread setting so its
+//   Rayes   TopLevelBvh over the patch boxes + SortedEngine::trace of the whole RayBatch (all threads,
+//           then 1 thread via tbb::global_control); a fresh SortedEngine per thread setting so its
 //           dice-buffer bytes are that setting's; one untimed warm-up trace, best of --repeat.
 //   Embree  the renderer's EmbreeEngine (rays/embree_engine.h) at --embree-lod fixed m: every
 //           patch diced at m up front into one Embree grid per patch (rows mirrored so both
 //           engines intersect the same triangles), traced with rtcIntersect1M in parallel chunks;
 //           its tessellation and rtcCommitScene are timed separately; best of --repeat.
 // Memory: Rayes = top-level nodes + dice buffers (all threads) + candidate buffer with the
-// sort's scratch (Tracer::candidateBufferBytes) + per-ray state. Embree = the engine's vertices (positions and normals: what a renderer
+// sort's scratch (SortedEngine::candidateBufferBytes) + per-ray state. Embree = the engine's vertices (positions and normals: what a renderer
 // needs to shade) + every byte Embree allocates, from its memory monitor (peak during the build
 // and held after it).
 // Agreement: per ray, hit/miss differs; for rays both hit, |t_rayes - t_embree| (median, p99)
@@ -57,7 +57,7 @@
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
 #include "rays/embree_engine.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 #include "toplevel/toplevel_bvh.h"
 
 namespace {
@@ -243,12 +243,12 @@ RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, 
                   const RaySet& rs, bool forced, int repeat, RayBatch& batch) {
   RayesRun run;
   const StoredLeaves source(patches);
-  Tracer tracer(top, source, ts);
+  SortedEngine engine(top, source, ts);
   {  // warm-up: allocates the dice buffers and per-ray state
     fillBatch(rs, forced, batch);
     GenerationStats st;
     TraceTimes tt;
-    tracer.trace(batch, st, tt);
+    engine.trace(batch, st, tt);
   }
   run.seconds = kInf;
   for (int r = 0; r < repeat; ++r) {
@@ -256,7 +256,7 @@ RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, 
     auto st = std::make_unique<GenerationStats>();
     auto tt = std::make_unique<TraceTimes>();
     const auto t0 = Clock::now();
-    tracer.trace(batch, *st, *tt);
+    engine.trace(batch, *st, *tt);
     const double s = secondsSince(t0);
     if (s < run.seconds) {
       run.seconds = s;
@@ -264,9 +264,9 @@ RayesRun runRayes(const TopLevelBvh& top, const std::vector<PatchPtr>& patches, 
       run.times = {tt->toplevel.seconds(), tt->sort.seconds(), tt->dice.seconds(), tt->bottom.seconds()};
     }
   }
-  run.diceBytes = tracer.diceBufferBytes();
-  run.candBytes = tracer.candidateBufferBytes();
-  run.rayStateBytes = Tracer::bytesPerRayState() * rs.org.size();
+  run.diceBytes = engine.diceBufferBytes();
+  run.candBytes = engine.candidateBufferBytes();
+  run.rayStateBytes = SortedEngine::bytesPerRayState() * rs.org.size();
   run.iterations = run.stats.iterations.size();
   return run;
 }

@@ -1,7 +1,7 @@
 // Candidate sort throughput: the production rayes::CandidateSort (src/rays/candidate_sort.h, a
 // stable parallel LSD radix sort of the slots on their leaf id, read where it lies) against
 // tbb::parallel_sort of 64-bit (leaf << 32 | slot) keys, which gives the same order.
-// Input: the filled slots 0..n-1 in increasing order (as the Tracer hands them over), leaf ids
+// Input: the filled slots 0..n-1 in increasing order (as the SortedEngine hands them over), leaf ids
 // random in [0, 100000). Both sides include their own packing/unpacking: CandidateSort copies
 // its input in (it consumes it), reads each slot's leaf in every pass and writes `order` and
 // `runs`; the 64-bit side packs the keys, sorts, and unpacks the slot order (runs are not

@@ -39,7 +39,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   const bool caching = !embree && options.diceCacheEntries > 0;
   const size_t engineBytesPerRay = embree    ? EmbreeEngine::bytesPerRaySlot()
                                    : caching ? CachingEngine::bytesPerRaySlot()
-                                             : Tracer::bytesPerRaySlot();
+                                             : SortedEngine::bytesPerRaySlot();
   stats_.bytesPerPath =
       integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay(raysTimed()) + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
@@ -50,7 +50,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                      " bytes cannot hold one path (" + std::to_string(stats_.bytesPerPath) + " bytes)");
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
-  stats_.candidateCapacity = embree || caching ? 0 : raysPerPath * perBatch * Tracer::kCandidatesPerRay;
+  stats_.candidateCapacity = embree || caching ? 0 : raysPerPath * perBatch * SortedEngine::kCandidatesPerRay;
 
   if (embree) {
     EmbreeSettings es;
@@ -71,7 +71,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.gridCacheBytes = options.gridCacheBytes;
     ts.maxCandidatesPerRay = options.candidatesPerRay;
     if (caching) engine_ = std::make_unique<CachingEngine>(data_.top, scene.leaves, ts, options.diceCacheEntries);
-    else engine_ = std::make_unique<Tracer>(data_.top, scene.leaves, ts);
+    else engine_ = std::make_unique<SortedEngine>(data_.top, scene.leaves, ts);
   }
   // What the method does up front through the engine (light beams), with the budget's batch size.
   IntegratorSetup setup;

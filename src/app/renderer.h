@@ -36,7 +36,7 @@
 #include "app/methods.h"
 #include "rays/caching_engine.h"
 #include "rays/embree_engine.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 #include "scene/scene.h"
 #include "shading/film.h"
 #include "shading/integrator.h"

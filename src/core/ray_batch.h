@@ -26,7 +26,7 @@ enum class RayKind : uint8_t {
 };
 
 // 32 bytes: the normals are kept octahedral-encoded (core/octahedral.h, 2 x 16-bit snorm, at most
-// 1e-4 rad from the exact unit normal; decoding never gives NaN). The Rayes tracer always
+// 1e-4 rad from the exact unit normal; decoding never gives NaN). The SortedEngine always
 // quantised its normals this way, so storing the code changes none of its images; the Embree
 // engine's normals are quantised too since the record became compact.
 struct RayHit {
@@ -46,11 +46,11 @@ struct RayHit {
   }
 };
 
-// 32 bytes; Tracer::offerHit copies it field by field (two fields atomically): a new field
+// 32 bytes; SortedEngine::offerHit copies it field by field (two fields atomically): a new field
 // must be added there too.
 static_assert(sizeof(RayHit) == 32);
 
-// What to trace, one record per ray (48 bytes): the tracer reads most of these fields together
+// What to trace, one record per ray (48 bytes): the engine reads most of these fields together
 // for every (ray, leaf) pair of the bottom level and the top level, in an order set by the sort, so
 // one record is one cache miss where separate arrays cost one each (bench/history/2026-11.md). A
 // ray spans t in [0, tmax] from org: it leaves a surface by originLeaf, not by an offset tmin.

@@ -4,14 +4,14 @@
 // Contract:
 // - What it holds: per (leaf, border e, level, segment j) the box of the true border curve over
 //   the segment and the two radii of its region (DiceBuffer::curveBox, cachedRadius), and per
-//   (leaf, border, level) the gap to a displaced neighbour's border vertices (Tracer::seamGap,
-//   segment 0). Each is a
+//   (leaf, border, level) the gap to a displaced neighbour's border vertices
+//   (SortedEngine::seamGap, segment 0). Each is a
 //   pure function of its key (the leaf's patch is generated the same way every time), so a hit
 //   returns exactly the value a recomputation would give: images do not depend on the table,
 //   its capacity or which thread filled an entry (docs/design.md, invariant on determinism).
 // - Bound: `capacity` entries (a power of two) of entryBytes() each, allocated on the first
-//   insert and never grown: it does not grow with the micro-polygons (the Tracer chooses the
-//   capacity from the leaf count, Tracer::kBorderBoundsPerLeaf, up to a cap). Direct mapped:
+//   insert and never grown: it does not grow with the micro-polygons (the SortedEngine chooses the
+//   capacity from the leaf count, SortedEngine::kBorderBoundsPerLeaf, up to a cap). Direct mapped:
 //   an insert overwrites whatever entry its key hashes to (eviction by collision).
 // - Threads: lookup and insert may run concurrently from any thread without locks. Each entry
 //   is a seqlock: a writer that finds it being written gives up (the value is simply not kept),

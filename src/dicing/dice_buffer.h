@@ -65,13 +65,13 @@ struct GridHit {
 struct BottomQuery {
   float alpha = 0;            // time weight of the second sample of diceInterval() (0 for dice())
   bool closeBorders = false;  // also hit the border boxes (ignored where the patch needs none);
-                              // the Tracer sets it (Tracer::closeBordersFor)
+                              // the SortedEngine sets it (SortedEngine::closeBordersFor)
   uint8_t skipBorders = 0;    // with closeBorders: bit e set = not border e (its neighbour's
                               // coarser or equal dicing closes that seam for this ray)
   // With closeBorders, for a border not skipped: bit e set = border e's region is thin, a
   // cylinder of radius thinRadius[e] about each chord at the ray's level, for a seam whose
   // neighbour is seen at the same level with border vertices at most that far from this
-  // dicing's (the slit between the two polylines lies within it; the Tracer measures it).
+  // dicing's (the slit between the two polylines lies within it; the SortedEngine measures it).
   // Only static dicings at levels <= kMaxThinLevel have thin regions (the walk is linear).
   uint8_t thinBorders = 0;
   double thinRadius[4] = {0, 0, 0, 0};

@@ -511,7 +511,7 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
     if (regions.thin & (1u << e)) {
       // A thin region: every segment's chord at level k, in a box of its ends grown by the
       // radius (the slit lies within the radius of the chord); linear in 2^k, so only for
-      // k <= BottomQuery::kMaxThinLevel, which the Tracer keeps to.
+      // k <= BottomQuery::kMaxThinLevel, which the SortedEngine keeps to.
       const double radius = regions.thinRadius[e];
       const float grow = float(radius) * (1.0f + 1e-6f);
       for (uint32_t j = 0; j <= last; ++j) {

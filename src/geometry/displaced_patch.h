@@ -25,7 +25,7 @@
 //
 // Seams: h of a noise displacement is a function of the base POSITION, so it is bit-identical
 // on both sides of a shared border; the displaced border vertices are then bit-identical only
-// where the two bases' unit normals are too. See tests/dicing/displace_patch_test.cpp for what
+// where the two bases' unit normals are too. See tests/geometry/displace_patch_test.cpp for what
 // the teapot does (its shared borders differ by rounding in the normal).
 #pragma once
 #include <string>

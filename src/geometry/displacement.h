@@ -13,7 +13,7 @@
 // Contract of range(): it contains sample(...).h as computed in float, for every float point p
 // inside pBox and every (u, v) inside [u0,u1] x [v0,v1], whatever the other arguments. The
 // exact-arithmetic range is computed with outward rounding and then widened by a bound on the
-// float evaluation's own rounding; tests/geometry/displace_*_test.cpp and tests/dicing/displace_patch_test.cpp check it by sampling.
+// float evaluation's own rounding; tests/geometry/displace_*_test.cpp check it by sampling.
 #pragma once
 #include <cstdint>
 #include <memory>

@@ -19,6 +19,10 @@
 // owner (the smallest face with a limit surface), a vertex's limit point is taken from a table
 // filled by the vertex's owner, a non-quad's centre and its internal sub-face borders by that
 // face. Two leaves sharing a border thus produce bit-identical border vertices at every level.
+//
+// Files: subdiv_topology.cpp (checking and building the topology), subdiv_mesh.cpp (the mesh
+// and its Bfr evaluation), subdiv_seams.cpp (the canonical border points), subdiv_dice.cpp (a
+// leaf's points and dicing); their shared internals in subdiv_mesh_internal.h.
 #pragma once
 #include <cstdint>
 #include <memory>

@@ -14,7 +14,7 @@
 // the ray engine (sorted by leaf, diced on demand); the binning uses the top level; the gathers
 // are leaf queries (core/leaf_queries.h): the path tracer posts one at a diffuse vertex, the
 // engine sorts them by leaf with the candidates' sort and runs each leaf's gathers in that
-// leaf's task of its per-leaf stage during the next trace() (rays/tracer.cpp), and the path
+// leaf's task of its per-leaf stage during the next trace() (rays/sorted_engine.cpp), and the path
 // adds the result after that trace, where the direct call used to add it (same bits).
 //
 // Memory: bytes() = segments and their envelopes + bin entries + cell offsets + leaf grids. The constructor refuses

@@ -14,19 +14,19 @@ TraceSettings withOneCandidateSlot(TraceSettings s) {
 
 CachingEngine::CachingEngine(const TopLevelBvh& top, const LeafSource& leaves,
                              const TraceSettings& settings, size_t entries)
-    : tracer_(top, leaves, withOneCandidateSlot(settings)), capacity_(entries) {
+    : sorted_(top, leaves, withOneCandidateSlot(settings)), capacity_(entries) {
   if (entries < 1) throw std::invalid_argument("CachingEngine: the cache needs at least one entry");
 }
 
 void CachingEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
-  Tracer::activeRays(batch, stats, active_);
-  const Tracer::GridSource source = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
+  SortedEngine::activeRays(batch, stats, active_);
+  const SortedEngine::GridSource source = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
     return gridFor(leaf, patch, interval, level, stats, times);
   };
   // times.bottom includes the dicing; times.dice holds the dicing alone.
   {
     ScopedTimer timer(times.bottom);
-    for (uint32_t i : active_) tracer_.traceRayAlone(batch, i, source, scratch_);
+    for (uint32_t i : active_) sorted_.traceRayAlone(batch, i, source, scratch_);
   }
   stats.iterations.push_back({active_.size(), 0.0, 0});
   // No per-leaf stage: the leaf queries grouped by leaf, in a plain loop.
@@ -85,7 +85,7 @@ EngineStats CachingEngine::engineStats() const {
   EngineStats s;
   s.name = "dice-cache";
   s.fixedBytes = peakBytes_;
-  s.maxLevel = tracer_.settings().maxLod;
+  s.maxLevel = sorted_.settings().maxLod;
   s.cacheEntries = capacity_;
   s.cacheHits = hits_;
   s.cacheMisses = misses_;

@@ -2,10 +2,11 @@
 // order, without sorting, each walking the top level front to back; the diced grids are kept in
 // a least-recently-used cache of K entries, so a patch is re-diced only when it fell out of the
 // cache (or a ray needs it finer than it is held). It exists to count dicings against the
-// Tracer's reordering (--dice-cache K); it is not a fast engine.
+// SortedEngine's reordering (--dice-cache K); it is not a fast engine.
 //
-// Hits: the Tracer's traceRayAlone, so every hit is the Tracer's (a pure function of ray, scene
-// and maxLod under per-ray LOD): a grid diced at level m holds every coarser level exactly.
+// Hits: the SortedEngine's traceRayAlone, so every hit is the SortedEngine's (a pure function of
+// ray, scene and maxLod under per-ray LOD): a grid diced at level m holds every coarser level
+// exactly.
 // Determinism: rays are traced sequentially in batch order, on one thread, so the cache's
 // history, hence the dicing, hit and miss counts, are the same for every thread count. (Per-thread
 // caches would make the counts depend on which thread took which rays.)
@@ -17,7 +18,7 @@
 #include <unordered_map>
 #include <vector>
 #include "rays/ray_engine.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 
 namespace rayes {
 
@@ -49,7 +50,7 @@ class CachingEngine : public RayEngine {
   const DiceBuffer& gridFor(uint32_t leaf, const PatchPtr& patch, int interval, int level, GenerationStats& stats, TraceTimes& times);
   void diceInto(Entry& e, const PatchPtr& patch, int interval, int level, GenerationStats& stats, TraceTimes& times);
 
-  Tracer tracer_;  // its per-ray walk (levels, border regions); its candidate buffer holds one slot
+  SortedEngine sorted_;  // its per-ray walk (levels, border regions); its candidate buffer holds one slot
   size_t capacity_;
   std::list<Entry> lru_;  // front: most recently used
   std::unordered_map<uint64_t, std::list<Entry>::iterator> index_;

@@ -13,7 +13,7 @@
 // tbb::parallel_sort of 64-bit (leaf, slot) keys on this machine (bench/RESULTS.md,
 // bench/rays_candidate_sort.cpp).
 // Complexity O(n * ceil(bits / 11)); scratch is kept across iterations, and between sorts it
-// is free, as long as `order` (the Tracer keeps each sorted slot's box entry there).
+// is free, as long as `order` (the SortedEngine keeps each sorted slot's box entry there).
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -54,7 +54,7 @@ void rejectIgnoredLeaf(const RTCFilterFunctionNArguments* a) {
 }
 
 // A ray Embree may see: finite origin, a finite non-zero direction, a non-empty interval. The
-// Rayes tracer gives the others no hit; so does this engine, without asking Embree.
+// SortedEngine gives the others no hit; so does this engine, without asking Embree.
 bool traceable(const RayBatch& b, uint32_t i) {
   const Vec3 o = b.ray[i].org, d = b.ray[i].dir;
   const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&

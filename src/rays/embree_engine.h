@@ -1,17 +1,17 @@
 // The peer RayEngine (rays/ray_engine.h): what a renderer without on-demand dicing does. Every
-// patch is diced once, up front, by the same Patch::dice the Rayes tracer uses (displacement
+// patch is diced once, up front, by the same Patch::dice the SortedEngine uses (displacement
 // included), into one Embree grid (RTC_GEOMETRY_TYPE_GRID) per patch, geometry id = leaf id; rays
 // are traced with Embree's stream API (rtcIntersect1M / rtcOccluded1M) in parallel chunks.
 //
 // Level per patch: `fixed` dices every patch at maxLod; `auto` at the finest level any camera
 // ray's footprint needs on it: the box's nearest distance d to the camera position (less the
 // lens radius), the footprint there d * pixel spread (camera rays start with width 0), through
-// levelForFootprint(Patch::sizeBound(), footprint, maxLod), the rule the Rayes tracer applies per
+// levelForFootprint(Patch::sizeBound(), footprint, maxLod), the rule the SortedEngine applies per
 // ray. Nearest distance <= any camera ray's entry distance, so no camera ray sees a patch coarser
 // than Rayes would dice it for that ray; secondary rays see the same grids (Rayes gives them
 // coarser levels from their wider cones).
 //
-// Hits are the Rayes tracer's at the patch's level: Embree splits a grid cell along (x+1, y)-(x,
+// Hits are the SortedEngine's at the patch's level: Embree splits a grid cell along (x+1, y)-(x,
 // y+1), Rayes along p00-p11, so every grid row is stored mirrored in u, which makes the two
 // diagonals, and so the triangles, the same. (u, v), the micro-quad, ng (the triangle's unit
 // normal, in double) and ns (blendNormals of the quad's vertex normals) are computed from our

@@ -1,7 +1,7 @@
-// Diced grids kept between the iterations and generations of the sorted pipeline (Tracer): a leaf
-// whose rays arrive in several iterations (a camera ray's later candidates, shadow and bounce rays
-// through the same canopy) is diced once while its grid stays cached, instead of once per
-// iteration that has rays for it.
+// Diced grids kept between the iterations and generations of the sorted pipeline
+// (SortedEngine): a leaf whose rays arrive in several iterations (a camera ray's later
+// candidates, shadow and bounce rays through the same canopy) is diced once while its grid stays
+// cached, instead of once per iteration that has rays for it.
 //
 // Contract:
 // - Decisions (hit, a new entry to dice into, or not cached) are made by acquire(), serially, in

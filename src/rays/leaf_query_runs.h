@@ -1,9 +1,9 @@
 // The queries of a LeafQueries batch (core/leaf_queries.h) grouped by leaf, with the candidates'
 // sort (CandidateSort: stable, so each leaf's ids stay in increasing order): what every engine
-// needs to call the runner once per leaf. The Tracer interleaves these runs with its own
-// per-leaf tasks (rays/tracer.cpp, diceAndIntersectRuns); the engines without a per-leaf stage,
-// and the Tracer when it has no rays or traces them one at a time, run them in a plain oneTBB
-// loop (runAll). Scratch is kept across calls.
+// needs to call the runner once per leaf. The SortedEngine interleaves these runs with its own
+// per-leaf tasks (rays/sorted_engine.cpp, diceAndIntersectRuns); the engines without a per-leaf
+// stage, and the SortedEngine when it has no rays or traces them one at a time, run them in a
+// plain oneTBB loop (runAll). Scratch is kept across calls.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -26,7 +26,7 @@ class LeafQueryRuns {
   }
   // Calls the runner for run `run` (timed into `time`, summed over threads): a run of more than
   // 2 kChunk queries in chunks of kChunk that other threads may take, isolated so this thread
-  // does not pick up another leaf's task meanwhile (as Tracer::intersectRun does for rays).
+  // does not pick up another leaf's task meanwhile (as SortedEngine::intersectRun does for rays).
   void run(size_t run, TimeAccumulator& time) const;
   static constexpr size_t kChunk = 256;
   // Every run, in parallel; then forgets them.

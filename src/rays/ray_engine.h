@@ -1,8 +1,9 @@
 // What the renderer needs from whatever finds the hits of a generation of rays. Three engines:
-//   Tracer        (rays/tracer.h)        Rayes: sorted by patch, diced on demand, per-ray LOD;
+//   SortedEngine  (rays/sorted_engine.h)  Rayes: sorted by patch, diced on demand, per-ray LOD;
 //   CachingEngine (rays/caching_engine.h) the thesis's alternative to sorting: rays one at a
 //                                        time, diced grids kept in an LRU cache of K entries
-//                                        (the Tracer's hits; for counting dicings, Table 6.2);
+//                                        (the SortedEngine's hits; for counting dicings,
+//                                        Table 6.2);
 //   EmbreeEngine  (rays/embree_engine.h) the peer: every patch diced once up front into Embree
 //                                        grids, traced with Embree's stream API.
 //
@@ -12,7 +13,7 @@
 // patch's parameters, level the dicing level the hit was found at, ng the micro-triangle's unit
 // normal, ns the unit normal blended from the diced vertex normals. Shading reads nothing else,
 // so the same scene shades the same way whichever engine found the hits. When batch.queries is
-// set, trace() also runs its leaf queries, once per leaf (core/leaf_queries.h): the Tracer in
+// set, trace() also runs its leaf queries, once per leaf (core/leaf_queries.h): the SortedEngine in
 // its per-leaf stage, the others in a loop by leaf. Images are a pure function of (scene,
 // settings, seed) for every engine: none depends on thread count or batching.
 //

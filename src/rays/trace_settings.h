@@ -33,7 +33,7 @@ struct TraceSettings {
   // from one iteration to the next: forest-100 dicings at N = 4 / 8 / 16 / 100 were 79 k /
   // 84 k / 91 k / 136 k at 480x192 1 spp, but 768 k / 664 k / 635 k / 679 k at 1920x768.
   // 8 is within 7 % of the fewest at both sizes (bench/RESULTS.md). Hits do not depend on it
-  // (tests/rays/tracer_test.cpp).
+  // (tests/rays/sorted_engine_test.cpp).
   static constexpr int kDefaultCandidatesPerRay = 8;
   int maxCandidatesPerRay = kDefaultCandidatesPerRay;
   // Bytes of diced grids the sorted pipeline keeps across iterations and generations
@@ -41,7 +41,7 @@ struct TraceSettings {
   size_t gridCacheBytes = 0;
   // Entries of the table of static dicings' border bounds kept across dicings
   // (dicing/border_bound_cache.h; 40 bytes each, allocated on first use; at most
-  // Tracer::kBorderBoundsPerLeaf per leaf of the scene); 0: every dicing
+  // SortedEngine::kBorderBoundsPerLeaf per leaf of the scene); 0: every dicing
   // computes its own. A displaced leaf's border radii cost more than its micro-polygons, and the
   // sorted pipeline re-dices a leaf in every iteration and generation that has rays for it.
   size_t borderBoundEntries = size_t(1) << 22;

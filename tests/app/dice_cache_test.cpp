@@ -1,5 +1,5 @@
 // --dice-cache K (issue 10, item 3; the thesis's Table 6.2): rays traced one at a time through an
-// LRU cache of diced grids find exactly the Tracer's hits, so the image is the sorted pipeline's
+// LRU cache of diced grids find exactly the SortedEngine's hits, so the image is the sorted pipeline's
 // bit for bit, whatever K; only the number of dicings changes with K, and it is a function of
 // (scene, settings, K) alone.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // The forest end to end: scenes/forest-1.json renders at a small resolution with both engines,
-// which see the same micro-geometry at a fixed level (the Rayes tracer makes each patch from
+// which see the same micro-geometry at a fixed level (the SortedEngine makes each patch from
 // its compact record when it dices it; the Embree engine tessellates every patch up front), so
 // their image means agree within the noise; the memory of a render does not grow with the
 // forest, only its scene description does, within the bound the loader refuses forests by; and
@@ -19,7 +19,7 @@
 #include "dicing/dice_buffer.h"
 #include "geometry/forest_leaves.h"
 #include "rays/trace_settings.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 #include "support/render_fixtures.h"
 #include "scene/scene_loader.h"
 
@@ -115,10 +115,10 @@ TEST(ForestRender, MemoryGrowsOnlyWithTheSceneDescription) {
   const size_t oneBuffer = DiceBuffer(RenderOptions{}.maxLod).bytesAllocated();
   EXPECT_LE(a.diceBuffers, 2 * oneBuffer);
   EXPECT_LE(b.diceBuffers, 2 * oneBuffer);
-  // The border bounds kept across dicings: one table of Tracer::kBorderBoundsPerLeaf entries per
+  // The border bounds kept across dicings: one table of SortedEngine::kBorderBoundsPerLeaf entries per
   // leaf (a power of two), never more than TraceSettings::borderBoundEntries.
   for (const MemoryByOwner* m : {&a, &b}) {
-    const size_t perLeaf = m->leaves * Tracer::kBorderBoundsPerLeaf;
+    const size_t perLeaf = m->leaves * SortedEngine::kBorderBoundsPerLeaf;
     const size_t entries = std::bit_ceil(std::min(TraceSettings{}.borderBoundEntries, perLeaf));
     EXPECT_EQ(m->borderBounds, entries * BorderBoundCache::entryBytes()) << m->leaves << " leaves";
   }

@@ -53,7 +53,7 @@ TEST(GridCacheRender, ImageIsTheSameWithAnyBudgetAndDicingsFallByTheHits) {
 }
 
 // --candidates-per-ray: how many leaves a ray gets per iteration changes the iterations and the
-// dicings, never the image (the kept hit is the minimum of one total order, tracer.h).
+// dicings, never the image (the kept hit is the minimum of one total order, sorted_engine.h).
 TEST(GridCacheRender, ImageIsTheSameForAnyCandidatesPerRay) {
   const Scene scene = smallTeapot(24, 18, 2);
   std::vector<float> images[3];

@@ -188,7 +188,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, StiffTransform, ::testing::ValuesIn(shippedScen
 
 // Silhouette coverage of the one-patch scene (the sum of alpha: its camera rays that hit).
 // Its outline is its four borders, which no other leaf meets: they get no crack-closing
-// regions (Tracer::kFreeBorder), whose radius, about 5 ulps of the coordinates at 1e4 (the
+// regions (SortedEngine::kFreeBorder), whose radius, about 5 ulps of the coordinates at 1e4 (the
 // boxes of the curve's pieces grown by their rounding), made the silhouette 2.3 % larger there.
 TEST(StiffTransformCoverage, OnePatchSilhouette) {
   const std::string path = testing::sourcePath("scenes/one-patch.json");

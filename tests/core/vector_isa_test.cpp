@@ -1,7 +1,7 @@
 // The row kernels' instruction set (core/vector_isa.h): AVX2 where the CPU has it unless
 // RAYES_VECTOR_ISA=baseline, the baseline everywhere else, and a test can switch between them.
 // That both versions give the same bits is the kernels' own tests' business
-// (tests/geometry/displace_noise_test.cpp, tests/dicing/displace_patch_test.cpp,
+// (tests/geometry/displace_noise_test.cpp, tests/geometry/displace_patch_test.cpp,
 // tests/app/forest_render_test.cpp).
 #include <gtest/gtest.h>
 #include "core/vector_isa.h"

@@ -13,52 +13,16 @@
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
 #include "geometry/moving_patch.h"
+#include "support/moving_teapot.h"
 #include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {
 
+using test::movingTeapotPatch;
 using test::sameBits;
+using test::teapotPatchAt;
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-PatchPtr teapotPatchAt(const Transform& xf, int which = 0) {
-  auto cp = test::loadTeapot()[size_t(which)];
-  for (auto& p : cp) p = xf.point(p);
-  return std::make_shared<BezierPatch>(cp);
-}
-
-// Three keyframes: still, moved and turned, moved further.
-std::shared_ptr<MovingPatch> movingTeapotPatch() {
-  std::vector<PatchPtr> samples = {
-      teapotPatchAt(Transform{}),
-      teapotPatchAt(Transform::translate({0.4f, -0.2f, 0.3f}) * Transform::rotate({0, 0, 1}, 20.0f)),
-      teapotPatchAt(Transform::translate({0.9f, 0.1f, 0.2f}) * Transform::rotate({0, 1, 0}, 15.0f)),
-  };
-  return std::make_shared<MovingPatch>(samples, std::vector<float>{0.0f, 0.5f, 1.0f});
-}
-
-TEST(MovingPatch, BoundsCoverEverySampleAndTimeClampsToTheKeyframes) {
-  const auto mp = movingTeapotPatch();
-  EXPECT_EQ(mp->timeSamples(), 3);
-  for (int s = 0; s < 3; ++s) EXPECT_TRUE(mp->bounds().contains(mp->sample(s).bounds()));
-  EXPECT_STREQ(mp->kind(), "bezier");
-  const TimeInterval before = timeInterval(*mp, -1.0f), after = timeInterval(*mp, 2.0f);
-  EXPECT_EQ(before.interval, 0);
-  EXPECT_EQ(before.alpha, 0.0f);
-  EXPECT_EQ(after.interval, 1);
-  EXPECT_EQ(after.alpha, 1.0f);
-  const TimeInterval mid = timeInterval(*mp, 0.75f);
-  EXPECT_EQ(mid.interval, 1);
-  EXPECT_FLOAT_EQ(mid.alpha, 0.5f);
-  EXPECT_EQ(timeInterval(*mp, 0.5f).interval, 1);
-  EXPECT_EQ(timeInterval(mp->sample(0), 0.3f).interval, 0);  // a static patch
-  EXPECT_EQ(timeInterval(mp->sample(0), 0.3f).alpha, 0.0f);
-  EXPECT_THROW(MovingPatch({teapotPatchAt(Transform{})}, {0.0f}), std::invalid_argument);
-  EXPECT_THROW(MovingPatch({teapotPatchAt(Transform{}), teapotPatchAt(Transform{})}, {1.0f, 1.0f}),
-               std::invalid_argument);
-  const auto bil = std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{1, 1, 0});
-  EXPECT_THROW(MovingPatch({teapotPatchAt(Transform{}), bil}, {0.0f, 1.0f}), std::invalid_argument);
-}
 
 // Points of the interval's surface: a random sample point interpolated between both samples.
 TEST(MovingDice, InterpolatedBoundsContainEveryInterpolatedPoint) {

@@ -115,7 +115,7 @@ inline std::vector<PatchPtr> displacedSubdivBlob(int n, float amplitude) {
 // every border, displaced along its normal by fractal noise of position: the displaced surface
 // is closed (P, h and the exact normal agree across each border; the two patches compute the
 // normal from different control points, so their border vertices may differ by rounding). Its
-// seams get full regions at different levels and thin ones at equal levels (Tracer::seamGap).
+// seams get full regions at different levels and thin ones at equal levels (SortedEngine::seamGap).
 // The tube's centre circle passes through kInside.
 inline std::vector<PatchPtr> displacedBezierTorus(float amplitude) {
   constexpr float kHandle = 0.5522847f;  // 4 (sqrt 2 - 1) / 3
@@ -151,7 +151,7 @@ inline std::vector<PatchPtr> displacedBezierTorus(float amplitude) {
 // agree across every border, the normal does not (the patches meet at an angle), so the
 // displaced surface itself has gaps of up to |h| times that angle along its borders: closed
 // only where both sides are diced at one level, by regions as thick as the gap between their
-// border vertices (Tracer::seamGap). Not in closedSurfaces(): at different levels nothing
+// border vertices (SortedEngine::seamGap). Not in closedSurfaces(): at different levels nothing
 // closes it (crack_test.cpp).
 inline std::vector<PatchPtr> displacedBezierSphere(int n, float amplitude) {
   const DisplacementPtr displacement = surfaceNoise(amplitude, 3.0f, 11);

@@ -10,7 +10,7 @@
 #include <tbb/task_arena.h>
 #include "closed_surfaces.h"
 #include "core/rng.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 
 namespace rayes {
 namespace {
@@ -45,7 +45,7 @@ Escapes shootFromInside(const std::vector<PatchPtr>& patches, uint64_t total, bo
   s.closeBorders = closeBorders;
   s.levelHook = level;
   const StoredLeaves source(patches);
-  Tracer tracer(top, source, s);
+  SortedEngine engine(top, source, s);
   Escapes e;
   constexpr uint32_t kBatch = 1 << 18;
   RayBatch b;
@@ -60,7 +60,7 @@ Escapes shootFromInside(const std::vector<PatchPtr>& patches, uint64_t total, bo
     }
     GenerationStats stats;
     TraceTimes times;
-    tracer.trace(b, stats, times);
+    engine.trace(b, stats, times);
     for (uint32_t i = 0; i < n; ++i) e.escaped += !b.hit[i].valid();
     e.rays += n;
     e.borderHits += stats.borderHits;
@@ -79,7 +79,7 @@ TEST(CrackFree, NoRayEscapesAClosedSurfaceWhateverTheLevelsOfNeighbours) {
 
 // Displaced patches that meet at an angle put different vertices on their shared border (the
 // same P and h, another normal): seen at one level on both sides, the seam is closed by thin
-// regions as thick as the measured gap between the two sides' vertices (Tracer::seamGap);
+// regions as thick as the measured gap between the two sides' vertices (SortedEngine::seamGap);
 // without regions the rays escape through it. (At different levels such a surface is not
 // closed: its two displaced border curves differ, and each region holds only its own.)
 TEST(CrackFree, ThinRegionsCloseADisplacedSeamSeenAtOneLevel) {

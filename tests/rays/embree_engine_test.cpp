@@ -1,4 +1,4 @@
-// The Embree engine finds the Rayes tracer's hits when both see the same tessellation: every
+// The Embree engine finds the SortedEngine's hits when both see the same tessellation: every
 // patch at one fixed level, the Rayes rays with zero footprint (so at that level) and without
 // border regions (the Embree engine has none). Same leaf, t within the float error of the two
 // triangle tests, (u, v) within one micro-quad, the same triangle's normal; shadow rays occluded
@@ -15,7 +15,7 @@
 #include "geometry/moving_patch.h"
 #include "rays/embree_engine.h"
 #include "rays/teapot_on_floor.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 
 namespace rayes {
 namespace {
@@ -67,10 +67,10 @@ void traceRayes(const World& w, RayBatch& b) {
   TraceSettings s;
   s.maxLod = kLod;
   s.closeBorders = false;
-  Tracer tracer(w.top, w.source, s);
+  SortedEngine engine(w.top, w.source, s);
   GenerationStats stats;
   TraceTimes times;
-  tracer.trace(b, stats, times);
+  engine.trace(b, stats, times);
 }
 
 // Traces `b` with every patch of `w` at kLod.

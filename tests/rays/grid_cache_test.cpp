@@ -11,7 +11,7 @@ namespace {
 
 size_t gridBytes(int level) { return DiceBuffer(level).bytesAllocated(); }
 
-// What the Tracer does with an entry: dices into it when asked to.
+// What the SortedEngine does with an entry: dices into it when asked to.
 GridCache::Entry* acquireAndDice(GridCache& cache, uint32_t leaf, int level) {
   GridCache::Entry* e = cache.acquire(leaf, level);
   if (e && e->toDice) {

@@ -1,7 +1,7 @@
 // Leaf queries (core/leaf_queries.h) reach the runner exactly once each, in calls of one leaf's
 // slots in increasing order (one call per leaf, or consecutive chunks of a leaf with many
 // queries), during the same trace() as the rays:
-// in the Tracer's per-leaf stage (one iteration or several), with rays traced alone, with no
+// in the SortedEngine's per-leaf stage (one iteration or several), with rays traced alone, with no
 // rays at all, and in the engines without a per-leaf stage (caching, Embree). Leaves no ray
 // reaches get their run too; empty slots and a batch without a runner run nothing.
 #include <algorithm>
@@ -14,7 +14,7 @@
 #include "rays/caching_engine.h"
 #include "rays/embree_engine.h"
 #include "rays/teapot_on_floor.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 
 namespace rayes {
 namespace {
@@ -94,11 +94,11 @@ void expectTracerRunsEveryQueryOnce(int rays, size_t capacity, bool sorted, int 
   s.maxLod = kLod;
   s.candidateCapacity = capacity;
   s.sortByLeaf = sorted;
-  Tracer tracer(w.top, w.source, s);
+  SortedEngine engine(w.top, w.source, s);
   Batch b(rays, queries, oneLeaf ? 1 : w.leaves.size());
   GenerationStats stats;
   TraceTimes times;
-  tracer.trace(b.rays, stats, times);
+  engine.trace(b.rays, stats, times);
   expectEveryQueryRunOnceOnItsLeaf(b);
   if (sorted && rays > 0 && capacity < size_t(rays) * 8) {
     EXPECT_GT(stats.iterations.size(), 1u);  // queries ran in the first iteration only
@@ -148,16 +148,16 @@ TEST(LeafQueries, NothingRunsWithoutARunnerOrFilledSlots) {
   World w;
   TraceSettings s;
   s.maxLod = kLod;
-  Tracer tracer(w.top, w.source, s);
+  SortedEngine engine(w.top, w.source, s);
   Batch b(50, 40, w.leaves.size());
   b.queries.runner = nullptr;
   EXPECT_FALSE(b.queries.pending());
-  traceWith(tracer, b);
+  traceWith(engine, b);
   b.queries.runner = &b.runner;
   EXPECT_TRUE(b.queries.pending());
   std::fill(b.queries.leaf.begin(), b.queries.leaf.end(), kNoLeaf);
   EXPECT_FALSE(b.queries.pending());
-  traceWith(tracer, b);
+  traceWith(engine, b);
   EXPECT_TRUE(b.runner.calls.empty());
 }
 

@@ -29,10 +29,23 @@ class Random {
   uint64_t state_;
 };
 
+// A point of the cube [-2, 2)^3.
+inline Vec3 randomPoint(Random& rng) { return {rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2)}; }
+
 inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 inline bool sameBits(Vec3 a, Vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 using ControlPoints = std::array<Vec3, 16>;
+
+// A 4x4 control grid near the unit square, each point jittered (z the most).
+inline ControlPoints randomControlPoints(test::Random& rng) {
+  ControlPoints cp;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)
+      cp[j * 4 + i] = Vec3{float(i), float(j), 0.0f} + Vec3{rng.uniform(-0.8f, 0.8f), rng.uniform(-0.8f, 0.8f),
+                                                           rng.uniform(-1.5f, 1.5f)};
+  return cp;
+}
 
 inline std::vector<ControlPoints> loadTeapot() {
   return loadBezierPatchFile(RAYES_SOURCE_DIR "/scenes/teapot.bpt");

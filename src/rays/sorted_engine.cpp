@@ -1,42 +1,22 @@
-#include "rays/tracer.h"
+// The SortedEngine's per-generation pipeline (the five steps of rays/sorted_engine.h: collect
+// candidates, sort, dice, bottom, reduce) and what every walk of the engine shares: set-up,
+// levels of detail, leaf entries, stats. The border-neighbour analysis that lets a ray skip
+// crack-closing regions is in rays/border_neighbours.cpp; the one-ray-at-a-time walk (--trace-mode
+// alone, the CachingEngine) in rays/single_ray_walk.cpp.
+#include "rays/sorted_engine.h"
 #include <algorithm>
 #include <atomic>
 #include <bit>
-#include <cmath>
-#include <cstring>
-#include <map>
-#include <tuple>
 #include <limits>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-#include "core/next_float.h"
-#include "geometry/displaced_patch.h"
 #include "geometry/moving_patch.h"
+#include "rays/kept_hit.h"
 
 namespace rayes {
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// The farthest t a closest-hit ray still has to look at: its best hit `best` so far,
-// inclusive, so that a leaf with an equal-distance hit and a smaller id is still found in a
-// later iteration (the tie order must not depend on which iteration a leaf came in).
-float searchLimit(const RayBatch& b, uint32_t i, float best) {
-  if (b.ray[i].kind == RayKind::Shadow) return b.ray[i].tmax;
-  return std::min(b.ray[i].tmax, nextFloatUp(best));
-}
-
-// The distance a hit on a leaf is ordered and kept by: its t, but never less than the ray's
-// entry into the leaf's box as the top level computed it (`entry`, Tracer::leafEntry). A hit
-// can be reported a few roundings before that entry (on the box's face, where the rounded slab
-// distance and the watertight test's t err in opposite directions, or in a crack-closing
-// region that bulges past the box), and a ray is finished when its hit is nearer than its next
-// candidate's entry: without the clamp such a hit could beat the one found first or not,
-// depending on whether its leaf came in the same iteration, so the image depended on the
-// candidates per ray and the ray budget. Clamped, every hit on a leaf not yet visited is at
-// least its entry, and the kept hit is the minimum of one total order in every mode. The
-// shift is at most the intersection's own error (or a region's radius).
-float keptDistance(float t, float entry) { return std::max(t, entry); }
 
 // One iteration of a spin-wait: tells the core this is a wait loop (x86 `pause`).
 inline void spinPause() {
@@ -44,20 +24,9 @@ inline void spinPause() {
   __builtin_ia32_pause();
 #endif
 }
-
-// A hit as the RayHit keeps it: the distance clamped as above, normals octahedral-encoded (the
-// same record in every mode, so the sorted and alone modes agree bit for bit).
-RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry) {
-  RayHit r;
-  r.t = keptDistance(h.t, entry); r.u = h.u; r.v = h.v; r.leaf = leaf; r.quad = h.quad;
-  r.level = static_cast<uint8_t>(level);
-  r.border = h.border;
-  r.setNormals(h.ng, h.ns);
-  return r;
-}
 }  // namespace
 
-Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
+SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& s)
     : top_(top), leaves_(leaves), settings_(s), cand_(std::max<size_t>(s.candidateCapacity, 1)),
       cache_(s.gridCacheBytes),
       // A small scene needs a small table: 64 entries per leaf at most, so forest-1's 664 leaves
@@ -77,181 +46,24 @@ Tracer::Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSett
   if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top, &borderSide_);
 }
 
-// Two static Bézier leaves share border e and e' when the border curves have the same end
-// points (in either order) and the same midpoint: canonical border evaluation makes these
-// bits equal exactly when the border control rows are the same. A border with no partner or
-// more than one keeps its regions, unless it is free (no other leaf's box meets its box).
-std::vector<std::array<uint32_t, 4>> Tracer::borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
-                                                              std::vector<std::array<uint8_t, 4>>* sideOut) {
-  using Key = std::array<float, 9>;
-  struct Side {
-    uint32_t leaf;
-    int e;
-    bool reversed;   // the key's first point is the border's end, not its start
-    bool displaced;
-  };
-  std::map<Key, std::vector<Side>> borders;
-  const float corner[4][4] = {{0, 0, 1, 0}, {1, 0, 1, 1}, {0, 1, 1, 1}, {0, 0, 0, 1}};  // (u0, v0, u1, v1)
-  for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf) {
-    const LeafFacts f = leaves.facts(leaf);
-    const bool displaced = std::strcmp(f.kind, "displaced-bezier") == 0;
-    if (f.timeSamples != 1 || (!displaced && std::strcmp(f.kind, "bezier") != 0) || !f.borderClosure) continue;
-    const PatchPtr patch = leaves.patch(leaf);
-    // A displaced leaf is paired by its base: P and (for noise of position) h agree across
-    // the seam where the bases' borders do.
-    const Patch& p = displaced ? static_cast<const DisplacedPatch&>(*patch).base() : *patch;
-    for (int e = 0; e < 4; ++e) {
-      const float* c = corner[e];
-      Vec3 a = p.evaluate(c[0], c[1]).p, z = p.evaluate(c[2], c[3]).p;
-      const Vec3 mid = p.evaluate(0.5f * (c[0] + c[2]), 0.5f * (c[1] + c[3])).p;
-      const bool reversed = std::tie(z.x, z.y, z.z) < std::tie(a.x, a.y, a.z);
-      if (reversed) std::swap(a, z);
-      borders[Key{a.x, a.y, a.z, mid.x, mid.y, mid.z, z.x, z.y, z.z}].push_back({leaf, e, reversed, displaced});
-    }
-  }
-  std::vector<std::array<uint32_t, 4>> out;
-  std::vector<std::array<uint8_t, 4>> sideOf;
-  for (const auto& [key, sides] : borders) {
-    // A pair of one kind: a plain and a displaced patch on one base border do not meet.
-    if (sides.size() != 2 || sides[0].leaf == sides[1].leaf || sides[0].displaced != sides[1].displaced) continue;
-    if (out.empty()) {
-      out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
-      sideOf.assign(leaves.size(), {0, 0, 0, 0});
-    }
-    for (int s = 0; s < 2; ++s) {
-      const Side& me = sides[size_t(s)];
-      const Side& other = sides[size_t(1 - s)];
-      out[me.leaf][size_t(me.e)] = other.leaf;
-      sideOf[me.leaf][size_t(me.e)] = uint8_t(other.e | (me.reversed != other.reversed ? kReversedSeam : 0) |
-                                              (me.displaced ? kDisplacedSeam : 0));
-    }
-  }
-  // Free borders, found in parallel (a generated leaf's patch is made for it and dropped):
-  // bit e of freeBorders[leaf] for border e.
-  std::vector<uint8_t> freeBorders(leaves.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 256), [&](const auto& r) {
-    for (size_t leaf = r.begin(); leaf != r.end(); ++leaf) {
-      if (!leaves.facts(leaf).borderClosure) continue;
-      const PatchPtr patch = leaves.patch(leaf);
-      const Patch& p = *patch;
-      for (int e = 0; e < 4; ++e) {
-        if (!out.empty() && out[leaf][e] != kNoLeaf) continue;
-        const float* c = corner[e];
-        Box3 border;
-        for (int sample = 0; sample < p.timeSamples(); ++sample)
-          border.extend(p.boundsOverAt(sample, c[0], c[2], c[1], c[3]));
-        if (!top.anyOtherLeafMeets(border, uint32_t(leaf))) freeBorders[leaf] |= uint8_t(1u << e);
-      }
-    }
-  });
-  for (uint32_t leaf = 0; leaf < leaves.size(); ++leaf)
-    for (int e = 0; e < 4; ++e) {
-      if (!(freeBorders[leaf] >> e & 1u)) continue;
-      if (out.empty()) {
-        out.assign(leaves.size(), {kNoLeaf, kNoLeaf, kNoLeaf, kNoLeaf});
-        sideOf.assign(leaves.size(), {0, 0, 0, 0});
-      }
-      out[leaf][e] = kFreeBorder;
-    }
-  if (sideOut) *sideOut = std::move(sideOf);
-  return out;
-}
-
-bool Tracer::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
+bool SortedEngine::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
   float exit;
   const Box3& box = leafBox_[leaf];
   return intersectBox(q, box.lo, box.hi, 0.0f, kInf, entry, exit);
 }
 
-float Tracer::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+float SortedEngine::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
   float entry;
   return crossesLeafBox(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir), leaf, entry) ? entry : 0.0f;
 }
 
-void Tracer::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
-                                       BottomQuery& query) const {
-  if (borderNeighbour_.empty()) return;
-  const RayBoxQuery q(b.ray[i].org, b.ray[i].dir);
-  for (int e = 0; e < 4; ++e) {
-    const uint32_t nb = borderNeighbour_[leaf][e];
-    if (nb == kFreeBorder) {
-      query.skipBorders |= uint8_t(1u << e);
-      continue;
-    }
-    if (nb == kNoLeaf || nb == b.ray[i].originLeaf || nb == b.ray[i].ignoreLeaf) continue;
-    float entry;
-    if (!crossesLeafBox(q, nb, entry)) continue;
-    const int other = levelFor(b, i, nb, entry);  // as the neighbour's own runs compute it
-    if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
-      if (other <= level) query.skipBorders |= uint8_t(1u << e);
-    } else if (other == level && level <= BottomQuery::kMaxThinLevel) {
-      const double gap = seamGap(leaf, patch, e, level);
-      if (!std::isfinite(gap)) continue;  // a vertex that is not finite: the full region stays
-      query.thinBorders |= uint8_t(1u << e);
-      query.thinRadius[e] = gap;
-    }
-  }
-}
-
-namespace {
-// The parameters of the point at t along border e (DiceBuffer's numbering).
-std::pair<float, float> borderPoint(int e, float t) {
-  switch (e) {
-    case 0: return {t, 0.0f};
-    case 1: return {1.0f, t};
-    case 2: return {t, 1.0f};
-    default: return {0.0f, t};
-  }
-}
-}  // namespace
-
-double Tracer::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
-  SeamGapMemo& memo = seamGapMemo_.local();
-  if (memo.leaf != leaf) {
-    memo.leaf = leaf;
-    memo.known = 0;
-  }
-  const uint32_t bit = 1u << (e * 8 + k);
-  if (memo.known & bit) return memo.gap[e][k];
-  const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
-  double gap;
-  const bool cached = settings_.borderBoundEntries > 0;
-  if (!(cached && borderBounds_.find(key, gap))) {
-    gap = measuredSeamGap(leaf, patch, e, k);
-    if (cached) borderBounds_.insert(key, gap);
-  }
-  memo.gap[e][k] = gap;
-  memo.known |= bit;
-  return gap;
-}
-
-double Tracer::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
-  const uint32_t nb = borderNeighbour_[leaf][size_t(e)];
-  const uint8_t side = borderSide_[leaf][size_t(e)];
-  const int eb = side & 3;
-  const bool reversed = (side & kReversedSeam) != 0;
-  const PatchPtr other = leaves_.patch(nb);
-  const uint32_t n = 1u << k;
-  double worst = 0;
-  for (uint32_t v = 0; v <= n; ++v) {
-    const float t = float(v) / float(n), tb = reversed ? float(n - v) / float(n) : t;  // exact: n is a power of two
-    const auto [u0, v0] = borderPoint(e, t);
-    const auto [u1, v1] = borderPoint(eb, tb);
-    const Vec3 a = patch.evaluate(u0, v0).p, c = other->evaluate(u1, v1).p;
-    const double dx = double(a.x) - c.x, dy = double(a.y) - c.y, dz = double(a.z) - c.z;
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    worst = d2 > worst || std::isnan(d2) ? d2 : worst;  // a NaN stays: the caller keeps the full region
-  }
-  return std::sqrt(worst) * (1.0 + 1e-9);  // the rounding of the sum and the root (double, on float inputs)
-}
-
-size_t Tracer::diceBufferBytes() const {
+size_t SortedEngine::diceBufferBytes() const {
   size_t b = 0;
   for (const auto& d : dice_) if (d) b += d->bytesAllocated();
   return b;
 }
 
-EngineStats Tracer::engineStats() const {
+EngineStats SortedEngine::engineStats() const {
   EngineStats s;
   s.name = "rayes";
   s.fixedBytes = fixedBytes();
@@ -264,13 +76,13 @@ EngineStats Tracer::engineStats() const {
   return s;
 }
 
-DiceBuffer& Tracer::localDiceBuffer() {
+DiceBuffer& SortedEngine::localDiceBuffer() {
   auto& d = dice_.local();
   if (!d) d = std::make_unique<DiceBuffer>(settings_.maxLod);
   return *d;
 }
 
-int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
+int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry) const {
   int level;
   if (settings_.lod == LodRule::Fixed) {
     level = biasedLevel(settings_.maxLod, settings_.lodBias, settings_.maxLod);
@@ -285,7 +97,7 @@ int Tracer::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float entry
   return level;
 }
 
-void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   const size_t n = batch.size();
   resumeEntry_.assign(n, -kInf);
   resumeLeaf_.assign(n, 0);
@@ -305,8 +117,8 @@ void Tracer::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
 
 // Bottom level for one candidate slot: the ray against the diced leaf at the ray's level (and
 // its time, on a moving leaf), a hit offered to the ray.
-void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
-                           int m, float entry) {
+void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf, const Patch& patch,
+                                 int m, float entry) {
   const uint32_t i = rayOfSlot(s);
   // What another leaf of this iteration already offered the ray: a hit this leaf cannot beat
   // makes its intersection moot (see offerHit).
@@ -343,7 +155,7 @@ void Tracer::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint
 // offers first. The lock is per ray and held for a compare and a copy, so a waiter spins:
 // atomic_flag::wait/notify_one cost a locked add on a waiter-pool word every thread shares on
 // every offer (46 % of offerHit's samples on subdiv-creature; bench/RESULTS.md).
-void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
+void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
   std::atomic_flag& lock = hitLock_[i];
   while (lock.test_and_set(std::memory_order_acquire))
     while (lock.test(std::memory_order_relaxed)) spinPause();
@@ -359,7 +171,7 @@ void Tracer::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
 }
 
 // One iteration of the sorted pipeline per loop, in the five steps of the header comment.
-void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t capacity = cand_.capacity();
   while (!active_.empty()) {
     const size_t nActive = active_.size();
@@ -382,7 +194,7 @@ void Tracer::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& times)
 }
 
 // 1. Top level: up to N candidates per ray into its own slots.
-void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times) {
+void SortedEngine::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.toplevel);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, nNow, 256), [&](const auto& r) {
     auto& scratch = scratch_.local();
@@ -406,7 +218,7 @@ void Tracer::collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes
 }
 
 // 2. Sort the filled slots by leaf. Returns how many slots were filled.
-size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
+size_t SortedEngine::sortCandidates(size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.sort);
   std::vector<uint32_t>& filled = sort_.order;
   filled.clear();
@@ -424,13 +236,13 @@ size_t Tracer::sortCandidates(size_t nNow, int N, TraceTimes& times) {
 // moving leaf once per time interval its rays fall in; and, in the first iteration, run the
 // leaf's queries. The cache is asked serially, in run
 // order, so its history does not depend on the thread count (rays/grid_cache.h).
-void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
+void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
   auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
-  // Each sorted slot's entry into its leaf's box (Tracer::leafEntry, as float bits), written by
-  // runLevel and read by the intersection, in the sort's scratch: free until the next sort,
-  // which left it as long as `order`.
+  // Each sorted slot's entry into its leaf's box (SortedEngine::leafEntry, as float bits),
+  // written by runLevel and read by the intersection, in the sort's scratch: free until the next
+  // sort, which left it as long as `order`.
   auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
   if (cache_.enabled()) {
@@ -501,9 +313,9 @@ void Tracer::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTime
 
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
 // changes) and dices each interval present once.
-void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
-                                    uint32_t leaf, const Patch& patch, TraceTimes& times,
-                                    DicingCounters& counters) {
+void SortedEngine::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
+                                          uint32_t leaf, const Patch& patch, TraceTimes& times,
+                                          DicingCounters& counters) {
   IntervalScratch& sc = intervals_.local();
   const int intervals = patch.timeSamples() - 1;
   sc.interval.resize(count);
@@ -530,14 +342,14 @@ void Tracer::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_
 
 // Dices `leaf` (its time interval, or static when interval < 0) at level m, the finest level of
 // `count` slots (runLevel), and intersects them all.
-void Tracer::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                              const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
-                              DicingCounters& counters) {
+void SortedEngine::diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                                    const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
+                                    DicingCounters& counters) {
   diceRun(b, dice, slots, count, leaf, patch, interval, m, times, counters);
   intersectRun(b, dice, slots, count, leaf, patch, m, entryBits, times, counters);
 }
 
-int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
+int SortedEngine::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const {
   const bool density = settings_.lod == LodRule::Density;
   int m = 0;
   if (!density || entryBits)
@@ -553,8 +365,8 @@ int Tracer::runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uin
   return m;
 }
 
-void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                     const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
+void SortedEngine::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                           const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
   {
     ScopedTimer timer(times.dice);
     if (interval < 0) dice.dice(patch, m, sharedBorders(leaf));
@@ -572,9 +384,9 @@ void Tracer::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
 // thread, so its rays are split into chunks that other threads intersect against the same, now
 // read-only, buffer; the chunk loop is isolated so this thread cannot pick up another leaf's task
 // (which would re-dice its buffer) while it waits.
-void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
-                          const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times,
-                          DicingCounters& counters) {
+void SortedEngine::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                                const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times,
+                                DicingCounters& counters) {
   auto intersectRange = [&](size_t k0, size_t k1) {
     ScopedTimer timer(times.bottom);
     for (size_t k = k0; k < k1; ++k) {
@@ -598,7 +410,7 @@ void Tracer::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* s
 // becomes their search limit for the next iteration. Returns how many of the finished rays'
 // hits lie in a border region: counted on the final hits, so the figure does not depend on
 // which leaf's intersection a thread happened to run first.
-uint64_t Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
+uint64_t SortedEngine::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow) {
   size_t kept = 0;  // compacted in place: kept <= a, so no ray is overwritten before it is read
   uint64_t borderHits = 0;
   for (size_t a = 0; a < nActive; ++a) {
@@ -617,30 +429,7 @@ uint64_t Tracer::keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nN
   return borderHits;
 }
 
-// Debug mode: every ray alone, its candidates in order, each leaf diced for that ray only at
-// that ray's level. No sorting, no sharing: the reference the sorted pipeline must match.
-void Tracer::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
-  std::atomic<uint64_t> diced{0}, micropolygons{0}, moving{0};
-  ScopedTimer timer(times.bottom);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
-    auto& scratch = scratch_.local();
-    DiceBuffer& dice = localDiceBuffer();
-    const GridSource diceForThisRay = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
-      dice.diceInterval(*patch, interval, level, sharedBorders(leaf));
-      diced.fetch_add(1, std::memory_order_relaxed);
-      micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
-      if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);
-      return dice;
-    };
-    for (size_t a = r.begin(); a != r.end(); ++a) traceRayAlone(b, active_[a], diceForThisRay, scratch);
-  });
-  stats.leavesDiced += diced.load();
-  stats.micropolygonsCreated += micropolygons.load();
-  stats.movingDicings += moving.load();
-  stats.iterations.push_back({active_.size(), 16.0, 0});
-}
-
-void Tracer::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active) {
+void SortedEngine::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active) {
   active.clear();
   for (uint32_t i = 0; i < batch.size(); ++i) {
     if (batch.ray[i].kind == RayKind::Inactive) continue;
@@ -648,46 +437,6 @@ void Tracer::activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uin
     active.push_back(i);
     ++stats.rays;
     if (batch.ray[i].kind == RayKind::Shadow) ++stats.shadowRays;
-  }
-}
-
-void Tracer::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const {
-  RayHit& best = b.hit[i];
-  float resumeEntry = -kInf;
-  uint32_t resumeLeaf = 0;
-  Candidate local[16];
-  for (;;) {
-    float next = kInf;
-    const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
-                                 next, scratch);
-    for (int j = 0; j < got; ++j) {
-      const uint32_t leaf = local[j].leaf;
-      if (leaf == b.ray[i].ignoreLeaf) continue;
-      const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
-      const int level = levelFor(b, i, leaf, entry);
-      const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
-      const TimeInterval when = timeInterval(*made, b.timeOf(i));
-      const DiceBuffer& dice = gridFor(leaf, made, when.interval, level);
-      const float limit = searchLimit(b, i, best.t);
-      BottomQuery query;
-      query.alpha = when.alpha;
-      query.closeBorders = closeBordersFor(b, i, leaf);
-      if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, query);
-      if (b.ray[i].kind == RayKind::Shadow) {
-        if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
-          best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
-          break;
-        }
-        continue;
-      }
-      GridHit h;
-      if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query) &&
-          nearerHit(keptDistance(h.t, entry), leaf, h.quad, best))
-        best = hitRecord(h, leaf, level, entry);
-    }
-    if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
-    const bool exhausted = !(next < kInf);
-    if (b.ray[i].kind == RayKind::Shadow ? (best.valid() || exhausted) : (exhausted || best.t < next)) break;
   }
 }
 

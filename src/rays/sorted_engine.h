@@ -1,4 +1,4 @@
-// START HERE for the pipeline. The Tracer traces one generation of rays (a RayBatch) through
+// START HERE for the pipeline. The SortedEngine traces one generation of rays (a RayBatch) through
 // both levels, in iterations (thesis §6.2):
 //
 //   1. toplevel   every active ray collects up to N candidate leaves, front to back, resuming
@@ -63,11 +63,11 @@
 
 namespace rayes {
 
-class Tracer : public RayEngine {
+class SortedEngine : public RayEngine {
  public:
-  // `leaves` must outlive the Tracer; a generated leaf's patch is made once per dicing and
+  // `leaves` must outlive the SortedEngine; a generated leaf's patch is made once per dicing and
   // dropped after its rays are intersected.
-  Tracer(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& settings);
+  SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& settings);
 
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
@@ -77,7 +77,7 @@ class Tracer : public RayEngine {
 
   const TraceSettings& settings() const { return settings_; }
   // The rays of `batch` to trace (kind not Inactive) into `active`, in batch order; their hits
-  // reset and counted into stats. The first step of every engine built on this Tracer.
+  // reset and counted into stats. The first step of every engine built on this SortedEngine.
   static void activeRays(RayBatch& batch, GenerationStats& stats, std::vector<uint32_t>& active);
   // Where traceRayAlone gets a leaf's grid: a DiceBuffer holding that leaf's time interval (0 for
   // a static leaf) diced at `level` or finer (the coarser levels are exact subgrids). `patch` is the
@@ -86,6 +86,7 @@ class Tracer : public RayEngine {
   // Traces ray i of `b` alone and fills b.hit[i]: its candidates front to back, each leaf at the
   // ray's own level, the same hit as the sorted pipeline (a pure function of ray, scene, maxLod).
   // Used by the debug mode (--trace-mode alone) and the CachingEngine (rays/caching_engine.h).
+  // Defined, with traceAlone, in rays/single_ray_walk.cpp.
   void traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const;
   // Per leaf and border e (DiceBuffer's numbering: v = 0, u = 1, v = 1, u = 0), the static
   // Bézier leaf across it; kFreeBorder where no other leaf's box meets the border's box (an
@@ -94,7 +95,8 @@ class Tracer : public RayEngine {
   // Empty when no leaf has a neighbour or a free border. `top` is built over the leaves' boxes.
   // Displaced Bézier leaves are paired by their bases' borders. With `sides`, per leaf and
   // border the neighbour's border (bits 0-1), whether it runs the other way (bit 2) and whether
-  // the pair is displaced (bit 3); 0 where there is no neighbour.
+  // the pair is displaced (bit 3); 0 where there is no neighbour. Defined, with
+  // bordersClosedByNeighbours and seamGap, in rays/border_neighbours.cpp.
   static constexpr uint32_t kFreeBorder = 0xfffffffeu;  // leaf ids stay below 2^31
   static constexpr uint8_t kReversedSeam = 4, kDisplacedSeam = 8;
   static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
@@ -118,7 +120,7 @@ class Tracer : public RayEngine {
   // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
   static constexpr size_t kBorderBoundsPerLeaf = 64;
   // Per ray slot: the trace state and kCandidatesPerRay candidate slots. (bytesPerRay() of a
-  // Tracer; static so the budget can be set before the Tracer exists.)
+  // SortedEngine; static so the budget can be set before the SortedEngine exists.)
   static constexpr size_t bytesPerRaySlot() {
     return bytesPerRayState() + kCandidatesPerRay * bytesPerCandidate();
   }

@@ -10,7 +10,7 @@
 #include "geometry/bilinear_patch.h"
 #include "geometry/displaced_patch.h"
 #include "geometry/displacement.h"
-#include "rays/tracer.h"
+#include "rays/sorted_engine.h"
 #include "rays/teapot_on_floor.h"
 
 namespace rayes {
@@ -20,9 +20,9 @@ constexpr int kLod = 4;
 
 struct World {
   std::vector<PatchPtr> leaves;
-  StoredLeaves source;  // the leaves, as the Tracer reads them
+  StoredLeaves source;  // the leaves, as the SortedEngine reads them
   std::vector<Box3> boxes;
-  std::vector<std::array<uint32_t, 4>> neighbours;  // Tracer::borderNeighbours
+  std::vector<std::array<uint32_t, 4>> neighbours;  // SortedEngine::borderNeighbours
   TopLevelBvh top;
   World() : leaves(test::teapotOnFloor()) {
     // And a wall behind.
@@ -30,7 +30,7 @@ struct World {
     for (const auto& l : leaves) boxes.push_back(l->bounds());
     top.build(boxes);
     source = StoredLeaves(leaves);
-    neighbours = Tracer::borderNeighbours(source, top);
+    neighbours = SortedEngine::borderNeighbours(source, top);
   }
 };
 
@@ -49,7 +49,7 @@ RayBatch randomRays(int n, bool shadow) {
   return b;
 }
 
-// Every leaf is seen at kLod here, so (Tracer::bordersClosedByNeighbours) a leaf's border
+// Every leaf is seen at kLod here, so (SortedEngine::bordersClosedByNeighbours) a leaf's border
 // regions are tested except on borders whose Bézier neighbour the ray's line reaches: equal
 // levels on both sides of a shared Bézier border leave no slit.
 template <class Leaves>
@@ -60,7 +60,7 @@ uint8_t skippedBorders(const Leaves& w, const RayBatch& b, int i, uint32_t leaf)
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = neighbours[leaf][e];
     float t0, t1;
-    if (nb == Tracer::kFreeBorder) skip |= uint8_t(1u << e);
+    if (nb == SortedEngine::kFreeBorder) skip |= uint8_t(1u << e);
     else if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir), w.boxes[nb].lo, w.boxes[nb].hi, 0.0f,
                                       std::numeric_limits<float>::infinity(), t0, t1))
       skip |= uint8_t(1u << e);
@@ -82,7 +82,7 @@ RayHit bruteForce(const Leaves& w, const RayBatch& b, int i, DiceBuffer& dice) {
     dice.dice(*w.leaves[leaf], kLod);
     GridHit h;
     BottomQuery q;
-    q.closeBorders = true;  // as the tracer does for rays that do not leave from this leaf
+    q.closeBorders = true;  // as the engine does for rays that do not leave from this leaf
     q.skipBorders = skippedBorders(w, b, i, leaf);
     if (!dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, b.ray[i].tmax, kLod, h, q)) continue;
     const float t = keptDistance(w.boxes[leaf], b, i, h.t);
@@ -103,10 +103,10 @@ GenerationStats traceAll(const Leaves& w, RayBatch& b, size_t capacity, bool sor
   s.candidateCapacity = capacity;
   s.sortByLeaf = sorted;
   s.maxCandidatesPerRay = perRay;
-  Tracer tracer(w.top, w.source, s);
+  SortedEngine engine(w.top, w.source, s);
   GenerationStats stats;
   TraceTimes times;
-  tracer.trace(b, stats, times);
+  engine.trace(b, stats, times);
   return stats;
 }
 
@@ -132,10 +132,10 @@ void expectMatchesBruteForce(size_t capacity, bool sorted) {
   }
 }
 
-TEST(Tracer, SortedPipelineEqualsBruteForce) { expectMatchesBruteForce(1 << 16, true); }
-TEST(Tracer, OneCandidateSlotPerRayStillEqualsBruteForce) { expectMatchesBruteForce(3000, true); }
-TEST(Tracer, FewerSlotsThanRaysStillEqualsBruteForce) { expectMatchesBruteForce(700, true); }
-TEST(Tracer, RaysTracedAloneEqualBruteForce) { expectMatchesBruteForce(1, false); }
+TEST(SortedEngine, SortedPipelineEqualsBruteForce) { expectMatchesBruteForce(1 << 16, true); }
+TEST(SortedEngine, OneCandidateSlotPerRayStillEqualsBruteForce) { expectMatchesBruteForce(3000, true); }
+TEST(SortedEngine, FewerSlotsThanRaysStillEqualsBruteForce) { expectMatchesBruteForce(700, true); }
+TEST(SortedEngine, RaysTracedAloneEqualBruteForce) { expectMatchesBruteForce(1, false); }
 
 // Coplanar leaves on the plane z = 0, whose boxes are flat: a hit there lies on the box's face,
 // and the watertight test's t and the rounded slab entry err in opposite directions about as
@@ -157,11 +157,11 @@ struct CoplanarLeaves {
     for (const auto& l : leaves) boxes.push_back(l->bounds());
     top.build(boxes);
     source = StoredLeaves(leaves);
-    neighbours = Tracer::borderNeighbours(source, top);
+    neighbours = SortedEngine::borderNeighbours(source, top);
   }
 };
 
-TEST(Tracer, HitsDoNotDependOnCandidatesPerIteration) {
+TEST(SortedEngine, HitsDoNotDependOnCandidatesPerIteration) {
   CoplanarLeaves w;
   const int n = 3000;
   RayBatch rays;
@@ -197,11 +197,11 @@ TEST(Tracer, HitsDoNotDependOnCandidatesPerIteration) {
   EXPECT_GT(beforeEntry, 0);  // the case the clamp exists for does occur here
 }
 
-// A border is free (Tracer::kFreeBorder: no regions, since no neighbour can leave a crack
+// A border is free (SortedEngine::kFreeBorder: no regions, since no neighbour can leave a crack
 // there) exactly when no other leaf's box meets it: a lone curved patch has four; a quad laid
 // against the middle of its v = 0 border takes that one away and leaves the other three,
 // whose boxes it does not reach.
-TEST(Tracer, BordersNoOtherLeafMeetsAreFree) {
+TEST(SortedEngine, BordersNoOtherLeafMeetsAreFree) {
   std::array<Vec3, 16> cp;
   for (int j = 0; j < 4; ++j)
     for (int i = 0; i < 4; ++i) cp[j * 4 + i] = {i / 3.0f, j / 3.0f, (i % 3 != 0 && j % 3 != 0) ? 0.5f : 0.0f};
@@ -211,9 +211,9 @@ TEST(Tracer, BordersNoOtherLeafMeetsAreFree) {
     for (const auto& l : leaves) boxes.push_back(l->bounds());
     TopLevelBvh top;
     top.build(boxes);
-    return Tracer::borderNeighbours(StoredLeaves(leaves), top);
+    return SortedEngine::borderNeighbours(StoredLeaves(leaves), top);
   };
-  const uint32_t F = Tracer::kFreeBorder;
+  const uint32_t F = SortedEngine::kFreeBorder;
   ASSERT_EQ(neighbours().size(), 1u);
   EXPECT_EQ(neighbours()[0], (std::array<uint32_t, 4>{F, F, F, F}));
   leaves.push_back(
@@ -224,10 +224,10 @@ TEST(Tracer, BordersNoOtherLeafMeetsAreFree) {
 }
 
 // Displaced Bézier leaves are paired by their bases' borders, with the neighbour's border and
-// direction (Tracer::borderNeighbours' sides): the seam's regions can then be thin where both
+// direction (SortedEngine::borderNeighbours' sides): the seam's regions can then be thin where both
 // sides are seen at one level (crack_test.cpp). A plain and a displaced patch over one base
 // border are not a pair: their border vertices are not alike.
-TEST(Tracer, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
+TEST(SortedEngine, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
   // A curved patch over [x0, x0 + 1] x [0, 1]; `flipV` runs its v the other way.
   auto base = [](float x0, bool flipV) {
     std::array<Vec3, 16> cp;
@@ -247,10 +247,10 @@ TEST(Tracer, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
     TopLevelBvh top;
     top.build(boxes);
     std::vector<std::array<uint8_t, 4>> sides;
-    auto out = Tracer::borderNeighbours(StoredLeaves(leaves), top, &sides);
+    auto out = SortedEngine::borderNeighbours(StoredLeaves(leaves), top, &sides);
     return std::make_pair(out, sides);
   };
-  const uint8_t D = Tracer::kDisplacedSeam, R = Tracer::kReversedSeam;
+  const uint8_t D = SortedEngine::kDisplacedSeam, R = SortedEngine::kReversedSeam;
   {  // u = 1 of the first against u = 0 of the second, both running up in v
     const auto [nb, sides] = pairs({std::make_shared<DisplacedPatch>(base(0, false), displacement),
                                     std::make_shared<DisplacedPatch>(base(1, false), displacement)});
@@ -277,7 +277,7 @@ TEST(Tracer, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
   }
 }
 
-TEST(Tracer, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
+TEST(SortedEngine, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
   World w;
   RayBatch b = randomRays(2000, true);
   const GenerationStats stats = traceAll(w, b, 5000, true);
@@ -293,11 +293,11 @@ TEST(Tracer, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
   EXPECT_EQ(stats.shadowRays, 2000u);
 }
 
-TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
+TEST(SortedEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   World w;
   TraceSettings s;
   s.maxLod = kLod;
-  Tracer tracer(w.top, w.source, s);
+  SortedEngine engine(w.top, w.source, s);
   RayBatch b;
   b.resize(2);
   const uint32_t wall = uint32_t(w.leaves.size() - 1);
@@ -305,7 +305,7 @@ TEST(Tracer, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   b.ray[1].kind = RayKind::Inactive;
   GenerationStats stats;
   TraceTimes times;
-  tracer.trace(b, stats, times);
+  engine.trace(b, stats, times);
   EXPECT_FALSE(b.hit[0].valid());
   EXPECT_FALSE(b.hit[1].valid());
   EXPECT_EQ(stats.rays, 1u);

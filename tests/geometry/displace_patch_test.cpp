@@ -15,62 +15,20 @@
 #include <vector>
 #include "core/vector_isa.h"
 #include "geometry/bilinear_patch.h"
-#include "dicing/dice_buffer.h"
 #include "geometry/patch_math.h"
 #include "geometry/displaced_patch.h"
+#include "support/displaced_test_shapes.h"
 #include "support/patch_test_util.h"
 
 namespace rayes {
 namespace {
 
+using test::Displaced;
 using test::Random;
 using test::sameBits;
-
-struct Shape {
-  const char* name;
-  PatchPtr patch;
-};
-
-std::vector<Shape> testShapes() {
-  const auto teapot = test::loadTeapot();
-  int pole = -1;
-  for (int k = 0; k < int(teapot.size()) && pole < 0; ++k)
-    for (int side = 0; side < 4; ++side) {
-      const auto b = test::borderControlPoints(teapot[size_t(k)], side);
-      if (b[0] == b[1] && b[1] == b[2] && b[2] == b[3]) { pole = k; break; }
-    }
-  EXPECT_GE(pole, 0);
-  return {{"teapot body", std::make_shared<BezierPatch>(teapot[0])},
-          {"teapot pole", std::make_shared<BezierPatch>(teapot[size_t(std::max(pole, 0))])},
-          {"twisted bilinear", std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{2, 0, 0.3f}, Vec3{0, 2, -0.2f}, Vec3{2, 2.2f, 0.4f})}};
-}
-
-std::shared_ptr<HeightMap> randomMap(int w, int h, uint64_t seed) {
-  Random rng(seed);
-  std::vector<float> t(size_t(w) * h);
-  for (auto& x : t) x = rng.uniform(0.0f, 1.0f);
-  return std::make_shared<HeightMap>(w, h, std::move(t));
-}
-
-struct Displaced {
-  const char* name;
-  DisplacementPtr d;
-};
-
-std::vector<Displaced> testDisplacements(float size) {
-  NoiseParams moderate;
-  moderate.amplitude = 0.1f * size;
-  moderate.frequency = 4.0f / size;
-  moderate.octaves = 5;
-  NoiseParams extreme;
-  extreme.amplitude = size;              // as large as the patch
-  extreme.frequency = 256.0f / size;     // a lattice cell per micro-quad at level 8 ...
-  extreme.octaves = 4;                   // ... and 8x finer in the last octave
-  extreme.ridged = true;
-  return {{"moderate noise", std::make_shared<NoiseDisplacement>(moderate)},
-          {"extreme noise", std::make_shared<NoiseDisplacement>(extreme)},
-          {"height map", std::make_shared<HeightMapDisplacement>(randomMap(64, 48, 7), 0.5f * size, -0.1f * size)}};
-}
+using test::Shape;
+using test::testDisplacements;
+using test::testShapes;
 
 // A parameter in [a, b]: an end, a dyadic grid point of level 8, or uniform.
 float param(Random& rng, float a, float b) {
@@ -296,24 +254,6 @@ TEST(DisplacedPatch, NormalsStayFiniteUpToAPole) {
       }
   }
   EXPECT_TRUE(diceEqualsEvaluate(patch, 6));
-}
-
-TEST(DisplacedPatch, DicedGridInsideBoundsAndDiceBufferWorks) {
-  DiceBuffer buffer(8);
-  for (const Shape& shape : testShapes()) {
-    const float size = shape.patch->bounds().longestSide();
-    for (const Displaced& disp : testDisplacements(size)) {
-      const DisplacedPatch patch(shape.patch, disp.d);
-      buffer.dice(patch, 8);
-      const Box3 b = patch.bounds();
-      for (int j = 0; j < buffer.resolution(); ++j)
-        for (int i = 0; i < buffer.resolution(); ++i) {
-          ASSERT_TRUE(b.contains(buffer.position(i, j))) << shape.name << " / " << disp.name;
-          ASSERT_TRUE(isFinite(buffer.normal(i, j)));
-        }
-      EXPECT_TRUE(b.contains(buffer.node(0, 0, 0)));
-    }
-  }
 }
 
 TEST(DisplacedPatch, FlatBaseKeepsItsBoxTightSideways) {
