@@ -49,10 +49,7 @@ Scene glossyCausticScene(double sigma, int width, int height, int spp) {
 })", "glossy-caustic.json");
   for (size_t m = 0; m < s.materials.size(); ++m)
     if (s.materials[m].type == MaterialType::Glossy) s.materials[m].sigma = float(sigma);
-  s.width = width;
-  s.height = height;
-  s.samplesPerPixel = spp;
-  return s;
+  return resized(s, width, height, spp);
 }
 
 // The mean ceiling radiance of each 4 x 3 block (row-major from -x, -y; image orientation does

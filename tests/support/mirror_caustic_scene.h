@@ -27,10 +27,7 @@ inline Scene mirrorCausticScene(int width, int height, int spp) {
   "lights": [{"type": "disk", "center": [-0.8, 0, 1.0], "normal": [1, 0, -0.4], "radius": 0.5,
               "radiance": [10, 10, 10]}]
 })", "mirror-caustic.json");
-  s.width = width;
-  s.height = height;
-  s.samplesPerPixel = spp;
-  return s;
+  return resized(s, width, height, spp);
 }
 
 // Block means (4 x 3 blocks, last: the image) of the channel average over `seeds` seeds.

@@ -12,13 +12,17 @@ namespace rayes::testing {
 
 inline std::string sourcePath(const std::string& rel) { return std::string(RAYES_SOURCE_DIR) + "/" + rel; }
 
-// The shipped teapot scene at a small resolution.
-inline Scene smallTeapot(int w = 48, int h = 36, int spp = 2) {
-  Scene s = loadScene(sourcePath("scenes/teapot.json"));
+// A scene at another resolution and sample count.
+inline Scene resized(Scene s, int w, int h, int spp) {
   s.width = w;
   s.height = h;
   s.samplesPerPixel = spp;
   return s;
+}
+
+// The shipped teapot scene at a small resolution.
+inline Scene smallTeapot(int w = 48, int h = 36, int spp = 2) {
+  return resized(loadScene(sourcePath("scenes/teapot.json")), w, h, spp);
 }
 
 inline std::vector<float> renderBeauty(const Scene& scene, const RenderOptions& options, int threads,
