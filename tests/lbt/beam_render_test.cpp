@@ -684,12 +684,9 @@ TEST(Beams, BadOptionsAreRefusedWithExitCode2AndNoOutput) {
   TempFolder tmp;
   const std::string scene = sourcePath("scenes/lbt-mirror.json");
   const std::string out = tmp.path("o.exr");
-  RunResult r = runRayes({"render", scene, "-o", out, "-q", "--res", "8x6", "--spp", "1", "--method", "lbt",
-                          "--beam-memory", "100"});
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("--beam-memory"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("one beam"), std::string::npos) << r.err;
-  EXPECT_FALSE(std::filesystem::exists(out));
+  // (A --beam-memory too small for one beam is a resource limit, exit code 3:
+  // beam_budget_render_test.cpp.)
+  RunResult r;
   for (const char* option : {"--beam-resolution", "--beam-split-depth", "--beam-area-samples", "--beam-lobe-cells",
                              "--later-gathers"}) {
     r = runRayes({"render", scene, "-o", out, "-q", "--method", "lbt", option, "-1"});
