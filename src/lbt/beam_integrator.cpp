@@ -48,6 +48,12 @@ void BeamIntegrator::traceChunk(const BeamSeeds& seeds, size_t first, const Beam
   try {
     segments = traceBeams(scene_, seeds, to, setup_.trace, stats, &budget_, &keep);
   } catch (const BeamBudgetExceeded& e) {
+    // First the range being gathered makes room (closes: its store is built and freed), then
+    // the chunk is halved.
+    if (makeRoom_ && makeRoom_()) {
+      traceChunk(seeds, first, to, use);
+      return;
+    }
     const size_t n = seeds.triangles.size();
     if (n <= 1)
       throw ResourceError("--beam-memory", "a budget of " + std::to_string(budget_.limit()) +
@@ -233,6 +239,7 @@ void BeamIntegrator::buildBeams() {
   // with them held, as its rounds will be), at most once.
   struct Restart {};
   std::unique_ptr<Range> only;
+  std::vector<std::pair<size_t, size_t>> unfit;  // ranges whose store did not fit
   const auto stream = [&] {
     std::vector<BeamSegment> segments;
     BeamCharge charge(&budget_, 0, "");
@@ -252,11 +259,16 @@ void BeamIntegrator::buildBeams() {
       full = false;
       if (!range) {
         if (!batched) throw Restart{};
-        splitRange(first, end, bs.trace);
+        unfit.push_back({first, end});  // split once the seeds are no longer held
         return;
       }
       recordRange(first, end, *range, closed, bs.trace);
       if (last && ranges_.size() == 1 && !batched) only = std::move(range);
+    };
+    makeRoom_ = [&] {
+      if (segments.empty()) return false;
+      close(false);
+      return true;
     };
     traceSeeds(bs.resolution, 0, kAllRoots, traceOptions(),
                [&](std::vector<BeamSegment>&& part, BeamCharge&& partCharge, size_t end, const BeamTraceStats& partStats) {
@@ -272,13 +284,19 @@ void BeamIntegrator::buildBeams() {
                  rangeLast = end;
                  full = charge.bytes() > budget_.left() / 3;
                });
+    makeRoom_ = nullptr;
     if (rangeLast > rangeFirst) close(ranges_.empty());
+    for (const auto& [first, last] : unfit) splitRange(first, last, bs.trace);
+    // In root order: a gather continues the previous ranges' sums in segment order.
+    std::sort(ranges_.begin(), ranges_.end());
   };
   try {
     try {
       stream();
     } catch (const Restart&) {
+      makeRoom_ = nullptr;
       ranges_.clear();
+      unfit.clear();
       bs.trace = {};
       bs.binEntries = 0;
       bs.bytes = 0;
@@ -287,6 +305,7 @@ void BeamIntegrator::buildBeams() {
       stream();
     }
   } catch (const BeamBudgetExceeded& e) {
+    makeRoom_ = nullptr;
     throw ResourceError("--beam-memory", "a budget of " + std::to_string(budget_.limit()) +
                                              " bytes cannot hold the beams' seeds and one range of them: " + e.what() +
                                              "; raise --beam-memory");

@@ -127,6 +127,7 @@ class BeamIntegrator final : public Integrator {
   std::unique_ptr<PathTracer> pt_;
   IntegratorSetup setup_;
   BeamBudget budget_;  // before everything it accounts for, so it outlives them
+  std::function<bool()> makeRoom_;  // while ranges are gathered: closes the current one (false: empty)
   size_t chunkTriangles_ = 1;  // seed triangles per chunk traced at once (lowered when one does not fit)
   BeamCharge partialCharge_;
   std::unique_ptr<Range> range_;  // the only range's store, or the one in use

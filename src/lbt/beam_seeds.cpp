@@ -13,8 +13,8 @@ constexpr uint32_t kNoVertex = 0xffffffffu;
 float gridCoord(int i, int m) { return kSeedInset + (1 - 2 * kSeedInset) * float(i) / float(m); }
 
 // A leaf's surface at the 5×5 points (0, ¼, ½, ¾, 1)², each with a neighbour a small step
-// along u and one along v (towards the inside), for the spans below. Evaluated once per leaf
-// for every light (seedBeams).
+// along u and one along v (towards the inside), for the spans below. Evaluated per leaf and
+// light, never held for every leaf (O(1) memory whatever the number of scatterers).
 constexpr int kSampleSteps = 4;
 constexpr float kRateStep = 1.0f / 1024;
 struct Samples {
@@ -155,16 +155,16 @@ void addLeafGrid(const ScattererSurface& leaf, int mu, int mv, float width, floa
 
 // Point and spot lights, and the sample points of area lights: intensity(unit direction) in W/sr.
 template <class Intensity>
-void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface> leaves,
-                   std::span<const Samples> samples, int n, Emitter& out) {
+void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface> leaves, int n, Emitter& out) {
   const double cell = 2.0 / n;
   const auto angle = [&](Vec3 a, Vec3 b) {
     const Vec3 da = a - c, db = b - c;
     return double(std::atan2(length(cross(da, db)), dot(da, db)));
   };
-  for (size_t k = 0; k < leaves.size(); ++k) {
-    if (!samples[k].finite) continue;
-    const auto [su, sv] = spansOf(samples[k], angle);
+  for (size_t k = 0; k < leaves.size() && !out.done(); ++k) {
+    const Samples samples = samplesOf(leaves[k]);
+    if (!samples.finite) continue;
+    const auto [su, sv] = spansOf(samples, angle);
     const int mu = cellsFor(su, cell, 4 * n), mv = cellsFor(sv, cell, 4 * n);
     const float spread = float(std::max(su / mu, sv / mv));
     auto corner = [&](Vec3 p, Vec3& o, Vec3& d) {
@@ -181,8 +181,7 @@ void seedFromPoint(Vec3 c, Intensity intensity, std::span<const ScattererSurface
   }
 }
 
-void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface> leaves,
-                     std::span<const Samples> samples, int n, Emitter& out) {
+void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface> leaves, int n, Emitter& out) {
   const Vec3 l = normalize(light.direction);
   Vec3 eu, ev;
   orthonormalBasis(l, eu, ev);
@@ -193,7 +192,8 @@ void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface
   };
   double u0 = 1e300, u1 = -1e300, v0 = 1e300, v1 = -1e300;
   Box3 scatterers;
-  for (const Samples& leaf : samples) {
+  for (const ScattererSurface& surface : leaves) {
+    const Samples leaf = samplesOf(surface);
     if (!leaf.finite) continue;
     for (const auto& row : leaf.p)
       for (const Vec3& p : row) {
@@ -211,9 +211,10 @@ void seedFromDistant(const DistantLight& light, std::span<const ScattererSurface
   // size. What lies between the light and that plane is found by the way back (fromAfar).
   const Vec3 center = scatterers.center();
   const float start = length(scatterers.extent());
-  for (size_t k = 0; k < leaves.size(); ++k) {
-    if (!samples[k].finite) continue;
-    const auto [su, sv] = spansOf(samples[k], across);
+  for (size_t k = 0; k < leaves.size() && !out.done(); ++k) {
+    const Samples samples = samplesOf(leaves[k]);
+    if (!samples.finite) continue;
+    const auto [su, sv] = spansOf(samples, across);
     const int mu = cellsFor(su, cell, 4 * n), mv = cellsFor(sv, cell, 4 * n);
     // Upstream of its surface point, on the plane `start` before the scatterers' centre.
     auto corner = [&](Vec3 p, Vec3& o, Vec3& d) {
@@ -288,24 +289,21 @@ void seedBeams(const BeamLights& lights, std::span<const ScattererSurface> leave
                int resolution, const size_t& chunkTriangles, size_t first, size_t last, BeamBudget* budget,
                const std::function<void(SeedChunk&&)>& sink) {
   if (leaves.empty() || resolution < 1 || first >= last) return;
-  BeamCharge held(budget, leaves.size() * sizeof(Samples), "the scatterers' samples for beam seeds");
-  std::vector<Samples> samples;
-  samples.reserve(leaves.size());
-  for (const ScattererSurface& leaf : leaves) samples.push_back(samplesOf(leaf));
+  BeamCharge held(budget, 0, "");
   Emitter out{chunkTriangles, first, last, budget, sink, {}};
   for (const PointLight& p : lights.points)
-    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, leaves, samples, resolution, out);
+    seedFromPoint(p.position, [&](Vec3) { return p.intensity; }, leaves, resolution, out);
   for (const SpotLight& s : lights.spots)
-    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, leaves, samples,
+    seedFromPoint(s.position, [&](Vec3 d) { return s.intensity * s.falloff(dot(d, s.direction)); }, leaves,
                   resolution, out);
   if (lights.areaSamples > 0 && !lights.patches.empty()) {
     const size_t k = size_t(lights.areaSamples);
     held.add(2 * lights.patches.size() * k * k * sizeof(AreaLightPoint), "the area lights' sample points");
     for (const AreaLightPoint& a : areaLightPoints(lights.patches, lights.areaSamples, sceneBounds))
       seedFromPoint(a.position, [&](Vec3 d) { return a.intensity * std::max(0.0f, dot(d, a.normal)); }, leaves,
-                    samples, resolution, out);
+                    resolution, out);
   }
-  for (const DistantLight& d : lights.distants) seedFromDistant(d, leaves, samples, resolution, out);
+  for (const DistantLight& d : lights.distants) seedFromDistant(d, leaves, resolution, out);
   out.flush();
 }
 
