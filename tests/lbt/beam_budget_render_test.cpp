@@ -9,6 +9,7 @@
 #include <cfloat>
 #include <cmath>
 #include <string>
+#include "support/beam_scenes.h"
 #include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 #include "core/error.h"
@@ -86,18 +87,7 @@ TEST(BeamBudget, ManyGlossyLeavesUnderASpotLightStayWithinTheBudget) {
 // One rect light as 12×12 sample points (each a point light seeding the mirror): the seeds are
 // streamed, not held (the case that died at 5.0 GB with --beam-area-samples 64).
 TEST(BeamBudget, ManyAreaLightSamplesStayWithinTheBudget) {
-  const Scene scene = parseScene(R"({
-      "camera": {"position": [0, -5, 0.5], "look_at": [0, 0, 2], "up": [0, 0, 1], "fov": 50},
-      "film": {"resolution": [20, 15], "spp": 1},
-      "integrator": {"max_depth": 4, "seed": 0},
-      "materials": {"mirror": {"type": "glossy", "specular": [0.9, 0.9, 0.9], "sigma": 0.0001},
-        "ceiling": {"type": "diffuse", "albedo": [0.8, 0.8, 0.8]}},
-      "shapes": [
-        {"type": "bilinear", "material": "mirror", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]},
-        {"type": "bilinear", "material": "ceiling", "quads": [[[-4, -4, 2], [4, -4, 2], [-4, 4, 2], [4, 4, 2]]]}],
-      "lights": [{"type": "rect", "corner": [-0.15, -0.15, 1], "edge_u": [0, 0.3, 0], "edge_v": [0.3, 0, 0],
-                  "radiance": [40, 40, 40]}]})",
-                                 "area.json");
+  const Scene scene = parseScene(rectLightOverMirrorJson(20, 15, 1), "area.json");
   RenderOptions whole = lbt(8);
   whole.method.beams.areaSamples = 12;
   expectWithinAQuarterBudget(scene, whole);
