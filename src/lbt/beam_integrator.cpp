@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "lbt/beam_resolution.h"
+#include "shading/material.h"
 
 namespace rayes {
 
@@ -13,13 +14,15 @@ BeamIntegrator::BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top
       options_(options), causticPaths_(causticPaths), laterGatherProbability_(laterGatherProbability),
       // Until the beams are built (and for good when none are): its bytes per path hold the
       // gathers the beams will post.
-      pt_(std::make_unique<PathTracer>(scene, PathTracer::Options{.causticPaths = causticPaths, .gathersAsLeafQueries = true})) {}
+      pt_(std::make_unique<PathTracer>(scene, PathTracer::Options{.causticPaths = causticPaths, .gathersAsLeafQueries = true})),
+      budget_(options.memoryBytes) {}
 
 BeamIntegrator::~BeamIntegrator() = default;
 
 void BeamIntegrator::prepare(const IntegratorSetup& setup) {
   setup_ = setup;
   buildBeams();
+  if (batches_) return;  // every round seeds its range again
   scatterers_.clear();  // their patches were needed for the seeds alone
   scatterers_.shrink_to_fit();
 }
@@ -34,24 +37,158 @@ BeamTraceOptions BeamIntegrator::traceOptions() const {
   return to;
 }
 
-std::vector<BeamSegment> BeamIntegrator::traceSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to,
-                                                    BeamTraceStats& stats) const {
-  return traceBeams(scene_, seeds, to, setup_.trace, stats);
+// A chunk of seeds traced under the budget: halves, quarters, ... when its beams' working set
+// does not fit (each part handed to `use` in order); one seed triangle that does not fit alone is
+// refused. Only the runs that fit are counted in `stats`.
+void BeamIntegrator::traceChunk(const BeamSeeds& seeds, size_t first, const BeamTraceOptions& to,
+                                const SegmentsUse& use) {
+  BeamCharge keep;
+  std::vector<BeamSegment> segments;
+  BeamTraceStats stats;
+  try {
+    segments = traceBeams(scene_, seeds, to, setup_.trace, stats, &budget_, &keep);
+  } catch (const BeamBudgetExceeded& e) {
+    // First the range being gathered makes room (closes: its store is built and freed), then
+    // the chunk is halved.
+    if (makeRoom_ && makeRoom_()) {
+      traceChunk(seeds, first, to, use);
+      return;
+    }
+    const size_t n = seeds.triangles.size();
+    if (n <= 1)
+      throw ResourceError("--beam-memory", "a budget of " + std::to_string(budget_.limit()) +
+                                               " bytes cannot trace one beam (seed triangle " + std::to_string(first) +
+                                               ": " + e.what() + "); raise --beam-memory or lower --beam-split-depth, "
+                                               "--beam-depth or --beam-area-samples");
+    chunkTriangles_ = std::max<size_t>(1, std::min(chunkTriangles_, n) / 2);  // the next chunks too
+    for (const auto& [a, b] : {std::pair<size_t, size_t>{0, n / 2}, std::pair<size_t, size_t>{n / 2, n}}) {
+      const BeamCharge part(&budget_, seeds.org.size() * sizeof(uint32_t) + BeamSeeds::bytesFor(seeds.org.size(), b - a),
+                            "half a chunk of beam seeds");
+      traceChunk(seeds.range(a, b), first + a, to, use);
+    }
+    return;
+  }
+  use(std::move(segments), std::move(keep), first + seeds.triangles.size(), stats);
 }
 
-std::unique_ptr<BeamStore> BeamIntegrator::traceRange(size_t first, size_t last, size_t budget,
-                                                      BeamTraceStats& stats) const {
-  std::vector<BeamSegment> segments = traceSeeds(seeds_.range(first, last), traceOptions(), stats);
-  std::vector<uint8_t> leafReceives(scene_.leafMaterial.size());
-  for (size_t l = 0; l < leafReceives.size(); ++l)
-    leafReceives[l] = isCausticScatterer(scene_.materials[scene_.leafMaterial[l]]) ? 0 : 1;
-  return std::make_unique<BeamStore>(std::move(segments), top_, leafBoxes_, budget, leafReceives,
-                                     scene_.integrator.maxDepth);
+// The seed triangles [first, last) of the render's grid traced chunk by chunk; `use` gets each
+// chunk's segments, in order, with the root after them.
+void BeamIntegrator::traceSeeds(int resolution, size_t first, size_t last, const BeamTraceOptions& to,
+                                const SegmentsUse& use) {
+  seedBeams(lights_, scatterers_, top_.bounds(), resolution, chunkTriangles_, first, last, &budget_,
+            [&](SeedChunk&& chunk) {
+              const SeedChunk held = std::move(chunk);
+              traceChunk(held.seeds, held.first, to, use);
+            });
+}
+
+std::vector<uint8_t> BeamIntegrator::leafReceives() const {
+  std::vector<uint8_t> receives(scene_.leafMaterial.size());
+  for (size_t l = 0; l < receives.size(); ++l)
+    receives[l] = isCausticScatterer(scene_.materials[scene_.leafMaterial[l]]) ? 0 : 1;
+  return receives;
+}
+
+// The store of segments already traced (their bytes on `charge`, which it then holds), or null
+// when it does not fit what the budget has left.
+std::unique_ptr<BeamIntegrator::Range> BeamIntegrator::storeOf(std::vector<BeamSegment> segments, BeamCharge charge) {
+  const BeamCharge receivesBytes(&budget_, scene_.leafMaterial.size(), "the beams' receiving leaves");
+  const std::vector<uint8_t> receives = leafReceives();
+  auto range = std::make_unique<Range>();
+  range->segments = std::move(charge);
+  range->store = std::make_unique<BeamStore>(std::move(segments), top_, leafBoxes_, budget_.limit(), receives,
+                                             scene_.integrator.maxDepth, &budget_);
+  if (!range->store->fits()) return nullptr;
+  return range;
+}
+
+// Roots [first, last) traced again and stored: a range found at setup (so it fits), or a part of
+// one whose store did not fit (null again when it does not).
+std::unique_ptr<BeamIntegrator::Range> BeamIntegrator::traceRange(size_t first, size_t last, BeamTraceStats& stats) {
+  std::vector<BeamSegment> segments;
+  BeamCharge charge(&budget_, 0, "");
+  traceSeeds(stats_.resolution, first, last, traceOptions(),
+             [&](std::vector<BeamSegment>&& part, BeamCharge&& partCharge, size_t, const BeamTraceStats& partStats) {
+               appendSegments(segments, charge, std::move(part), std::move(partCharge));
+               stats.add(partStats);
+             });
+  return storeOf(std::move(segments), std::move(charge));
+}
+
+// Appends `part` to `segments` (growing its array on `charge` first: BeamBudgetExceeded when
+// the larger array does not fit beside the smaller one).
+void BeamIntegrator::appendSegments(std::vector<BeamSegment>& segments, BeamCharge& charge,
+                                    std::vector<BeamSegment>&& part, BeamCharge&& partCharge) {
+  if (segments.empty()) {
+    segments = std::move(part);
+    charge.release();
+    charge = std::move(partCharge);
+    return;
+  }
+  const size_t need = segments.size() + part.size();
+  if (need > segments.capacity()) {
+    const size_t grown = std::max(need, 2 * segments.capacity());
+    charge.add(grown * sizeof(BeamSegment), "beam segments of a range");
+    std::vector<BeamSegment> bigger;
+    bigger.reserve(grown);
+    bigger.insert(bigger.end(), segments.begin(), segments.end());
+    charge.sub(segments.capacity() * sizeof(BeamSegment));
+    segments = std::move(bigger);
+  }
+  segments.insert(segments.end(), part.begin(), part.end());
+}
+
+// The partial gathers of batches, taken when the beams turn out not to fit at once; refused
+// when the budget cannot hold them and one beam.
+void BeamIntegrator::takePartialGathers() {
+  if (partialCharge_.bytes() > 0) return;
+  const int maxDepth = scene_.integrator.maxDepth;
+  const size_t partialBytes = BeamBatches::bytesFor(setup_.pathsPerBatch, maxDepth);
+  const size_t oneBeam = BeamStore::minimumBytes(leafBoxes_.size());
+  const std::string why = " the partial gathers of a camera batch take " + std::to_string(partialBytes) + " bytes (" +
+                          std::to_string(setup_.pathsPerBatch) + " paths x " + std::to_string(std::max(maxDepth, 1)) +
+                          " bounces x " + std::to_string(sizeof(Rgb)) + " B) besides " + std::to_string(oneBeam) +
+                          " for one beam; raise --beam-memory or lower --ray-memory";
+  if (partialBytes + oneBeam > budget_.left())
+    throw ResourceError("--beam-memory", "a budget of " + std::to_string(options_.memoryBytes) +
+                                             " bytes cannot hold the beams in batches: " + std::to_string(budget_.used()) +
+                                             " bytes are in use, and" + why);
+  partialCharge_ = BeamCharge(&budget_, partialBytes, "the partial gathers of batches");
+}
+
+// Roots [first, last) whose store did not fit: stored in halves, quarters, ... each recorded as
+// a range (and checked to fit); one root whose store does not fit alone is refused.
+void BeamIntegrator::splitRange(size_t first, size_t last, BeamTraceStats& stats) {
+  const size_t mid = first + (last - first) / 2;
+  for (const auto& [a, b] : {std::pair<size_t, size_t>{first, mid}, std::pair<size_t, size_t>{mid, last}}) {
+    if (a == b) continue;
+    BeamTraceStats part;
+    std::unique_ptr<Range> range = traceRange(a, b, part);
+    if (range) {
+      recordRange(a, b, *range, part, stats);
+      continue;
+    }
+    if (b - a == 1)
+      throw ResourceError("--beam-memory", "a budget of " + std::to_string(budget_.limit()) +
+                                               " bytes cannot hold the store of one beam (seed triangle " +
+                                               std::to_string(a) + ") besides the partial gathers of a camera batch; "
+                                               "raise --beam-memory");
+    splitRange(a, b, stats);
+  }
+}
+
+void BeamIntegrator::recordRange(size_t first, size_t last, const Range& range, const BeamTraceStats& trace,
+                                 BeamTraceStats& stats) {
+  stats.add(trace);
+  stats_.binEntries += range.store->binEntries();
+  stats_.bytes = std::max(stats_.bytes, range.store->bytes());
+  segmentCount_ += range.store->segmentCount();
+  if (range.store->segmentCount() > 0) ranges_.push_back({first, last});
 }
 
 // --beam-resolution, or the glossy rule's coarser grid (lbt/beam_resolution.h) from a probe of
-// one bounce without splits at a resolution of at most kProbe.
-int BeamIntegrator::chooseResolution() const {
+// one bounce without splits at a resolution of at most kProbe (its widths on the budget).
+int BeamIntegrator::chooseResolution() {
   constexpr int kProbe = 16;
   const int requested = options_.resolution;
   if (!(options_.lobeCells > 0)) return requested;
@@ -59,10 +196,16 @@ int BeamIntegrator::chooseResolution() const {
   BeamTraceOptions to = traceOptions();
   to.maxDepth = 1;
   to.splitDepth = 0;
-  BeamTraceStats probeStats;  // not the render's beams: not counted
-  const std::vector<BeamSegment> probe =
-      traceSeeds(seedBeams(lights_, scatterers_, top_.bounds(), probeResolution), to, probeStats);
-  const int lobe = lobeResolution(probe, probeResolution, options_.lobeCells, to.far);
+  std::vector<double> widths;  // the probe is not the render's beams: its stats are not counted
+  BeamCharge widthBytes(&budget_, 0, "");
+  size_t specular = 0;
+  traceSeeds(probeResolution, 0, kAllRoots, to,
+             [&](std::vector<BeamSegment>&& segments, BeamCharge&&, size_t, const BeamTraceStats&) {
+               widthBytes.add(segments.size() * sizeof(double), "the glossy probe's widths");
+               widths.reserve(widths.size() + segments.size());
+               addProbeWidths(segments, to.far, widths, specular);
+             });
+  const int lobe = lobeResolution(widths, specular, probeResolution, options_.lobeCells);
   return lobe > 0 ? std::min(requested, lobe) : requested;
 }
 
@@ -75,77 +218,130 @@ void BeamIntegrator::buildBeams() {
                                        "traced, lbt is the path tracer";
     return;
   }
-  bs.resolution = chooseResolution();
-  seeds_ = seedBeams(lights_, scatterers_, top_.bounds(), bs.resolution);
-  // The ranges of seed triangles whose beams fit the budget: all of them if they do, else
-  // halves, quarters, ... (a tried range's segments are held once before they are binned).
-  // Batches keep a partial gather per (path, bounce) of a camera batch (BeamBatches): those
-  // share the budget, so every range's store gets what they leave.
-  const size_t roots = seeds_.triangles.size();
-  const int maxDepth = scene_.integrator.maxDepth;
-  const size_t partialBytes = BeamBatches::bytesFor(setup_.pathsPerBatch, maxDepth);
-  size_t budget = options_.memoryBytes;  // one store of every beam: no partial gathers
-  size_t count = roots, segments = 0;
-  for (size_t first = 0; first < roots; first += count) {
-    count = std::min(count, roots - first);
-    for (;;) {
-      BeamTraceStats trial;
-      std::unique_ptr<BeamStore> store = traceRange(first, first + count, budget, trial);
-      if (count == roots && !store->fits()) {
-        const size_t oneBeam = BeamStore::minimumBytes(leafBoxes_.size());
-        if (partialBytes + oneBeam > options_.memoryBytes)
-          throw InputError("--beam-memory", "",
-                           "a budget of " + std::to_string(options_.memoryBytes) +
-                               " bytes cannot hold the beams in batches: the partial gathers of a camera batch take " +
-                               std::to_string(partialBytes) + " bytes (" + std::to_string(setup_.pathsPerBatch) +
-                               " paths x " + std::to_string(std::max(maxDepth, 1)) + " bounces x " +
-                               std::to_string(sizeof(Rgb)) + " B) besides " + std::to_string(oneBeam) +
-                               " for one beam; raise --beam-memory or lower --ray-memory");
-        budget = options_.memoryBytes - partialBytes;  // what did not fit the whole budget fits no less
+  // Chunks of seed triangles whose beams' working set is about a quarter of the budget at
+  // about 1 KiB per triangle (seeds, corner rays, a generation's scatterings, segments); halved
+  // when one does not fit (traceChunk).
+  chunkTriangles_ = std::clamp<size_t>(options_.memoryBytes / 4096, 1, size_t(1) << 20);
+  try {
+    bs.resolution = chooseResolution();
+  } catch (const BeamBudgetExceeded& e) {
+    throw ResourceError("--beam-memory", std::string("the glossy resolution rule's probe does not fit: ") + e.what() +
+                                             "; raise --beam-memory or set --beam-lobe-cells 0");
+  }
+  // The ranges of seed triangles whose beams fit the budget: segments gathered chunk by chunk
+  // into a range while they take at most a quarter of what the budget has (the store's bins,
+  // envelopes and binning need the rest), then the range's store is built to check that it
+  // fits (kept when it is the only range). A range that cannot take the next chunk closes
+  // before it. When the beams turn out not to fit at once, the partial gathers of batches
+  // (12 B per camera path and bounce) are taken from the budget first.
+  // Batches are known to be needed only when a range closes before the last seed: then the
+  // light phase starts again with the partial gathers taken first (so every range is built
+  // with them held, as its rounds will be), at most once.
+  struct Restart {};
+  std::unique_ptr<Range> only;
+  std::vector<std::pair<size_t, size_t>> unfit;  // ranges whose store did not fit
+  const auto stream = [&] {
+    std::vector<BeamSegment> segments;
+    BeamCharge charge(&budget_, 0, "");
+    BeamTraceStats trace;
+    size_t rangeFirst = 0, rangeLast = 0;
+    bool full = false;
+    const auto close = [&](bool last) {
+      const bool batched = partialCharge_.bytes() > 0;
+      if (!last && !batched) throw Restart{};
+      const size_t first = rangeFirst, end = rangeLast;
+      const BeamTraceStats closed = trace;
+      trace = {};
+      std::unique_ptr<Range> range = storeOf(std::move(segments), std::move(charge));
+      segments = {};
+      charge = BeamCharge(&budget_, 0, "");
+      rangeFirst = rangeLast;
+      full = false;
+      if (!range) {
+        if (!batched) throw Restart{};
+        unfit.push_back({first, end});  // split once the seeds are no longer held
+        return;
       }
-      if (store->fits()) {
-        bs.trace.add(trial);  // a trial that did not fit is not counted
-        bs.binEntries += store->binEntries();
-        bs.bytes = std::max(bs.bytes, store->bytes());
-        segments += store->segmentCount();
-        ranges_.push_back({first, first + count});
-        store_ = std::move(store);
-        break;
-      }
-      if (count == 1)
-        throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) +
-                         " bytes cannot hold one beam (seed triangle " + std::to_string(first) + " needs " +
-                         std::to_string(store->neededBytes()) + " bytes for its segments and bins" +
-                         (budget < options_.memoryBytes ? " besides the partial gathers of a camera batch)" : ")"));
-      count = (count + 1) / 2;
+      recordRange(first, end, *range, closed, bs.trace);
+      if (last && ranges_.size() == 1 && !batched) only = std::move(range);
+    };
+    makeRoom_ = [&] {
+      if (segments.empty()) return false;
+      close(false);
+      return true;
+    };
+    traceSeeds(bs.resolution, 0, kAllRoots, traceOptions(),
+               [&](std::vector<BeamSegment>&& part, BeamCharge&& partCharge, size_t end, const BeamTraceStats& partStats) {
+                 if (full) close(false);
+                 try {
+                   appendSegments(segments, charge, std::move(part), std::move(partCharge));
+                 } catch (const BeamBudgetExceeded&) {
+                   // part (and its bytes) came back untouched: it starts the next range.
+                   close(false);
+                   appendSegments(segments, charge, std::move(part), std::move(partCharge));
+                 }
+                 trace.add(partStats);
+                 rangeLast = end;
+                 full = charge.bytes() > budget_.left() / 3;
+               });
+    makeRoom_ = nullptr;
+    if (rangeLast > rangeFirst) close(ranges_.empty());
+    for (const auto& [first, last] : unfit) splitRange(first, last, bs.trace);
+    // In root order: a gather continues the previous ranges' sums in segment order.
+    std::sort(ranges_.begin(), ranges_.end());
+  };
+  try {
+    try {
+      stream();
+    } catch (const Restart&) {
+      makeRoom_ = nullptr;
+      ranges_.clear();
+      unfit.clear();
+      bs.trace = {};
+      bs.binEntries = 0;
+      bs.bytes = 0;
+      segmentCount_ = 0;
+      takePartialGathers();
+      stream();
     }
+  } catch (const BeamBudgetExceeded& e) {
+    makeRoom_ = nullptr;
+    throw ResourceError("--beam-memory", "a budget of " + std::to_string(budget_.limit()) +
+                                             " bytes cannot hold the beams' seeds and one range of them: " + e.what() +
+                                             "; raise --beam-memory");
   }
   bs.batches = ranges_.size();
-  storeBudget_ = budget;
   bs.seconds = secondsSince(t0);
-  if (segments == 0) {
+  if (segmentCount_ == 0) {
     bs.skipped = "no beam reached past a specular or glossy surface: lbt is the path tracer";
-    store_.reset();
     ranges_.clear();
+    partialCharge_.release();
+    bs.peakBytes = budget_.peak();
     return;
   }
   // The path tracer leaves caustic paths to the beams (same bytes per path as the one the
   // budget was computed with).
-  const CausticRadiance* caustics = store_.get();
-  if (ranges_.size() > 1) {
-    store_.reset();
+  const CausticRadiance* caustics = nullptr;
+  const int maxDepth = scene_.integrator.maxDepth;
+  if (only) {
+    range_ = std::move(only);
+    caustics = range_->store.get();
+    partialCharge_.release();
+  } else {
+    takePartialGathers();
     batches_ = std::make_unique<BeamBatches>(setup_.pathsPerBatch, maxDepth);
     caustics = batches_.get();
     bs.bytes += batches_->bytes();
   }
+  bs.peakBytes = budget_.peak();
   // Environment lights get no beams: their caustic paths stay with the path tracer (with
   // --caustic-paths only, those paths alone besides the beams).
   const uint8_t covered = kPointLight | kSpotLight | kDistantLight | (lights_.patches.empty() ? 0 : kPatchLight);
-  const bool only = causticPaths_ == CausticPaths::Only;
+  const bool onlyCaustics = causticPaths_ == CausticPaths::Only;
   pt_ = std::make_unique<PathTracer>(
-      scene_, PathTracer::Options{.causticPaths = only ? CausticPaths::Only : CausticPaths::Without,
+      scene_, PathTracer::Options{.causticPaths = onlyCaustics ? CausticPaths::Only : CausticPaths::Without,
                                   .causticRadiance = caustics,
-                                  .causticLights = only ? uint8_t(kAllLights & ~covered) : covered,
+                                  .causticLights = onlyCaustics ? uint8_t(kAllLights & ~covered) : covered,
                                   .gathersAsLeafQueries = !options_.gathersInShading,
                                   .laterGatherProbability = laterGatherProbability_});
   bs.built = true;
@@ -155,16 +351,19 @@ void BeamIntegrator::startRound(uint32_t round) {
   if (!batches_) return;
   // Beams in batches: the camera paths once per range of beams, the film from the last.
   if (round == 0) batches_->startPaths();
-  store_.reset();
+  batches_->use(nullptr);
+  range_.reset();
   BeamTraceStats again;
-  store_ = traceRange(ranges_[round].first, ranges_[round].second, storeBudget_, again);
-  batches_->use(store_.get());
+  range_ = traceRange(ranges_[round].first, ranges_[round].second, again);
+  if (!range_) throw std::logic_error("a range of beams that fit at setup no longer fits --beam-memory");
+  stats_.peakBytes = std::max(stats_.peakBytes, budget_.peak());
+  batches_->use(range_->store.get());
 }
 
 void BeamIntegrator::finish(Film& film, ShadeStats& stats) {
   if (batches_) {
     batches_->use(nullptr);
-    store_.reset();
+    range_.reset();
   }
   pt_->finish(film, stats);
 }
@@ -180,6 +379,7 @@ MethodStats BeamIntegrator::methodStats() const {
   m.add("segments", b.trace.segments);
   m.add("bin_entries", b.binEntries);
   m.add("bytes", uint64_t(b.bytes));
+  m.add("peak_bytes", uint64_t(b.peakBytes));
   m.add("seconds", b.seconds);
   m.add("resolution", int64_t(b.resolution));
   m.add("requested_resolution", int64_t(options_.resolution));

@@ -15,16 +15,22 @@
 //                 triangles (startRound traces that range again), and only the last round's
 //                 film is added: bit-identical to one store (lbt/beam_batches.h).
 //
-// Memory: --beam-memory bounds the segments and bins of one store plus, in batches, the
-// partial gathers (12 B per camera path and bounce); what cannot fit is refused with
-// InputError naming --beam-memory.
+// Memory: --beam-memory is one account (lbt/beam_budget.h) every byte of the beams is taken
+// from before it is allocated: the probe's widths, the seeds (streamed in chunks of grid rows),
+// the tracer's working set and split children (a chunk that does not fit is traced in halves),
+// a range's segments, its store's bins, envelopes and binning, and in batches the partial
+// gathers (12 B per camera path and bounce). What cannot fit even for one seed triangle is
+// refused with ResourceError naming --beam-memory (exit code 3). The stats' peak_bytes is the
+// account's high-water mark.
 #pragma once
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
 #include <vector>
 #include "core/box.h"
 #include "lbt/beam_batches.h"
+#include "lbt/beam_budget.h"
 #include "lbt/beam_seeds.h"
 #include "lbt/beam_store.h"
 #include "lbt/beam_tracer.h"
@@ -55,6 +61,7 @@ struct BeamRenderStats {
   BeamTraceStats trace;
   uint64_t binEntries = 0;
   size_t bytes = 0;               // the largest batch's segments and bins
+  size_t peakBytes = 0;           // the most the beams held at once (lbt/beam_budget.h): ≤ --beam-memory
   size_t batches = 0;             // ranges of seed triangles processed one after another
   int resolution = 0;             // the grid used: --beam-resolution, or the glossy rule's if coarser
   double seconds = 0;
@@ -83,14 +90,30 @@ class BeamIntegrator final : public Integrator {
 
   // The beams built by prepare() (null when none were, or when they are in batches:
   // stats().skipped says why), and what the light phase did.
-  const BeamStore* beams() const { return store_.get(); }
+  const BeamStore* beams() const { return range_ && !batches_ ? range_->store.get() : nullptr; }
   const BeamRenderStats& stats() const { return stats_; }
 
  private:
+  // A range's store and the bytes of its segments (its other bytes are the store's own).
+  struct Range {
+    BeamCharge segments;
+    std::unique_ptr<BeamStore> store;
+  };
+  using SegmentsUse = std::function<void(std::vector<BeamSegment>&&, BeamCharge&&, size_t end, const BeamTraceStats&)>;
+  static constexpr size_t kAllRoots = ~size_t(0);
+
   BeamTraceOptions traceOptions() const;
-  std::vector<BeamSegment> traceSeeds(const BeamSeeds& seeds, const BeamTraceOptions& to, BeamTraceStats& stats) const;
-  std::unique_ptr<BeamStore> traceRange(size_t first, size_t last, size_t budget, BeamTraceStats& stats) const;
-  int chooseResolution() const;
+  void traceChunk(const BeamSeeds& seeds, size_t first, const BeamTraceOptions& to, const SegmentsUse& use);
+  void traceSeeds(int resolution, size_t first, size_t last, const BeamTraceOptions& to, const SegmentsUse& use);
+  std::vector<uint8_t> leafReceives() const;
+  std::unique_ptr<Range> storeOf(std::vector<BeamSegment> segments, BeamCharge charge);
+  std::unique_ptr<Range> traceRange(size_t first, size_t last, BeamTraceStats& stats);
+  static void appendSegments(std::vector<BeamSegment>& segments, BeamCharge& charge, std::vector<BeamSegment>&& part,
+                             BeamCharge&& partCharge);
+  void takePartialGathers();
+  void splitRange(size_t first, size_t last, BeamTraceStats& stats);
+  void recordRange(size_t first, size_t last, const Range& range, const BeamTraceStats& trace, BeamTraceStats& stats);
+  int chooseResolution();
   void buildBeams();
 
   const ShadingScene& scene_;
@@ -103,10 +126,13 @@ class BeamIntegrator final : public Integrator {
   float laterGatherProbability_;
   std::unique_ptr<PathTracer> pt_;
   IntegratorSetup setup_;
-  BeamSeeds seeds_;
-  std::unique_ptr<BeamStore> store_;  // the only range's, or the one in use
-  std::vector<std::pair<size_t, size_t>> ranges_;
-  size_t storeBudget_ = 0;  // each range's store: --beam-memory less the partial gathers when batched
+  BeamBudget budget_;  // before everything it accounts for, so it outlives them
+  std::function<bool()> makeRoom_;  // while ranges are gathered: closes the current one (false: empty)
+  size_t chunkTriangles_ = 1;  // seed triangles per chunk traced at once (lowered when one does not fit)
+  BeamCharge partialCharge_;
+  std::unique_ptr<Range> range_;  // the only range's store, or the one in use
+  std::vector<std::pair<size_t, size_t>> ranges_;  // seed triangles [first, last) of each range
+  uint64_t segmentCount_ = 0;
   std::unique_ptr<BeamBatches> batches_;
   BeamRenderStats stats_;
 };

@@ -18,9 +18,7 @@ double footprintAngle(const BeamSegment& s, float far) {
   return mean > 0 && std::isfinite(angle) ? angle : 0;
 }
 
-int lobeResolution(std::span<const BeamSegment> probe, int probeResolution, double cellsPerSigma, float far) {
-  std::vector<double> widths;  // in units of σ
-  size_t specular = 0;
+void addProbeWidths(std::span<const BeamSegment> probe, float far, std::vector<double>& widths, size_t& specular) {
   for (const BeamSegment& s : probe) {
     if (s.scatterings != 1) continue;
     if (!(s.sigma > 0)) {
@@ -30,11 +28,21 @@ int lobeResolution(std::span<const BeamSegment> probe, int probeResolution, doub
     const double w = footprintAngle(s, far);
     if (w > 0) widths.push_back(w / s.sigma);
   }
+}
+
+int lobeResolution(std::vector<double>& widths, size_t specular, int probeResolution, double cellsPerSigma) {
   if (widths.empty() || widths.size() < specular || !(cellsPerSigma > 0)) return 0;
-  const auto mid = widths.begin() + widths.size() / 2;
+  const auto mid = widths.begin() + int64_t(widths.size() / 2);
   std::nth_element(widths.begin(), mid, widths.end());
   const double n = std::ceil(probeResolution * *mid / cellsPerSigma);
   return int(std::clamp(n, 1.0, 4096.0));
+}
+
+int lobeResolution(std::span<const BeamSegment> probe, int probeResolution, double cellsPerSigma, float far) {
+  std::vector<double> widths;  // in units of σ
+  size_t specular = 0;
+  addProbeWidths(probe, far, widths, specular);
+  return lobeResolution(widths, specular, probeResolution, cellsPerSigma);
 }
 
 }  // namespace rayes

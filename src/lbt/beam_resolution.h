@@ -16,6 +16,7 @@
 // visibly faceted).
 #pragma once
 #include <span>
+#include <vector>
 #include "lbt/beam_segment.h"
 
 namespace rayes {
@@ -27,5 +28,9 @@ double footprintAngle(const BeamSegment& s, float far);
 // The grid resolution of the rule from a probe traced at probeResolution (its segments after one
 // scattering, without splits), at least 1; 0: the rule does not apply (see above).
 int lobeResolution(std::span<const BeamSegment> probe, int probeResolution, double cellsPerSigma, float far);
+// The same in two steps, for a probe traced in chunks: each chunk's widths (in units of σ) and
+// specular first-bounce segments added to `widths` and `specular`, then the rule from them all.
+void addProbeWidths(std::span<const BeamSegment> probe, float far, std::vector<double>& widths, size_t& specular);
+int lobeResolution(std::vector<double>& widths, size_t specular, int probeResolution, double cellsPerSigma);
 
 }  // namespace rayes

@@ -8,9 +8,13 @@
 //     m = ceil(angle the leaf spans from the light along u or v / (2/N)), N the resolution (2/N:
 //     the cell of an N×N cube-map face at its centre). Φ = I·Ω, Ω the solid angle of the
 //     triangle of corner directions (exact), I at its central direction (a spot's falloff there).
-//   Distant lights: parallel corner rays from outside the scene; cells of side about
-//     (extent of the scatterers' projection)/N; Φ = E·(the triangle's area across the light).
-//     A sun disk is treated as its central direction.
+//   Distant lights: parallel corner rays aimed at the scatterers, not at the scene: they start
+//     on the plane across the light twice the scatterers' bounding radius before their centre
+//     (so a small mirror in a huge scene gets the same beams, and the same float precision,
+//     as in a small one), and each such corner ray's way back toward the light is traced too
+//     (`fromAfar`: an occluder there takes it off its aim, as a surface in front would);
+//     cells of side about (extent of the scatterers' projection)/N; Φ = E·(the triangle's area
+//     across the light). A sun disk is treated as its central direction.
 //   Area lights (emissive patches): k×k points at the centres of a grid over the patch's (u, v)
 //     square, each a point light with a cosine lobe, I(ω) = L·A_i·max(0, cos(n, ω)) with A_i its
 //     stratum's area (exact for parallelograms, the midpoint rule otherwise), so Σ power = π·L·A.
@@ -31,6 +35,7 @@
 #include <span>
 #include <vector>
 #include "core/box.h"
+#include "lbt/beam_budget.h"
 #include "shading/light.h"
 
 namespace rayes {
@@ -77,6 +82,7 @@ struct BeamSeeds {
   std::vector<Vec3> org, dir;
   std::vector<float> coneWidth, coneSpread;
   std::vector<SeedAim> aim;
+  std::vector<uint8_t> fromAfar;  // 1: the way back toward the (distant) light is traced too
   // Generator triangles (indices into the corner rays) and their flux.
   std::vector<std::array<uint32_t, 3>> triangles;
   std::vector<Rgb> flux;
@@ -84,12 +90,34 @@ struct BeamSeeds {
   // The generator triangles [first, last) with the corner rays they use (in their order here),
   // so a batch of beams can be traced alone: each corner ray's path depends on itself only.
   BeamSeeds range(size_t first, size_t last) const;
+  size_t bytes() const { return bytesFor(org.size(), triangles.size()); }
+  static size_t bytesFor(size_t corners, size_t triangles) {
+    return corners * (2 * sizeof(Vec3) + 2 * sizeof(float) + sizeof(SeedAim) + sizeof(uint8_t)) +
+           triangles * (sizeof(std::array<uint32_t, 3>) + sizeof(Rgb));
+  }
+};
+
+// A chunk of the seeds: generator triangles [first, first + seeds.triangles.size()) of the whole
+// order, with the corner rays they use, and the budget's bytes for its arrays.
+struct SeedChunk {
+  BeamSeeds seeds;
+  size_t first = 0;
+  BeamCharge charge;
 };
 
 // resolution N ≥ 1 (as above); sceneBounds holds every leaf (distant lights start outside it).
 // Triangles come light by light, leaf by leaf in the order given, row by row.
 BeamSeeds seedBeams(const BeamLights& lights, std::span<const ScattererSurface> scatterers, const Box3& sceneBounds,
                     int resolution);
+// The same seeds streamed: chunks of at least chunkTriangles triangles (read at each row's end:
+// the sink may lower it for the next chunks; a chunk ends with a row
+// of a leaf's grid; the corner rays of the row it starts at are repeated in it), handed to
+// `sink` in order, only the triangles of [first, last) (others are skipped). Their bytes, the
+// leaves' samples and the area lights' points are taken from `budget` (may be null) before
+// they are allocated (BeamBudgetExceeded when they do not fit).
+void seedBeams(const BeamLights& lights, std::span<const ScattererSurface> scatterers, const Box3& sceneBounds,
+               int resolution, const size_t& chunkTriangles, size_t first, size_t last, BeamBudget* budget,
+               const std::function<void(SeedChunk&&)>& sink);
 
 // Solid angle of the spherical triangle of unit directions a, b, c (Van Oosterom–Strackee);
 // 0 for degenerate triangles, never negative.

@@ -1,6 +1,7 @@
 #include "lbt/beam_store.h"
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -122,29 +123,63 @@ bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
 }
 
 BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
-                     size_t budget, std::span<const uint8_t> receives, int maxDepth)
+                     size_t budget, std::span<const uint8_t> receives, int maxDepth, BeamBudget* account)
     : segments_(std::move(segments)), maxDepth_(maxDepth) {
   const size_t leaves = top.leafCount();
   if (!segments_.empty() && minimumBytes(leaves) > budget)
-    throw InputError("--beam-memory", "", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
-                     std::to_string(minimumBytes(leaves)) + " bytes with the per-leaf grids)");
-  // Each segment's box and leaves.
-  std::vector<Box3> boxes(segments_.size());
-  std::vector<std::vector<uint32_t>> hits(segments_.size());
-  tbb::enumerable_thread_specific<TraversalScratch> scratch;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
-    TraversalScratch& s = scratch.local();
+    throw ResourceError("--beam-memory", "a budget of " + std::to_string(budget) + " bytes cannot hold one beam (" +
+                                             std::to_string(minimumBytes(leaves)) + " bytes with the per-leaf grids)");
+  // Every array below is taken from the account before it is made; when one does not fit, the
+  // store keeps nothing (fits() false), as when its bytes exceed the budget.
+  BeamCharge transient(account, 0, "");
+  charge_ = BeamCharge(account, 0, "");
+  try {
+    build(top, leafBoxes, budget, receives, transient);
+  } catch (const BeamBudgetExceeded&) {
+    if (needed_ == 0) needed_ = budget + 1;  // what it would need is unknown: more than there is
+    segments_ = {};
+    grids_ = {};
+    offsets_ = {};
+    envelopes_ = {};
+    entries_ = {};
+    charge_.release();
+  }
+}
+
+// The leaves a segment's box overlaps that receive gathers, in increasing order, once each.
+void BeamStore::leavesOf(const BeamSegment& s, const TopLevelBvh& top, std::span<const uint8_t> receives,
+                         std::vector<uint32_t>& out, TraversalScratch& scratch) {
+  out.clear();
+  top.overlapping(beamBounds(s), out, scratch);
+  if (!receives.empty()) std::erase_if(out, [&](uint32_t l) { return l >= receives.size() || !receives[l]; });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+// Three passes over the segments, each finding its leaves again (so no per-segment lists are
+// held): how many segments reach each leaf (the grids' shapes); how many cells each segment
+// reaches (the offsets, and the bytes: checked against the budget before the bins are made);
+// each segment's cells (a flat list), then the entries in segment order.
+void BeamStore::build(const TopLevelBvh& top, std::span<const Box3> leafBoxes, size_t budget,
+                      std::span<const uint8_t> receives, BeamCharge& transient) {
+  const size_t leaves = top.leafCount(), n = segments_.size();
+  struct Scratch {
+    TraversalScratch traversal;
+    std::vector<uint32_t> leaves;
+    std::vector<uint64_t> cells;
+  };
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  // Each leaf's grid, sized by how many segments reach it.
+  transient.add(leaves * sizeof(uint64_t), "the beams' per-leaf counts");
+  std::vector<uint64_t> perLeaf(leaves, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const auto& r) {
+    Scratch& sc = scratch.local();
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      boxes[i] = beamBounds(segments_[i]);
-      top.overlapping(boxes[i], hits[i], s);
+      leavesOf(segments_[i], top, receives, sc.leaves, sc.traversal);
+      for (uint32_t l : sc.leaves) std::atomic_ref<uint64_t>(perLeaf[l]).fetch_add(1, std::memory_order_relaxed);
     }
   });
-  // Each leaf's grid, sized by how many segments reach it.
-  std::vector<size_t> perLeaf(leaves, 0);
-  for (auto& h : hits) {
-    if (!receives.empty()) std::erase_if(h, [&](uint32_t l) { return l >= receives.size() || !receives[l]; });
-    for (uint32_t l : h) ++perLeaf[l];
-  }
+  charge_.add(leaves * sizeof(LeafGrid), "the beams' leaf grids");
   grids_.resize(leaves);
   uint64_t cells = 0;
   for (size_t l = 0; l < leaves; ++l) {
@@ -154,51 +189,60 @@ BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, 
     g.first = cells;
     cells += perLeaf[l] && !g.box.empty() ? uint64_t(g.n[0]) * g.n[1] * g.n[2] : 0;
   }
-  // A counting sort of (cell, segment) pairs: segment order kept within a cell.
-  offsets_.assign(cells + 1, 0);
+  transient.sub(leaves * sizeof(uint64_t));
+  perLeaf = {};
   // The cells of leaf grids a segment reaches: the segment cut into kPieces along its length,
   // each piece's box (its six corner points, grown by the lobe) clipped to the leaf's box, so
   // a long tilted beam does not claim the whole box of its diagonal. Cells in increasing order.
-  std::vector<std::vector<uint64_t>> cellsOf(segments_.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 256), [&](const auto& r) {
+  const auto cellsOf = [&](size_t i, Scratch& sc) {
+    const BeamSegment& seg = segments_[i];
+    sc.cells.clear();
+    std::array<Box3, kPieces> boxes;
+    const float spread = lobeSpread(seg);
+    for (int k = 0; k < kPieces; ++k) boxes[k] = pieceBox(seg, k, spread);
+    leavesOf(seg, top, receives, sc.leaves, sc.traversal);
+    for (uint32_t l : sc.leaves) {
+      const LeafGrid& g = grids_[l];
+      if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
+      appendCells(g, boxes, sc.cells);
+    }
+  };
+  charge_.add((cells + 1) * sizeof(uint64_t), "the beams' bin offsets");
+  offsets_.assign(cells + 1, 0);
+  transient.add((n + 1) * sizeof(uint64_t), "the beams' cells per segment");
+  std::vector<uint64_t> first(n + 1, 0);  // segment i's cells: [first[i], first[i + 1]) of the flat list
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const auto& r) {
+    Scratch& sc = scratch.local();
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const BeamSegment& seg = segments_[i];
-      std::vector<uint64_t>& out = cellsOf[i];
-      std::array<Box3, kPieces> boxes;
-      const float spread = lobeSpread(seg);
-      for (int k = 0; k < kPieces; ++k) boxes[k] = pieceBox(seg, k, spread);
-      // Leaves in increasing order: their cells are increasing blocks.
-      std::vector<uint32_t>& leavesHit = hits[i];
-      std::sort(leavesHit.begin(), leavesHit.end());
-      leavesHit.erase(std::unique(leavesHit.begin(), leavesHit.end()), leavesHit.end());
-      for (uint32_t l : leavesHit) {
-        const LeafGrid& g = grids_[l];
-        if (g.first == (l + 1 < leaves ? grids_[l + 1].first : cells)) continue;
-        appendCells(g, boxes, out);
-      }
+      cellsOf(i, sc);
+      first[i + 1] = sc.cells.size();
+      for (uint64_t c : sc.cells) std::atomic_ref<uint64_t>(offsets_[c + 1]).fetch_add(1, std::memory_order_relaxed);
     }
   });
-  auto forCells = [&](uint32_t i, auto&& visit) {
-    for (uint64_t c : cellsOf[i]) visit(c);
-  };
-  for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { ++offsets_[c + 1]; });
+  for (size_t i = 0; i < n; ++i) first[i + 1] += first[i];
   for (uint64_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
   const size_t total = offsets_[cells];
-  needed_ = bytesFor(segments_.size(), total, offsets_.size()) + grids_.size() * sizeof(LeafGrid);
-  if (needed_ > budget) {
-    // Does not fit: nothing is kept (the caller splits the batch).
-    segments_ = {};
-    grids_ = {};
-    offsets_ = {};
-    return;
-  }
-  envelopes_.resize(segments_.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments_.size(), 1024), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) envelopes_[i] = beamEnvelope(segments_[i]);
+  needed_ = bytesFor(n, total, offsets_.size()) + grids_.size() * sizeof(LeafGrid);
+  if (needed_ > budget) throw BeamBudgetExceeded(needed_, budget, "the beams' store");
+  // The flat list of every segment's cells and a cursor per cell, then the bins.
+  transient.add(total * sizeof(uint64_t) + cells * sizeof(uint64_t), "the beams' cells while they are binned");
+  std::vector<uint64_t> list(total);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const auto& r) {
+    Scratch& sc = scratch.local();
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      cellsOf(i, sc);
+      std::copy(sc.cells.begin(), sc.cells.end(), list.begin() + int64_t(first[i]));
+    }
   });
+  charge_.add(total * sizeof(uint32_t) + n * sizeof(BeamEnvelope), "the beams' bins and envelopes");
   entries_.resize(total);
   std::vector<uint64_t> fill(offsets_.begin(), offsets_.end() - 1);
-  for (uint32_t i = 0; i < hits.size(); ++i) forCells(i, [&](uint64_t c) { entries_[fill[c]++] = i; });
+  for (size_t i = 0; i < n; ++i)
+    for (uint64_t k = first[i]; k < first[i + 1]; ++k) entries_[fill[list[k]]++] = uint32_t(i);
+  envelopes_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) envelopes_[i] = beamEnvelope(segments_[i]);
+  });
 }
 
 std::pair<uint64_t, uint64_t> BeamStore::cellRange(uint32_t leaf, Vec3 x) const {

@@ -18,9 +18,12 @@
 // adds the result after that trace, where the direct call used to add it (same bits).
 //
 // Memory: bytes() = segments and their envelopes + bin entries + cell offsets + leaf grids. The constructor refuses
-// (InputError naming --beam-memory) a budget below minimumBytes (one beam); a store that needs
-// more than its budget keeps nothing and says so (fits() false, neededBytes()): the caller
-// processes its beams in batches (lbt/beam_batches.h). Immutable and thread-safe after
+// (ResourceError naming --beam-memory) a budget below minimumBytes (one beam); a store that needs
+// more than its budget, or whose arrays (and the counts and cell lists it holds while it bins,
+// three passes over the segments that keep no per-segment lists) do not fit the account it is
+// given, keeps nothing and says so (fits() false, neededBytes()): the caller processes its
+// beams in batches (lbt/beam_batches.h). Its bytes besides the segments stay on that account
+// until it is destroyed. Immutable and thread-safe after
 // construction; gathers visit a leaf's segments in segment order (deterministic).
 // A gather counts a segment only where x, clamped into the leaf's box, lies in the segment's
 // reach (the boxes of its pieces, `reaches`), which its bins always cover: so what a gather
@@ -32,6 +35,7 @@
 #include <span>
 #include <utility>
 #include <vector>
+#include "lbt/beam_budget.h"
 #include "lbt/beam_segment.h"
 #include "shading/path_tracer.h"
 #include "toplevel/toplevel_bvh.h"
@@ -43,7 +47,8 @@ class BeamStore final : public CausticRadiance {
   // leafBoxes: the boxes the top level was built over (Patch::bounds per leaf); receives: per
   // leaf, whether gathers happen there (empty: every leaf), so scatterers get no bins.
   BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
-            size_t memoryBudget, std::span<const uint8_t> receives = {}, int maxDepth = 1 << 30);
+            size_t memoryBudget, std::span<const uint8_t> receives = {}, int maxDepth = 1 << 30,
+            BeamBudget* account = nullptr);
   // Calls add(psi, E) (or add(psi, E, segment)) for each segment of the cell of `leaf`'s grid
   // holding x that lights x (psi: the light's unit direction there, E: irradiance, cosine
   // included), in segment order.
@@ -105,6 +110,10 @@ class BeamStore final : public CausticRadiance {
 
  private:
   std::pair<uint64_t, uint64_t> cellRange(uint32_t leaf, Vec3 x) const;
+  void build(const TopLevelBvh& top, std::span<const Box3> leafBoxes, size_t budget, std::span<const uint8_t> receives,
+             BeamCharge& transient);
+  static void leavesOf(const BeamSegment& s, const TopLevelBvh& top, std::span<const uint8_t> receives,
+                       std::vector<uint32_t>& out, TraversalScratch& scratch);
   std::vector<BeamSegment> segments_;
   std::vector<BeamEnvelope> envelopes_;  // per segment: the gather's cheap early out
   std::vector<LeafGrid> grids_;
@@ -112,6 +121,7 @@ class BeamStore final : public CausticRadiance {
   std::vector<uint32_t> entries_;
   size_t needed_ = 0;
   int maxDepth_;
+  BeamCharge charge_;  // what it holds besides the segments, on the account it was built with
 };
 
 }  // namespace rayes

@@ -22,6 +22,7 @@ struct Corner {
   float width = 0, spread = 0;
   uint32_t fromLeaf = kNoLeaf;
   uint8_t fromLevel = 0;
+  bool fromAfar = false;  // a distant light's first corner ray: its way back is traced too (BeamSeeds)
   uint32_t reflectAt = 0;
   SeedAim aim;  // a first corner ray's target (lbt/beam_seeds.h); none after a scattering
 };
@@ -88,7 +89,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   }
   const float offset = originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
   const SurfaceHit at{p, ng, offset};
-  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, c.reflectAt, SeedAim{}};
+  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, false, c.reflectAt, SeedAim{}};
   return s;
 }
 
@@ -110,6 +111,15 @@ struct Pass {
   std::vector<int> emitted;   // segments of generations ≤ this come from an ancestor
   std::vector<int> branched;  // reflected branches of generations ≤ this were spawned by an ancestor
   std::vector<uint8_t> level;
+  BeamCharge charge;  // its arrays' bytes (and, while it is built, the ids of its new corners)
+
+  static constexpr size_t kCornerBytes = sizeof(Corner);
+  static constexpr size_t kTriangleBytes =
+      sizeof(std::array<uint32_t, 3>) + sizeof(Rgb) + sizeof(uint32_t) + 2 * sizeof(int) + sizeof(uint8_t);
+  void reserve(size_t nv, size_t nt) {
+    corners.reserve(nv), triangles.reserve(nt), flux.reserve(nt), root.reserve(nt), emitted.reserve(nt);
+    branched.reserve(nt), level.reserve(nt);
+  }
 };
 
 // A beam to trace again in the next pass: split into four (its corner rays did not stay
@@ -125,8 +135,19 @@ struct Derived {
 // the parent's first corner rays at edge midpoints (shared by the siblings and by neighbours
 // split along the same edge), with flux in proportion to their solid angle (point-like origins)
 // or area (a quarter, parallel rays); a branch keeps the corners, with generation `at`'s bit set.
-Pass derive(const Pass& p, const std::vector<Derived>& derived) {
+// The bytes of one entry of derive()'s map of new corner ids: a red-black tree node (three
+// pointers and a colour) around its key and value, with the allocator's header.
+constexpr size_t kIdEntryBytes = 4 * sizeof(void*) + 4 * sizeof(uint32_t) + 2 * sizeof(void*);
+
+Pass derive(const Pass& p, const std::vector<Derived>& derived, BeamBudget* budget) {
   Pass out;
+  // Taken before anything is built: the most corners and triangles the derived beams can have
+  // (a split: its 3 corners and 3 midpoints, 4 triangles; a branch: 3 corners, 1 triangle).
+  size_t nv = 0, nt = 0;
+  for (const Derived& d : derived) nv += d.branch ? 3 : 6, nt += d.branch ? 1 : 4;
+  out.charge = BeamCharge(budget, nv * Pass::kCornerBytes + nt * Pass::kTriangleBytes, "split children of beams");
+  BeamCharge idBytes(budget, nv * kIdEntryBytes, "the corner ids of split children");
+  out.reserve(nv, nt);
   std::map<std::tuple<uint32_t, uint32_t, uint32_t>, uint32_t> ids;  // (corner, corner or self, bits) -> new id
   auto copy = [&](uint32_t a, uint32_t bits) {
     auto [it, fresh] = ids.try_emplace({a, a, bits}, uint32_t(out.corners.size()));
@@ -195,13 +216,34 @@ struct Tagged {
   BeamSegment segment;
 };
 
+// The segments of one generation, tagged with their roots, and the budget's bytes for them.
+struct TaggedRun {
+  std::vector<Tagged> segments;
+  BeamCharge charge;
+};
+
+// Bytes tracePass holds per corner ray and per triangle of its pass (besides the pass itself).
+constexpr size_t kPassCornerBytes = sizeof(Corner) + sizeof(uint8_t) + sizeof(Scatter) + sizeof(uint32_t);
+constexpr size_t kPassTriangleBytes = 2 * sizeof(uint8_t) + sizeof(Rgb) + sizeof(float) + sizeof(BeamSegment) +
+                                      2 * sizeof(uint8_t) + sizeof(Outcome) + 2 * sizeof(Derived);
+
 // Traces one pass generation by generation; appends its segments (tagged with their root) and
 // the beams to trace again in the next pass.
+// Its arrays (and the rays of one trace() call) are taken from the budget first.
 void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptions& o, const TraceRays& trace,
-               BeamTraceStats& stats, std::vector<Tagged>& segments, std::vector<Derived>& derived) {
+               BeamBudget* budget, BeamTraceStats& stats, std::vector<TaggedRun>& segments,
+               std::vector<Derived>& derived) {
   const size_t nv = pass.corners.size(), nt = pass.triangles.size();
+  const size_t rayCount = std::min(o.raysPerTrace, nv);
+  const BeamCharge working(budget, nv * kPassCornerBytes + nt * kPassTriangleBytes +
+                                       rayCount * RayBatch::bytesPerRay(true),
+                           "the beam tracer's generation of corner rays");
+  derived.reserve(2 * nt);  // a split and a branch per triangle at most (counted above)
   std::vector<Corner> corners(pass.corners);
-  std::vector<uint8_t> cornerLive(nv, 1), triLive(nt, 1);
+  // Only corner rays some triangle uses are traced (a chunk of seeds may carry others).
+  std::vector<uint8_t> cornerLive(nv, 0), triLive(nt, 1);
+  for (const auto& t : pass.triangles)
+    for (uint32_t i : t) cornerLive[i] = 1;
   std::vector<Rgb> power(pass.flux);
   std::vector<float> sigma2(nt, 0.0f);
   std::vector<Scatter> scatter(nv);
@@ -233,6 +275,24 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
           scatter[i] = scatterAt(scene, corners[i], rays.hit[k], o.far, g);
         }
       });
+      // A distant light's first corner rays start near the scatterers: their way back toward
+      // the light, past where they start, must be clear too, or the light never got there.
+      size_t back = 0;
+      for (size_t k = 0; k < count; ++k) {
+        const Corner& c = corners[live[first + k]];
+        if (g > 0 || !c.fromAfar) continue;
+        rays.set(back++, RayKind::Shadow, c.org, -c.dir, std::numeric_limits<float>::infinity(), c.width, c.spread,
+                 kNoLeaf, kNoLeaf, 0, 0.0f);
+      }
+      if (back == 0) continue;
+      rays.resize(back);
+      trace(rays);
+      stats.cornerRays += back;
+      for (size_t k = 0, b = 0; k < count; ++k) {
+        const uint32_t i = live[first + k];
+        if (!corners[i].fromAfar) continue;
+        if (rays.hit[b++].valid()) scatter[i].onAim = false;
+      }
     }
     // Each live beam: its segment (after a scattering) and whether it goes on.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nt, 1024), [&](const auto& r) {
@@ -291,8 +351,14 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
       }
     });
     std::fill(cornerLive.begin(), cornerLive.end(), 0);
+    size_t emitting = 0;
+    for (size_t t = 0; t < nt; ++t) emitting += emitted[t] && maxComponent(generation[t].power) > 0;
+    if (emitting > 0) {
+      segments.push_back({{}, BeamCharge(budget, emitting * sizeof(Tagged), "beam segments")});
+      segments.back().segments.reserve(emitting);
+    }
     for (size_t t = 0; t < nt; ++t) {
-      if (emitted[t] && maxComponent(generation[t].power) > 0) segments.push_back({pass.root[t], generation[t]});
+      if (emitted[t] && maxComponent(generation[t].power) > 0) segments.back().segments.push_back({pass.root[t], generation[t]});
       if (branch[t]) derived.push_back({uint32_t(t), g, true}), ++stats.reflectedBranches;
       const Outcome out = outcome[t];
       if (out != Outcome::Continue && out != Outcome::End) {
@@ -328,13 +394,19 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
 }  // namespace
 
 std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, const BeamTraceOptions& o,
-                                    const TraceRays& trace, BeamTraceStats& stats) {
+                                    const TraceRays& trace, BeamTraceStats& stats, BeamBudget* budget,
+                                    BeamCharge* keep) {
   const size_t nt = seeds.triangles.size();
-  stats.generatorTriangles += nt;
+  BeamTraceStats own;  // added to stats only when the whole run fits
+  own.generatorTriangles = nt;
   Pass pass;
+  pass.charge = BeamCharge(budget, seeds.org.size() * Pass::kCornerBytes + nt * Pass::kTriangleBytes,
+                           "the first corner rays of beams");
+  pass.reserve(seeds.org.size(), nt);
   pass.corners.resize(seeds.org.size());
   for (size_t i = 0; i < seeds.org.size(); ++i)
-    pass.corners[i] = {seeds.org[i], seeds.dir[i], seeds.coneWidth[i], seeds.coneSpread[i], kNoLeaf, 0, 0, seeds.aim[i]};
+    pass.corners[i] = {seeds.org[i], seeds.dir[i], seeds.coneWidth[i], seeds.coneSpread[i], kNoLeaf, 0,
+                       i < seeds.fromAfar.size() && seeds.fromAfar[i] != 0, 0, seeds.aim[i]};
   pass.triangles = seeds.triangles;
   pass.flux = seeds.flux;
   pass.root.resize(nt);
@@ -342,19 +414,31 @@ std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& 
   pass.emitted.assign(nt, -1);
   pass.branched.assign(nt, -1);
   pass.level.assign(nt, 0);
-  std::vector<Tagged> tagged;
-  std::vector<Derived> derived;
+  std::vector<TaggedRun> tagged;
   while (!pass.triangles.empty()) {
-    derived.clear();
-    tracePass(scene, pass, o, trace, stats, tagged, derived);
-    pass = derive(pass, derived);
+    std::vector<Derived> derived;
+    tracePass(scene, pass, o, trace, budget, own, tagged, derived);
+    Pass next = derive(pass, derived, budget);
+    pass = std::move(next);
   }
-  // Segment order: by root triangle, then pass, generation and triangle (stable), so the
-  // segments of a range of roots traced alone come out as the same run of this order.
-  std::stable_sort(tagged.begin(), tagged.end(), [](const Tagged& a, const Tagged& b) { return a.root < b.root; });
-  std::vector<BeamSegment> segments(tagged.size());
-  for (size_t i = 0; i < tagged.size(); ++i) segments[i] = tagged[i].segment;
-  stats.segments += segments.size();
+  // Segment order: by root triangle, then pass, generation and triangle (a stable counting
+  // sort), so the segments of a range of roots traced alone come out as the same run of this order.
+  size_t total = 0;
+  for (const TaggedRun& run : tagged) total += run.segments.size();
+  BeamCharge order(budget, (nt + 1) * sizeof(uint64_t), "the order of beam segments");
+  std::vector<uint64_t> at(nt + 1, 0);
+  for (const TaggedRun& run : tagged)
+    for (const Tagged& t : run.segments) ++at[t.root + 1];
+  for (size_t t = 0; t < nt; ++t) at[t + 1] += at[t];
+  BeamCharge out(budget, total * sizeof(BeamSegment), "beam segments");
+  std::vector<BeamSegment> segments(total);
+  for (TaggedRun& run : tagged) {
+    for (const Tagged& t : run.segments) segments[at[t.root]++] = t.segment;
+    run = {};
+  }
+  own.segments = total;
+  stats.add(own);
+  if (keep) *keep = std::move(out);
   return segments;
 }
 

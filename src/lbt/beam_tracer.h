@@ -27,6 +27,7 @@
 #include <functional>
 #include <vector>
 #include "core/ray_batch.h"
+#include "lbt/beam_budget.h"
 #include "lbt/beam_seeds.h"
 #include "lbt/beam_segment.h"
 #include "shading/shading_scene.h"
@@ -72,8 +73,13 @@ struct BeamTraceOptions {
 
 using TraceRays = std::function<void(RayBatch&)>;
 
-// Adds to stats (so batches accumulate).
+// Adds to stats (so batches accumulate) when it returns. Memory: every array it makes (the
+// passes' corner rays and triangles, split children, a generation's rays and scatterings, the
+// segments) is taken from `budget` (may be null) before it is made and given back when freed;
+// BeamBudgetExceeded when one does not fit (nothing is added to stats then). The returned
+// segments' bytes stay taken, held by `keep` (given back at once when it is null).
 std::vector<BeamSegment> traceBeams(const ShadingScene& scene, const BeamSeeds& seeds, const BeamTraceOptions& options,
-                                    const TraceRays& trace, BeamTraceStats& stats);
+                                    const TraceRays& trace, BeamTraceStats& stats, BeamBudget* budget = nullptr,
+                                    BeamCharge* keep = nullptr);
 
 }  // namespace rayes
