@@ -70,7 +70,7 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                                                    "(default 1; 0.25 pays off where glossy gathers dominate)");
   c->add_option("--photon-radius", a.photonRadius, "ppm: first gather radius; pm: a quarter of the largest photon radius (default "
                                                    "0: the median distance to the k-th neighbour in the first map)");
-  c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 2/3)");
+  c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 1/3)");
   c->add_option("--caustic-paths", a.causticPaths, "pt and lt: all (default), without (leave out light -> "
                                                    "(mirror, glass or glossy)+ -> diffuse paths, which pm, ppm "
                                                    "and lbt estimate) or only (those paths alone); lbt, pm and "

@@ -33,6 +33,14 @@
 
 namespace rayes {
 
+// ppm's default α: 1/3, not Knaus and Zwicker's 2/3. A caustic's error is mostly its edges':
+// the blur moves flux across them in a band as wide as the radius, so the squared error there
+// falls as r ~ s^-(1-α)/2 while the noise falls as s^-α, which balance at α = 1/3 (2/3 balances
+// the r⁴ bias of a smooth density). Measured on scenes/caustic-closed-form.json (bench/history/
+// 2026-11.md, "pm unbiased, ppm's defaults, on the closed-form caustic"): RMSE at 128 spp 23-24 %
+// below α = 2/3 for two seeds, and the best or within 2 % of the best of six settings from 16 spp.
+inline constexpr float kDefaultPhotonAlpha = 1.0f / 3.0f;
+
 // Photon counts are per sample per pixel of the render, so doubling --spp doubles the effort
 // (rayes converge relies on it).
 struct PhotonOptions {
@@ -41,7 +49,7 @@ struct PhotonOptions {
   uint64_t photonsPerSample = 20000;   // pm: one map of photonsPerSample * spp; ppm: per pass
   int neighbours = 32;                 // pm: each photon's radius reaches its k-th nearest other photon
   float radius = 0;                    // ppm: first radius; 0: from the first map's k-nearest
-  float alpha = 2.0f / 3.0f;           // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
+  float alpha = kDefaultPhotonAlpha;    // ppm: r²(i+1) = r²(i) (i + α) / (i + 1)
   // The probability a caustic estimate is taken at a diffuse vertex after the path's first
   // (--later-gathers; PathTracer::Options::laterGatherProbability).
   float laterGatherProbability = kLaterGatherProbability;
