@@ -53,7 +53,8 @@ double pixelRadiance(const Setup& s, int x, int y) {
   return s.caustic.kAlbedo / std::numbers::pi * e;
 }
 bool interior(const Setup& s, int x, int y, float margin) {
-  const Vec3 a = testing::ceilingPoint(s.camera, float(x), float(y)), b = testing::ceilingPoint(s.camera, x + 1.0f, y + 1.0f);
+  const Vec3 a = testing::ceilingPoint(s.camera, float(x), float(y));
+  const Vec3 b = testing::ceilingPoint(s.camera, x + 1.0f, y + 1.0f);
   for (float sx : {-1.0f, 1.0f})
     for (float sy : {-1.0f, 1.0f}) {
       const float px = (sx < 0 ? std::fmin(a.x, b.x) : std::fmax(a.x, b.x)) + sx * margin;

@@ -32,7 +32,8 @@ class PhotonMap {
 
   size_t size() const { return photons_.size(); }
   size_t bytes() const {
-    return photons_.capacity() * sizeof(Photon) + axis_.capacity() + (radius2_.capacity() + reach2_.capacity()) * sizeof(float);
+    return photons_.capacity() * sizeof(Photon) + axis_.capacity() +
+           (radius2_.capacity() + reach2_.capacity()) * sizeof(float);
   }
   const Photon& operator[](size_t i) const { return photons_[i]; }
 

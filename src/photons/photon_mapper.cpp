@@ -41,7 +41,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
   }
   static size_t lightBatchBytesPerPath() { return sizeof(Rgb) + sizeof(LightRun) + sizeof(Photon) + 1; }
   // Refuses, before any photon is traced, a map that might not fit: the worst case stores a
-  // photon for every light path of the largest map (photonMapCheck).
+  // photon for every light path of the largest map (checkPhotonMemory).
   void prepare(const IntegratorSetup& setup) override {
     checkPhotonMemory(options_, scene_.samplesPerPixel, setup.pathsPerBatch * lightBatchBytesPerPath());
   }

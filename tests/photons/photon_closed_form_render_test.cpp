@@ -8,9 +8,10 @@
 //    π / albedo) is ρ·I·Ω within 4 standard errors, and those resolve 1 %: the estimates move
 //    flux across the footprint's edges but neither make nor lose it.
 // Observed (16 interior blocks): pm's blocks 0.987-1.009 of the closed form (standard errors
-// 0.4-0.7 %), flux 0.9993 +- 0.0007; ppm's 0.989-1.006, flux 0.9997 +- 0.0006. The estimate pm
-// used before (the k nearest over pi r_k², k-th included) reads k/(k - 1) in the interior
-// (+3.2 % at k = 32) and adds flux at the footprint's edges (1.06): it would fail both checks.
+// 0.4-0.7 %), flux 0.9993 +- 0.0007; ppm's (at alpha = 2/3) 0.989-1.006, flux 0.9997 +- 0.0006.
+// The estimate pm used before (the k nearest over pi r_k², k-th included) reads k/(k - 1) in
+// the interior (+3.2 % at k = 32) and adds flux at the footprint's edges (1.06): it would fail
+// both checks.
 #include <cmath>
 #include <gtest/gtest.h>
 #include "support/closed_form_caustic.h"
@@ -76,7 +77,8 @@ void expectClosedForm(const std::string& method) {
   ASSERT_EQ(scene.pointLights[0].position, caustic.light);  // the helper describes this scene
   // The largest typical photon radius: the k-th neighbour's distance where the photon density is
   // lowest in the footprint, λ = E / (power per photon), power ρ·4π·I / (photons traced).
-  const double power = caustic.kReflectance * 4 * std::numbers::pi * caustic.kIntensity / double(kPhotonsPerSample * kSpp);
+  const double power =
+      caustic.kReflectance * 4 * std::numbers::pi * caustic.kIntensity / double(kPhotonsPerSample * kSpp);
   double lowest = 1e30;
   for (int y = 0; y <= 64; ++y)
     for (int x = 0; x <= 64; ++x) {
