@@ -10,12 +10,9 @@
 #include <cstdlib>
 #include <string>
 #include <vector>
-#include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
-#include <ImfHeader.h>
-#include <ImfOutputFile.h>
 #include "app/image_io.h"
 #include "core/error.h"
+#include "rgb_exr.h"
 
 int main(int argc, char** argv) {
   using namespace rayes;
@@ -37,15 +34,7 @@ int main(int argc, char** argv) {
       out[3 * p] = out[3 * p + 1] = out[3 * p + 2] = v;
       kept += v != 0;
     }
-    Imf::Header header(w, h);
-    for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-    Imf::FrameBuffer fb;
-    const size_t px = 3 * sizeof(float);
-    for (int c = 0; c < 3; ++c)
-      fb.insert(std::string(1, "RGB"[c]), Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(out.data() + c), px, px * w));
-    Imf::OutputFile file(argv[2], header);
-    file.setFrameBuffer(fb);
-    file.writePixels(h);
+    writeRgbExr(argv[2], w, h, out);
     std::printf("%zu of %zu pixels counted (red >= %g)\n", kept, in.size() / 3, threshold);
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.message().c_str());

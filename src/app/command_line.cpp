@@ -34,8 +34,8 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--method", a.method, "integrator: pt (default: path tracing with next-event estimation and MIS), "
                                       "lt (light tracing: paths from the lights, every vertex connected to the "
                                       "camera; the reference for caustics; lights at infinity seen directly are "
-                                      "missing), pm (photon mapping: pt without caustic paths plus a k-nearest "
-                                      "photon estimate of them), ppm (progressive photon mapping: a photon map "
+                                      "missing), pm (photon mapping: pt without caustic paths plus a photon "
+                                      "density estimate of them), ppm (progressive photon mapping: a photon map "
                                       "per pass, radius shrinking per sample) or lbt (light beams: pt without "
                                       "caustic paths plus beams from point, spot, distant and area lights through "
                                       "mirrors, glass and glossy surfaces, gathered at diffuse surfaces)");
@@ -60,14 +60,17 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                                                       "coarsened from --beam-resolution to match (never refined), "
                                                       "0..64 (default 2; 0: keep --beam-resolution)");
   c->add_option("--photons", a.photons, "pm, ppm: photons per sample per pixel of the render (default 20000): pm "
-                                        "traces photons x spp into one map, ppm photons x the pass's samples per pass");
-  c->add_option("--photon-k", a.photonK, "pm: neighbours of the k-nearest estimate, 1..4096 (default 32)");
+                                        "traces photons x spp into one map, ppm photons x the pass's samples per pass; refused "
+                                        "(exit 3) when that map, every photon stored, would not fit half of "
+                                        "physical memory");
+  c->add_option("--photon-k", a.photonK, "pm: each photon's gather disk reaches its k-th nearest other photon, "
+                                        "1..4096 (default 32)");
   c->add_option("--later-gathers", a.laterGathers, "lbt, pm, ppm: probability of a caustic estimate at a diffuse "
                                                    "vertex after a path's first (counted 1/q: unbiased), 1/64..1 "
                                                    "(default 1; 0.25 pays off where glossy gathers dominate)");
-  c->add_option("--photon-radius", a.photonRadius, "ppm: first gather radius; pm: a quarter of the largest (default "
+  c->add_option("--photon-radius", a.photonRadius, "ppm: first gather radius; pm: a quarter of the largest photon radius (default "
                                                    "0: the median distance to the k-th neighbour in the first map)");
-  c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 2/3)");
+  c->add_option("--photon-alpha", a.photonAlpha, "ppm: radius shrinking, in (0, 1) (default 1/3)");
   c->add_option("--caustic-paths", a.causticPaths, "pt and lt: all (default), without (leave out light -> "
                                                    "(mirror, glass or glossy)+ -> diffuse paths, which pm, ppm "
                                                    "and lbt estimate) or only (those paths alone); lbt, pm and "

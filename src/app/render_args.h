@@ -21,7 +21,7 @@ struct RenderArgs {
   int64_t photons = 20000;
   int photonK = 32;
   float laterGathers = kLaterGatherProbability;
-  float photonRadius = 0, photonAlpha = 2.0f / 3.0f;
+  float photonRadius = 0, photonAlpha = kDefaultPhotonAlpha;
   std::optional<int64_t> seed, diceCache;
   int lodBias = 0;
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;

@@ -1,6 +1,8 @@
 #include "photons/photon_map.h"
 #include <algorithm>
 #include <limits>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include "core/box.h"
 
@@ -82,6 +84,26 @@ float PhotonMap::nearest(Vec3 x, int k, float maxR2, std::vector<uint32_t>& out)
   out.clear();
   for (const Entry& e : heap) out.push_back(e.i);
   return int(heap.size()) == k ? bound : maxR2;
+}
+
+void PhotonMap::setGatherRadii(int k, float minR2, float maxR2) {
+  radius2_.assign(photons_.size(), maxR2);
+  reach2_.assign(photons_.size(), maxR2);
+  if (photons_.empty()) return;
+  // The photon itself is its own nearest (distance 0): the k-th other is the (k + 1)-th found.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, photons_.size(), 256), [&](const auto& r) {
+    std::vector<uint32_t> near;
+    for (size_t i = r.begin(); i != r.end(); ++i)
+      radius2_[i] = std::clamp(nearest(photons_[i].p, k + 1, maxR2, near), minR2, maxR2);
+  });
+  buildReach(0, photons_.size());
+}
+
+// reach2_[mid] of the node of [lo, hi): the largest squared radius in the range.
+float PhotonMap::buildReach(size_t lo, size_t hi) {
+  if (lo >= hi) return 0;
+  const size_t mid = lo + (hi - lo) / 2;
+  return reach2_[mid] = std::max({radius2_[mid], buildReach(lo, mid), buildReach(mid + 1, hi)});
 }
 
 }  // namespace rayes
