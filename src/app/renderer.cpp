@@ -183,6 +183,8 @@ Film Renderer::render(const Progress& progress) {
     ++pass;
     if (progress) progress(done, total, s1);
   }
+  // The method's own figures again: some grow while the passes run (beams retraced per round).
+  stats_.method = integrator_->methodStats();
   stats_.engine = engine_->engineStats();
   stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
   stats_.memory.diceCache = stats_.engine.cachePeakBytes;
