@@ -54,7 +54,8 @@ void checkMethodOptions(const MethodOptions& options) {
 
 std::unique_ptr<Integrator> makeMethod(const MethodOptions& options, const Scene& scene, const RenderData& data) {
   checkMethodOptions(options);
-  switch (methodOf(options.name)) {
+  const Method method = methodOf(options.name);
+  switch (method) {
     case Method::PathTracing:
       return std::make_unique<PathTracer>(data.shading, PathTracer::Options{.causticPaths = options.causticPaths});
     case Method::LightTracing:
@@ -62,7 +63,7 @@ std::unique_ptr<Integrator> makeMethod(const MethodOptions& options, const Scene
     case Method::PhotonMapping:
     case Method::ProgressivePhotonMapping: {
       PhotonOptions photons = options.photons;
-      photons.progressive = methodOf(options.name) == Method::ProgressivePhotonMapping;
+      photons.progressive = method == Method::ProgressivePhotonMapping;
       photons.causticPaths = options.causticPaths;
       photons.laterGatherProbability = options.laterGatherProbability;
       return makePhotonMapper(data.shading, photons);
