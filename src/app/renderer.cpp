@@ -79,6 +79,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     GenerationStats gs;
     engine_->trace(rays, gs, stats_.trace);
   };
+  setup.limitKeptGrids = [this](size_t bytes) { return engine_->limitKeptGrids(bytes); };
   setup.pathsPerBatch = stats_.pathsPerBatch;
   integrator_->prepare(setup);
   stats_.method = integrator_->methodStats();

@@ -5,12 +5,15 @@
 // and given back when it is freed. take() throws BeamBudgetExceeded when the bytes are not
 // there; the caller processes less at once (a smaller chunk of seed triangles, a smaller range
 // of beams) or, when even one seed triangle does not fit, refuses with ResourceError naming
-// --beam-memory. peak() is the most the account ever held: the beams' own high-water mark, what
+// --beam-memory. The diced grids the engine keeps between the corner rays' traces are on the
+// account too (keep(): they use what the beams leave free and are freed first when a take()
+// needs room). peak() is the most the account ever held: the beams' own high-water mark, what
 // the stats report and the tests check against the budget (deterministic, unlike the RSS).
 // Not thread-safe: only the serial parts of the light phase take and give.
 #pragma once
 #include <algorithm>
 #include <cstddef>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -40,14 +43,28 @@ class BeamBudget {
   size_t peak() const { return peak_; }
   bool fits(size_t bytes) const { return bytes <= left(); }
   void take(size_t bytes, const char* what) {
+    if (!fits(bytes) && shrinkKept_) keep(shrinkKept_(kept_ - std::min(kept_, bytes - left())));
     if (!fits(bytes)) throw BeamBudgetExceeded(bytes, left(), what);
     used_ += bytes;
     peak_ = std::max(peak_, used_);
   }
   void give(size_t bytes) { used_ -= std::min(bytes, used_); }
 
+  // Kept grids: what the ray engine holds between the corner rays' traces (diced grids), which
+  // may use whatever the beams leave free and give it back when the beams need it. keep(n)
+  // charges the n bytes held now (at most kept() + left(): the bound the engine was given);
+  // `shrink` (target bytes -> bytes held after shrinking) is how take() gets room from them.
+  size_t kept() const { return kept_; }
+  void keep(size_t bytes) {
+    used_ = used_ - kept_ + bytes;
+    kept_ = bytes;
+    peak_ = std::max(peak_, used_);
+  }
+  void shrinkKeptWith(std::function<size_t(size_t)> shrink) { shrinkKept_ = std::move(shrink); }
+
  private:
-  size_t limit_, used_ = 0, peak_ = 0;
+  size_t limit_, used_ = 0, peak_ = 0, kept_ = 0;
+  std::function<size_t(size_t)> shrinkKept_;
 };
 
 // Bytes taken from a budget (none: unaccounted) for as long as it lives; given back at its end.

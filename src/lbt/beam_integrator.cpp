@@ -1,5 +1,6 @@
 #include "lbt/beam_integrator.h"
 #include <algorithm>
+#include <cstdint>
 #include "core/error.h"
 #include "core/timer.h"
 #include "lbt/beam_resolution.h"
@@ -19,9 +20,41 @@ BeamIntegrator::BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top
 
 BeamIntegrator::~BeamIntegrator() = default;
 
+// The diced grids the engine keeps between the corner rays' traces are the beams' memory: the
+// corner rays' narrow cones ask for grids far finer than the camera's (they filled 178 MB of the
+// engine's cache on two quads at --beam-resolution 1024 with a 64 MiB budget, bench/history/
+// 2026-11.md). While beams are traced, each trace may keep grids in what the account has free,
+// and they are charged to it after the trace (BeamBudget::keep); a take() that does not fit
+// frees them first. When the tracing ends they are freed, so the camera paths start from the
+// engine's own grid cache as without beams. A tight budget only dices more often; no hit changes.
+BeamIntegrator::KeptGrids::KeptGrids(BeamBudget& budget, const std::function<size_t(size_t)>& limit,
+                                     const KeptGrids*& current)
+    : budget_(budget), limit_(limit), current_(current) {
+  current_ = this;
+  if (limit_) budget_.shrinkKeptWith(limit_);
+}
+
+void BeamIntegrator::KeptGrids::trace(const std::function<void(RayBatch&)>& trace, RayBatch& rays) const {
+  if (!limit_) return trace(rays);
+  limit_(budget_.kept() + budget_.left());
+  trace(rays);
+  budget_.keep(limit_(budget_.kept() + budget_.left()));
+}
+
+BeamIntegrator::KeptGrids::~KeptGrids() {
+  current_ = nullptr;
+  if (!limit_) return;
+  budget_.keep(limit_(0));
+  budget_.shrinkKeptWith(nullptr);
+  limit_(SIZE_MAX);
+}
+
 void BeamIntegrator::prepare(const IntegratorSetup& setup) {
   setup_ = setup;
-  buildBeams();
+  {
+    const KeptGrids grids(budget_, setup_.limitKeptGrids, keptGrids_);
+    buildBeams();
+  }
   if (batches_) return;  // every round seeds its range again
   scatterers_.clear();  // their patches were needed for the seeds alone
   scatterers_.shrink_to_fit();
@@ -46,7 +79,11 @@ void BeamIntegrator::traceChunk(const BeamSeeds& seeds, size_t first, const Beam
   std::vector<BeamSegment> segments;
   BeamTraceStats stats;
   try {
-    segments = traceBeams(scene_, seeds, to, setup_.trace, stats, &budget_, &keep);
+    segments = traceBeams(scene_, seeds, to, [this](RayBatch& rays) {
+      if (keptGrids_) keptGrids_->trace(setup_.trace, rays);
+      else setup_.trace(rays);
+    }, stats,
+                          &budget_, &keep);
   } catch (const BeamBudgetExceeded& e) {
     // First the range being gathered makes room (closes: its store is built and freed), then
     // the chunk is halved.
@@ -354,7 +391,10 @@ void BeamIntegrator::startRound(uint32_t round) {
   batches_->use(nullptr);
   range_.reset();
   BeamTraceStats again;
-  range_ = traceRange(ranges_[round].first, ranges_[round].second, again);
+  {
+    const KeptGrids grids(budget_, setup_.limitKeptGrids, keptGrids_);
+    range_ = traceRange(ranges_[round].first, ranges_[round].second, again);
+  }
   if (!range_) throw std::logic_error("a range of beams that fit at setup no longer fits --beam-memory");
   stats_.peakBytes = std::max(stats_.peakBytes, budget_.peak());
   batches_->use(range_->store.get());

@@ -18,8 +18,9 @@
 // Memory: --beam-memory is one account (lbt/beam_budget.h) every byte of the beams is taken
 // from before it is allocated: the probe's widths, the seeds (streamed in chunks of grid rows),
 // the tracer's working set and split children (a chunk that does not fit is traced in halves),
-// a range's segments, its store's bins, envelopes and binning, and in batches the partial
-// gathers (12 B per camera path and bounce). What cannot fit even for one seed triangle is
+// a range's segments, its store's bins, envelopes and binning, in batches the partial gathers
+// (12 B per camera path and bounce), and while beams are traced the diced grids the engine keeps
+// between the corner rays' traces (KeptGrids). What cannot fit even for one seed triangle is
 // refused with ResourceError naming --beam-memory (exit code 3). The stats' peak_bytes is the
 // account's high-water mark.
 #pragma once
@@ -101,6 +102,23 @@ class BeamIntegrator final : public Integrator {
   };
   using SegmentsUse = std::function<void(std::vector<BeamSegment>&&, BeamCharge&&, size_t end, const BeamTraceStats&)>;
   static constexpr size_t kAllRoots = ~size_t(0);
+  // While it lives, the engine's grids kept between the corner rays' traces are on the budget
+  // (BeamBudget::keep): trace() lets the engine keep what the budget has free and charges what
+  // it kept; at its end they are freed and the engine gets its own bound back.
+  class KeptGrids {
+   public:
+    // `current` points at it while it lives.
+    KeptGrids(BeamBudget& budget, const std::function<size_t(size_t)>& limit, const KeptGrids*& current);
+    ~KeptGrids();
+    KeptGrids(const KeptGrids&) = delete;
+    KeptGrids& operator=(const KeptGrids&) = delete;
+    void trace(const std::function<void(RayBatch&)>& trace, RayBatch& rays) const;
+
+   private:
+    BeamBudget& budget_;
+    std::function<size_t(size_t)> limit_;
+    const KeptGrids*& current_;
+  };
 
   BeamTraceOptions traceOptions() const;
   void traceChunk(const BeamSeeds& seeds, size_t first, const BeamTraceOptions& to, const SegmentsUse& use);
@@ -127,6 +145,7 @@ class BeamIntegrator final : public Integrator {
   std::unique_ptr<PathTracer> pt_;
   IntegratorSetup setup_;
   BeamBudget budget_;  // before everything it accounts for, so it outlives them
+  const KeptGrids* keptGrids_ = nullptr;  // while beams are traced
   std::function<bool()> makeRoom_;  // while ranges are gathered: closes the current one (false: empty)
   size_t chunkTriangles_ = 1;  // seed triangles per chunk traced at once (lowered when one does not fit)
   BeamCharge partialCharge_;

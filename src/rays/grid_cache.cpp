@@ -34,6 +34,11 @@ bool GridCache::makeRoom(size_t need) {
   return true;
 }
 
+void GridCache::setBudget(size_t budgetBytes) {
+  budget_ = budgetBytes;
+  while (bytes_ > budget_ && !lru_.empty()) erase(std::prev(lru_.end()));
+}
+
 void GridCache::erase(std::list<Entry>::iterator it) {
   bytes_ -= it->grid->bytesAllocated();
   index_.erase(it->leaf);

@@ -46,6 +46,9 @@ class GridCache {
   Entry* acquire(uint32_t leaf, int level);
   // Ends an iteration: its entries become evictable.
   void nextIteration() { ++iteration_; }
+  // A new budget (0: disabled), least recently used entries out until the rest fit. Only between
+  // traces: entries handed out in the current iteration are evicted too.
+  void setBudget(size_t budgetBytes);
 
   size_t bytes() const { return bytes_; }
   size_t peakBytes() const { return peakBytes_; }

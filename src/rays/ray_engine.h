@@ -56,6 +56,13 @@ class RayEngine {
   virtual size_t bytesPerRay() const = 0;
   virtual size_t fixedBytes() const = 0;
   virtual EngineStats engineStats() const = 0;
+  // Bounds the diced grids the engine keeps between traces (the sorted engine's --grid-cache)
+  // by `bytes` until called again, freeing what is above it at once (SIZE_MAX: the engine's own
+  // bound), and returns the bytes they hold now. For a method that charges the grids its own
+  // rays leave behind to its own memory account (lbt's corner rays, under --beam-memory). Only
+  // between traces; never changes a hit. The other engines keep no grids between traces by
+  // bytes: nothing to bound (0).
+  virtual size_t limitKeptGrids(size_t /*bytes*/) { return 0; }
 };
 
 }  // namespace rayes

@@ -44,6 +44,7 @@
 // and its rays are intersected at their own time weight. A static leaf takes the static path
 // unchanged.
 #pragma once
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -74,6 +75,10 @@ class SortedEngine : public RayEngine {
   size_t bytesPerRay() const override { return bytesPerRaySlot(); }
   size_t fixedBytes() const override { return diceBufferBytes() + cache_.peakBytes() + borderBounds_.bytes(); }
   EngineStats engineStats() const override;
+  size_t limitKeptGrids(size_t bytes) override {
+    cache_.setBudget(std::min(bytes, settings_.gridCacheBytes));
+    return cache_.bytes();
+  }
 
   const TraceSettings& settings() const { return settings_; }
   // The rays of `batch` to trace (kind not Inactive) into `active`, in batch order; their hits

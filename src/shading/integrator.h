@@ -67,6 +67,10 @@ struct ShadeStats {
 // What an integrator may do once before the first pass (Integrator::prepare).
 struct IntegratorSetup {
   std::function<void(RayBatch&)> trace;  // one generation of rays through the render's engine
+  // Bounds the diced grids the engine keeps between traces until called again (SIZE_MAX: the
+  // engine's own --grid-cache) and returns the bytes they hold now (RayEngine::limitKeptGrids):
+  // a method whose own rays dice finer than the camera's charges those grids to its own account.
+  std::function<size_t(size_t)> limitKeptGrids;
   uint64_t pathsPerBatch = 0;            // the most paths one camera batch holds
 };
 

@@ -39,6 +39,9 @@ void expectWithinAQuarterBudget(const Scene& scene, RenderOptions whole) {
     segments = beamsOf(r).stats().trace.segments;
     EXPECT_LE(peak, whole.method.beams.memoryBytes);
     EXPECT_GE(peak, beamsOf(r).stats().bytes) << "the peak holds the store";
+    // The grids the engine kept between the corner rays' traces were on the account too (no
+    // camera ray has been traced yet: the cache's peak is the beams').
+    EXPECT_LE(r.stats().engine.cachePeakBytes, whole.method.beams.memoryBytes);
   }
   RenderOptions small = whole;
   small.method.beams.memoryBytes = peak / 4;
@@ -48,6 +51,7 @@ void expectWithinAQuarterBudget(const Scene& scene, RenderOptions whole) {
     ASSERT_TRUE(s.built) << s.skipped;
     EXPECT_GE(s.batches, 2u);
     EXPECT_LE(s.peakBytes, small.method.beams.memoryBytes);
+    EXPECT_LE(r.stats().engine.cachePeakBytes, small.method.beams.memoryBytes);
     EXPECT_LE(s.bytes, s.peakBytes);
     EXPECT_EQ(s.trace.segments, segments);
     // The rounds retrace the ranges while the film is rendered: the stats file's peak_bytes is
