@@ -1,0 +1,14 @@
+#include "app/allocator_settings.h"
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+namespace rayes {
+
+void returnLargeBlocksWhenFreed() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+}
+
+}  // namespace rayes
