@@ -132,7 +132,8 @@ EmbreeEngine::EmbreeEngine(const LeafSource& patches, const EmbreeSettings& s) {
     throw ResourceError("--memory-limit", "the Embree engine's full tessellation needs about " +
                                               readableBytes(stats_.estimatedBytes) + perVertex + ", more than the limit of " +
                                               readableBytes(s.memoryLimit) +
-                                              "; lower --max-lod, use --embree-lod auto, or raise --memory-limit");
+                                              " (by default 80 % of the memory limit: " + readMemoryLimit().describe() +
+                                              "); lower --max-lod, use --embree-lod auto, or raise --memory-limit");
   // A --memory-limit above the memory limit that applies (a cgroup, ulimit -v) lets nothing more through.
   checkMemoryFits(stats_.estimatedBytes, "--memory-limit", "the Embree engine's full tessellation" + perVertex,
                   "--memory-limit cannot raise the memory limit that applies: lower --max-lod or use --embree-lod auto");

@@ -346,7 +346,7 @@ std::vector<HostileCase> catalogue() {
       // --- files the scene names: .bpt, .obj, textures, height maps
       {"BptMissing", {bptShapeScene()}, {}, col(6, kShapesCol + 45), "cannot open file"},
       {"BptIsAFolder", {bptShapeScene(), folder("p.bpt")}, {}, col(6, kShapesCol + 45), "is a directory"},
-      {"BptIsAFifo", {bptShapeScene(), fifo("p.bpt")}, {}, col(6, kShapesCol + 45), "is not a regular file"},
+      {"BptIsAFifo", {bptShapeScene(), fifo("p.bpt")}, {}, "$D/p.bpt", "Bézier patch file is not a regular file"},
       {"BptClaims1e8Patches", {bptShapeScene(), {"p.bpt", "100000000\n1,1,1\n2\n"}}, {}, "p.bpt:line 1",
        "claims 100000000 patches"},
       {"BptClaimsTooManyPoints", {bptShapeScene(), {"p.bpt", "1\n1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16\n99999\n0,0,0\n"}},
@@ -363,7 +363,7 @@ std::vector<HostileCase> catalogue() {
       {"BptBinaryGarbage", {bptShapeScene(), {"p.bpt", kPng1x1}}, {}, "p.bpt:line 1", "malformed number"},
       {"ObjMissing", {objShapeScene()}, {}, col(6, kShapesCol + 45), "cannot open file"},
       {"ObjIsAFolder", {objShapeScene(), folder("m.obj")}, {}, col(6, kShapesCol + 45), "is a directory"},
-      {"ObjIsAFifo", {objShapeScene(), fifo("m.obj")}, {}, col(6, kShapesCol + 45), "is not a regular file"},
+      {"ObjIsAFifo", {objShapeScene(), fifo("m.obj")}, {}, "$D/m.obj", "OBJ file is not a regular file"},
       {"ObjFaceIndexOutOfRange", {objShapeScene(), {"m.obj", kCubeObj + "f 1 2 99\n"}}, {}, "m.obj:line 15",
        "vertex index 99 out of range"},
       {"ObjTagLiesAboutItsCounts", {objShapeScene(), {"m.obj", kCubeObj + "t crease 1000000/1/0 0 1 2\n"}}, {},
@@ -478,10 +478,12 @@ std::vector<HostileCase> catalogue() {
       {"PngOutputIsAlsoTheReport", {validScene()}, {"render", "$D/s.json", "-o", "$D/out/p.png", "--report",
                                                     "$D/out/p.png", "-q"},
        "$D/out/p.png", "given as the preview and as the report"},
-      {"OutputIsADevice", {validScene()}, {"render", "$D/s.json", "-o", "/dev/null", "-q"}, "/dev/null",
-       "cannot write the image: not a regular file"},
-      {"OutputIsTheScene", {validScene()}, {"render", "$D/s.json", "-o", "$D/s.json", "-q"}, "$D/s.json",
-       "the image would overwrite an input of this run"},
+      {"OutputIsAFifo", {validScene(), fifo("out/o.exr")}, {}, "$D/out/o.exr", "cannot write the image: not a regular file"},
+      // -o takes .exr, .png and .film only (any other name would have been written as an EXR).
+      {"OutputIsADevice", {validScene()}, {"render", "$D/s.json", "-o", "/dev/null", "-q"}, "-o: '/dev/null'",
+       "no extension"},
+      {"OutputIsTheScene", {validScene()}, {"render", "$D/s.json", "-o", "$D/s.json", "-q"}, "-o: '$D/s.json'",
+       "unknown extension '.json'"},
       {"StatsIsTheScene", {validScene()}, renderWith({"--stats", "$D/s.json"}), "$D/s.json",
        "the stats would overwrite an input of this run"},
       {"OutputIsTheReference", {validScene(), {"ref.exr", referenceBytes()}},
@@ -504,7 +506,10 @@ TEST_P(HostileInput, IsExit2WithFileAndPlaceAndNothingWritten) {
   const std::string dir = temp.dir().string();
   for (const InputFile& f : c.files) {
     if (f.folder) std::filesystem::create_directories(temp.path(f.name));
-    else if (f.fifo) ASSERT_EQ(::mkfifo(temp.path(f.name).c_str(), 0644), 0) << f.name;
+    else if (f.fifo) {
+      std::filesystem::create_directories(std::filesystem::path(temp.path(f.name)).parent_path());
+      ASSERT_EQ(::mkfifo(temp.path(f.name).c_str(), 0644), 0) << f.name;
+    }
     else temp.write(f.name, f.content);
   }
   const std::vector<std::string> before = temp.entries();
