@@ -2,8 +2,11 @@
 #include <iostream>
 #include <string>
 #include <CLI/CLI.hpp>
+#include "app/closest_name.h"
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/memory.h"
+#include "core/version.h"
 
 namespace rayes {
 namespace {
@@ -93,15 +96,40 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_flag("-q,--quiet", a.quiet, "no progress output");
 }
 
+// Every name an option of `app` answers to ("--spp", "-o", ...).
+std::vector<std::string> optionNames(const CLI::App* app) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : app->get_options()) {
+    for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
+    for (const std::string& s : o->get_snames()) names.push_back("-" + s);
+  }
+  return names;
+}
+
+// What CLI11 left over (the subcommands allow extras, so that a mistyped option can be named with
+// the nearest real one): "rayes: --sp: unknown option; did you mean --spp?". Empty when nothing
+// was left over.
+std::string leftOverMessage(const CLI::App* app) {
+  const std::vector<std::string> rest = app->remaining();
+  if (rest.empty()) return "";
+  const std::string& first = rest.front();
+  if (first.size() < 2 || first[0] != '-') return first + ": unexpected argument (" + app->get_name() + " takes one scene)";
+  const std::string typed = first.substr(0, first.find('='));
+  const std::string near = closestName(typed, optionNames(app));
+  return typed + ": unknown option" + (near.empty() ? "" : "; did you mean " + near + "?");
+}
+
 }  // namespace
 
 int runCommandLine(int argc, char** argv) {
   CLI::App app{"rayes: a streaming micropolygon ray tracer. Rays are traced in generations, sorted by the\n"
                "patch they may hit, and every patch is diced on demand into micropolygons."};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("rayes ") + programVersion(), "print the program's version and exit");
   RenderArgs a;
   CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md)");
-  r->add_option("scene", a.scene, "the scene file")->required();
+  r->add_option("scene", a.scene, "the scene file; - reads it from standard input (its relative file names "
+                                  "then resolve against the current directory)")->required();
   r->add_option("-o,--output", a.out, "output OpenEXR (beauty RGBA, depth, normal, lod); a PNG preview is written "
                                       "beside it (default: out/<scene>.exr). A name ending in .png writes the "
                                       "preview alone, no EXR. Outputs are all or nothing: on any failure none "
@@ -116,6 +144,11 @@ int runCommandLine(int argc, char** argv) {
                                              "image after each (more dicings; the same final image). Implied by "
                                              "--reference");
   addSharedOptions(r, a);
+  r->add_option("--progress", a.progress, "progress on stderr: human (default; a line redrawn on a terminal, plain "
+                                          "lines otherwise), json (one JSON object per line: elapsed, phase, "
+                                          "samples, paths, ETA, resident memory) or none (as -q)")
+      ->check(CLI::IsMember({"human", "json", "none"}));
+  r->allow_extras();
 
   RenderArgs ca;
   CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
@@ -142,6 +175,7 @@ int runCommandLine(int argc, char** argv) {
                                        "the SVG chart goes beside it");
   c->add_option("--svg", ca.svg, "the chart's file (default: the CSV's name with .svg)");
   addSharedOptions(c, ca);
+  c->allow_extras();
 
   try {
     app.parse(argc, argv);
@@ -149,12 +183,35 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
     return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    // A mistyped subcommand: name the nearest.
+    if (!r->parsed() && !c->parsed() && argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "render" &&
+        std::string(argv[1]) != "converge") {
+      const std::string near = closestName(argv[1], {"render", "converge"});
+      std::cerr << "rayes: " << argv[1] << ": unknown command" << (near.empty() ? "" : "; did you mean " + near + "?")
+                << "\n(run 'rayes --help' for the commands)\n";
+      return 2;
+    }
+    // A mistyped option explains the rest (a required option "missing" is usually the mistyped one).
+    for (const CLI::App* sub : {r, c})
+      if (sub->parsed())
+        if (const std::string left = leftOverMessage(sub); !left.empty()) {
+          std::cerr << "rayes: " << left << "\n(run 'rayes " << sub->get_name() << " --help' for the options)\n";
+          return 2;
+        }
     // Point at the help of the subcommand that was being parsed.
     const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
+  for (const CLI::App* sub : {r, c})
+    if (sub->parsed())
+      if (const std::string left = leftOverMessage(sub); !left.empty()) {
+        std::cerr << "rayes: " << left << "\n(run 'rayes " << sub->get_name() << " --help' for the options)\n";
+        return 2;
+      }
   try {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
@@ -164,6 +221,12 @@ int runCommandLine(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "rayes: " << e.message() << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {
+    // Every large allocation is checked against the memory limit before it is made; this is
+    // what one that was not (or an estimate that fell short) gives: still a resource limit.
+    std::cerr << "rayes: out of memory (" << readMemoryLimit().describe()
+              << "); lower --res, --ray-memory, --grid-cache, --max-lod or --beam-memory\n";
+    return 3;
   } catch (const std::exception& e) {
     std::cerr << "rayes: internal error: " << e.what() << "\n";
     return 1;

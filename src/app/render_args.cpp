@@ -1,6 +1,9 @@
 #include "app/render_args.h"
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <iostream>
+#include <iterator>
 #include "app/image_io.h"
 #include "core/error.h"
 #include "core/memory.h"
@@ -52,6 +55,13 @@ void parseResolution(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
+Scene loadSceneFromStdin() {
+  std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
+  if (std::cin.bad()) throw InputError(kStdinSceneName, "", "cannot read the scene from standard input");
+  // Named "<stdin>" in messages; its relative paths resolve against the current directory.
+  return parseScene(text, kStdinSceneName);
+}
+
 // Checks every option that does not need the scene, so that a bad option costs no loading.
 RenderOptions checkedOptions(const RenderArgs& a) {
   if (a.spp && (*a.spp < 1 || *a.spp > (1 << 20))) throw InputError("--spp", "", "must be in [1, 2^20]");
@@ -94,6 +104,9 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.sortByLeaf = a.traceMode == "sorted";
   if (!a.rayMemory.empty()) options.rayMemoryBytes = parseBytes(a.rayMemory, "--ray-memory");
   if (!a.gridCache.empty()) options.gridCacheBytes = a.gridCache == "0" ? 0 : parseBytes(a.gridCache, "--grid-cache");
+  // By default at most an eighth of the memory limit (a cache: same image at any size).
+  else if (const uint64_t limit = processMemoryLimit().bytes; limit > 0)
+    options.gridCacheBytes = std::min<size_t>(options.gridCacheBytes, size_t(limit / 8));
   if (a.candidatesPerRay < 1 || a.candidatesPerRay > 1000)
     throw InputError("--candidates-per-ray", "", "must be a whole number in [1, 1000]");
   options.candidatesPerRay = a.candidatesPerRay;
@@ -115,8 +128,9 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   if (a.lodBias != 0 && options.engine == EngineKind::Embree)
     throw InputError("--lod-bias", "", "does not apply to --engine embree");
   options.lodBias = a.lodBias;
-  // The default limit keeps a fifth of the machine for everything else.
-  options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(physicalMemoryBytes() / 5 * 4)
+  // The default limit keeps a fifth of the memory limit that applies (core/memory.h) for
+  // everything else; a larger one given still cannot exceed what is available (EmbreeEngine).
+  options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(processMemoryLimit().bytes / 5 * 4)
                                                    : parseBytes(a.memoryLimit, "--memory-limit");
   return options;
 }
@@ -125,7 +139,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
 Scene preparedScene(const RenderArgs& a) {
   int width = 0, height = 0;
   if (!a.res.empty()) parseResolution(a.res, width, height);
-  Scene scene = loadScene(a.scene);
+  Scene scene = a.scene == kStdinScene ? loadSceneFromStdin() : loadScene(a.scene);
   if (a.spp) scene.samplesPerPixel = *a.spp;
   if (!a.res.empty()) {
     scene.width = width;

@@ -27,6 +27,7 @@ struct RenderArgs {
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
+  std::string progress = "human";  // --progress human|json|none (-q: none)
   // converge
   double beamLobeCells = 2;
   double budget = 0, beamGrowth = 1.4142135623730951;
@@ -36,7 +37,12 @@ struct RenderArgs {
 
 // Throws InputError naming the option.
 RenderOptions checkedOptions(const RenderArgs& a);
-// Loads the scene and applies --res, --spp and --seed.
+// SCENE "-": the scene is read from standard input, named "<stdin>" in messages, and the files it
+// names resolve against the current directory.
+inline constexpr const char* kStdinScene = "-";
+inline constexpr const char* kStdinSceneName = "<stdin>";
+Scene loadSceneFromStdin();
+// Loads the scene (kStdinScene: from standard input) and applies --res, --spp and --seed.
 Scene preparedScene(const RenderArgs& a);
 // An RGB image of the scene's size from `path`, for `what` (a reference, a mask).
 std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what);

@@ -1,22 +1,25 @@
 #include "app/renderer.h"
 #include "app/image_error.h"
+#include "app/memory_plan.h"
+#include "app/progress_state.h"
 #include <algorithm>
 #include <cmath>
 #include "core/error.h"
 #include "core/leaf_queries.h"
 #include "core/memory.h"
+#include "core/parallel.h"
 #include "core/timer.h"
 
 namespace rayes {
 
-size_t defaultRayMemoryBytes(uint64_t physicalBytes) {
+size_t defaultRayMemoryBytes(uint64_t limitBytes) {
   constexpr uint64_t kMiB = uint64_t(1) << 20;
-  if (physicalBytes == 0) return size_t(1024 * kMiB);
-  return size_t(std::clamp<uint64_t>(physicalBytes / 8, 256 * kMiB, 2048 * kMiB));
+  if (limitBytes == 0) return size_t(1024 * kMiB);
+  return size_t(std::clamp<uint64_t>(limitBytes / 8, 256 * kMiB, 2048 * kMiB));
 }
 
 size_t defaultRayMemoryBytes() {
-  static const size_t bytes = defaultRayMemoryBytes(physicalMemoryBytes());
+  static const size_t bytes = defaultRayMemoryBytes(processMemoryLimit().bytes);
   return bytes;
 }
 
@@ -51,7 +54,10 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
   stats_.candidateCapacity = embree || caching ? 0 : raysPerPath * perBatch * SortedEngine::kCandidatesPerRay;
+  // Refused here, before the engine, the beams or the film allocate, when it would not fit the memory limit.
+  checkRenderMemory(planRenderMemory(scene, options, perBatch * stats_.bytesPerPath, ThreadLimit::active()));
 
+  liveProgress().setPhase(embree ? Phase::Tessellating : Phase::BuildingTopLevel);
   if (embree) {
     EmbreeSettings es;
     es.maxLod = options.maxLod;
@@ -81,6 +87,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   };
   setup.limitKeptGrids = [this](size_t bytes) { return engine_->limitKeptGrids(bytes); };
   setup.pathsPerBatch = stats_.pathsPerBatch;
+  liveProgress().setPhase(options.method.name == "lbt" ? Phase::TracingBeams : Phase::Preparing);
   integrator_->prepare(setup);
   stats_.method = integrator_->methodStats();
   stats_.engine = engine_->engineStats();
@@ -107,6 +114,7 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
   if (!integrator_->traits().lightPasses) return;
   const Integrator::IdRange ids = integrator_->lightPaths(s0, s1);
   if (ids.first == ids.end) return;
+  liveProgress().setPhase(Phase::TracingPhotons);
   RayBatch rays;
   rays.timed = raysTimed();
   for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
@@ -117,6 +125,7 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
     ++stats_.batches;
   }
   integrator_->lightPassDone(stats_.shade);
+  liveProgress().setPhase(Phase::Rendering);
 }
 
 void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths) {
@@ -126,12 +135,14 @@ void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPat
     stats_.generations.push_back(std::move(rec));
     const size_t next = lightPaths ? integrator_->shadeLight(uint32_t(depth), rays, stats_.shade)
                                    : integrator_->shade(uint32_t(depth), rays, stats_.shade);
+    if (!lightPaths) liveProgress().afterGeneration(uint32_t(depth), rays, integrator_->raysPerPath());
     // Gathers posted at the last vertices still run: one more trace, with queries only.
     if (next == 0 && !(rays.queries && rays.queries->pending())) break;
   }
 }
 
 void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film) {
+  liveProgress().startBatch(count);
   for (uint32_t round = 0, rounds = integrator_->roundsPerBatch(); round < rounds; ++round) {
     integrator_->startRound(round);
     integrator_->start(first, count, rays);
@@ -144,6 +155,7 @@ void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batc
 
 Film Renderer::render(const Progress& progress) {
   const auto t0 = Clock::now();
+  liveProgress().setPhase(Phase::Rendering);
   Film film(scene_.width, scene_.height);
   RayBatch rays;
   rays.timed = raysTimed();

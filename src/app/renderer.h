@@ -45,12 +45,13 @@ namespace rayes {
 
 enum class EngineKind { Rayes, Embree };
 
-// The default ray memory budget on a machine of `physicalBytes`: an eighth of it, at least
-// 256 MiB and at most 2 GiB, so that a render's peak (the budget, one dice buffer per thread,
-// the film, the scene) stays under 4 GiB; 1 GiB where the machine's size is unknown (0).
+// The default ray memory budget under a memory limit of `limitBytes` (core/memory.h: the
+// cgroup's, RLIMIT_AS or physical memory, the smallest): an eighth of it, at least 256 MiB and
+// at most 2 GiB, so that a render's peak (the budget, one dice buffer per thread, the film, the
+// scene) stays under 4 GiB; 1 GiB where no limit can be read (0).
 // A larger batch means fewer dicings per ray, never a different image.
-size_t defaultRayMemoryBytes(uint64_t physicalBytes);
-size_t defaultRayMemoryBytes();  // on this machine
+size_t defaultRayMemoryBytes(uint64_t limitBytes);
+size_t defaultRayMemoryBytes();  // under this process's limit
 
 struct RenderOptions {
   EngineKind engine = EngineKind::Rayes;

@@ -2,6 +2,7 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/vector_isa.h"
+#include "core/version.h"
 
 namespace rayes {
 
@@ -23,7 +24,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"grid_cache_bytes", options.gridCacheBytes},
                    {"progressive", s.progressive},
                    {"ray_memory_bytes", options.rayMemoryBytes},
-                   {"vector_isa", vectorIsaName(vectorIsa())}};
+                   {"vector_isa", vectorIsaName(vectorIsa())},
+                   {"program_version", programVersion()}};
 
   json gens = json::array();
   uint64_t diced = 0, created = 0, rays = 0, shadow = 0;
@@ -76,7 +78,9 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
         {"wall", run.wallSeconds}}},
       {"mrays_per_s", s.timeTotal > 0 ? double(rays) / s.timeTotal * 1e-6 : 0.0},
   };
-  j["memory"] = {{"ray_budget_bytes", options.rayMemoryBytes},
+  j["memory"] = {{"limit_bytes", processMemoryLimit().bytes},
+                 {"limit_source", processMemoryLimit().source},
+                 {"ray_budget_bytes", options.rayMemoryBytes},
                  {"bytes_per_path", s.bytesPerPath},
                  {"bytes_per_ray", s.raysPerPath ? s.bytesPerPath / s.raysPerPath : 0},
                  {"paths_per_batch", s.pathsPerBatch},

@@ -1,5 +1,9 @@
-// Opening and reading input files. A missing, unreadable or directory path is bad input: an
-// InputError naming the file (what = "scene file", "OBJ file", ...) with the system's reason.
+// Opening and reading input files: the one check every input file of the program goes through
+// (scene, OBJ, .bpt, textures, height maps, reference images). A missing, unreadable or directory
+// path is bad input: an InputError naming the file (what = "scene file", "OBJ file", ...) with the
+// system's reason. So is anything but a regular file (a FIFO, a device, a socket): opening a FIFO
+// blocks until someone writes to it and /dev/zero never ends, so inputs must be regular files,
+// as outputs are; this is checked before the file is opened.
 #pragma once
 #include <cerrno>
 #include <cstring>
@@ -17,6 +21,8 @@ inline uint64_t checkInputFile(const std::string& path, const std::string& what)
   std::error_code ec;
   const auto status = std::filesystem::status(path, ec);
   if (std::filesystem::is_directory(status)) throw InputError(path, "", what + " is a directory");
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw InputError(path, "", what + " is not a regular file (a FIFO, a device or a socket): inputs must be regular files");
   std::ifstream probe(path, std::ios::binary);
   const int err = errno;
   if (!probe) throw InputError(path, "", "cannot open " + what + ": " + std::strerror(err));

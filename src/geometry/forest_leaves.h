@@ -14,7 +14,7 @@ namespace rayes {
 // What a render holds per forest leaf at most: the description (Forest::bytesPerLeaf, about
 // 60 B), the per-leaf tables of the render (box, material, size, dicing error: about 70 B), the
 // top level's share of nodes and the setup's transient facts. The loader refuses a forest whose
-// leaves times this exceeds the machine's memory, before growing it.
+// leaves times this exceeds what the memory limit has available (core/memory.h), before growing it.
 constexpr uint64_t kForestBoundBytesPerLeaf = 256;
 
 class ForestLeaves final : public LeafSource {

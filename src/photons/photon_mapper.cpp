@@ -230,15 +230,15 @@ void checkPhotonMemory(const PhotonOptions& options, int samplesPerPixel, uint64
     throw ResourceError("--photons", std::string(which) + " would trace " + std::to_string(photons) +
                                          " photons; a photon map holds at most 2^32 - 1 (--photons x spp for pm, x the "
                                          "largest pass's samples for ppm)");
-  const uint64_t budget = options.memoryBytes > 0 ? options.memoryBytes : physicalMemoryBytes() / 2;
-  if (budget == 0) return;  // the machine's memory cannot be read: nothing to check against
+  const uint64_t budget = options.memoryBytes > 0 ? options.memoryBytes : processMemoryLimit().bytes / 2;
+  if (budget == 0) return;  // no memory limit can be read: nothing to check against
   const uint64_t needed = photonMapPeakBytes(photons) + lightBatchBytes;
   if (needed > budget)
     throw ResourceError("--photons", std::string(which) + " of " + std::to_string(photons) + " photons may need " +
                                          readableBytes(needed) + " (" + std::to_string(kPhotonPeakBytes) +
                                          " bytes per photon if every one is stored, and the light batch) but the "
                                          "photon maps may use " + readableBytes(budget) +
-                                         " (half of physical memory); lower --photons or --spp");
+                                         (options.memoryBytes > 0 ? std::string(" (the budget)") : " (half of the memory limit: " + processMemoryLimit().source + ")") + "; lower --photons or --spp");
 }
 
 std::unique_ptr<Integrator> makePhotonMapper(const ShadingScene& scene, const PhotonOptions& options) {

@@ -23,7 +23,7 @@
 // not gathered. Memory: the photon map, counted in the stats (photon_map_bytes, peak). Before
 // any photon is traced, the largest map's worst case (every light path stores its photon:
 // kPhotonPeakBytes each, while the map is gathered and built) plus the light batch's state must
-// fit half of physical memory (PhotonOptions::memoryBytes), and the map at most 2^32 - 1
+// fit half of the memory limit (core/memory.h; PhotonOptions::memoryBytes), and the map at most 2^32 - 1
 // photons, or the render is refused with ResourceError("--photons").
 #pragma once
 #include <memory>
@@ -53,7 +53,7 @@ struct PhotonOptions {
   // The probability a caustic estimate is taken at a diffuse vertex after the path's first
   // (--later-gathers; PathTracer::Options::laterGatherProbability).
   float laterGatherProbability = kLaterGatherProbability;
-  // The photon maps' memory budget; 0: half of physical memory (none if that cannot be read).
+  // The photon maps' memory budget; 0: half of the memory limit, processMemoryLimit() (none if no limit can be read).
   uint64_t memoryBytes = 0;
 };
 

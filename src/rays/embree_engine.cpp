@@ -126,12 +126,17 @@ EmbreeEngine::EmbreeEngine(const LeafSource& patches, const EmbreeSettings& s) {
   if (patches.size() == 0) stats_.minLevel = 0;
   stats_.vertices = vertices;
   stats_.estimatedBytes = vertices * (kOwnBytesPerVertex + kEmbreeBytesPerVertex);
+  const std::string perVertex = " (" + std::to_string(vertices) + " grid vertices x " +
+                                std::to_string(kOwnBytesPerVertex + kEmbreeBytesPerVertex) + " B)";
   if (s.memoryLimit > 0 && stats_.estimatedBytes > s.memoryLimit)
-    throw InputError("--memory-limit", "",
-                     "the Embree engine's full tessellation needs about " + readableBytes(stats_.estimatedBytes) +
-                         " (" + std::to_string(vertices) + " grid vertices x " +
-                         std::to_string(kOwnBytesPerVertex + kEmbreeBytesPerVertex) + " B), more than the limit of " +
-                         readableBytes(s.memoryLimit) + "; lower --max-lod, use --embree-lod auto, or raise --memory-limit");
+    throw ResourceError("--memory-limit", "the Embree engine's full tessellation needs about " +
+                                              readableBytes(stats_.estimatedBytes) + perVertex + ", more than the limit of " +
+                                              readableBytes(s.memoryLimit) +
+                                              " (by default 80 % of the memory limit: " + readMemoryLimit().describe() +
+                                              "); lower --max-lod, use --embree-lod auto, or raise --memory-limit");
+  // A --memory-limit above the memory limit that applies (a cgroup, ulimit -v) lets nothing more through.
+  checkMemoryFits(stats_.estimatedBytes, "--memory-limit", "the Embree engine's full tessellation" + perVertex,
+                  "--memory-limit cannot raise the memory limit that applies: lower --max-lod or use --embree-lod auto");
   tessellate(patches);
   build();
 }

@@ -60,7 +60,8 @@ struct EmbreeSettings {
 
 class EmbreeEngine : public RayEngine {
  public:
-  // Throws InputError("--memory-limit") when estimatedBytes exceeds settings.memoryLimit. The
+  // Throws ResourceError("--memory-limit") when estimatedBytes exceeds settings.memoryLimit or
+  // what the process's memory limit has available (core/memory.h: a cgroup, RLIMIT_AS). The
   // estimate reads only the leaves' boxes and facts: a generated leaf's patch is made when it
   // is tessellated, never before the check.
   EmbreeEngine(const LeafSource& leaves, const EmbreeSettings& settings);

@@ -9,11 +9,14 @@
 namespace rayes {
 namespace {
 
-// A leaf count whose description could not fit in the machine's memory is refused before
+// Leaves no scene can hold (leaf ids are 32-bit): bad input on any machine.
+constexpr uint64_t kMaxLeaves = uint64_t(1) << 32;
+
+// A leaf count whose description and per-leaf tables could not fit what the memory limit
+// (core/memory.h: the cgroup's, RLIMIT_AS or physical memory) has available is refused before
 // anything is grown.
-uint64_t maxForestLeaves() {
-  const uint64_t memory = physicalMemoryBytes();
-  return memory == 0 ? uint64_t(1) << 28 : memory / kForestBoundBytesPerLeaf;
+uint64_t maxForestLeaves(const MemoryLimit& limit) {
+  return limit.sourceBytes == 0 ? uint64_t(1) << 28 : limit.available / kForestBoundBytesPerLeaf;
 }
 
 }  // namespace
@@ -70,11 +73,17 @@ void readForestShape(const JsonReader& r, const json& shape, const std::string& 
   const char* partName[3] = {"terrain", "bark", "foliage"};
   for (int k = 0; k < 3; ++k) partMaterial[k] = materialRef(r, mats, mp, materials, partName[k]);
 
-  const uint64_t leaves = Forest::leafCount(fp), limit = maxForestLeaves();
+  const uint64_t leaves = Forest::leafCount(fp);
+  const std::string needs = "this forest would have " + std::to_string(leaves) + " leaves; describing them needs about " +
+                            readableBytes(std::min(leaves, UINT64_MAX / kForestBoundBytesPerLeaf) * kForestBoundBytesPerLeaf);
+  if (leaves > kMaxLeaves)
+    r.fail(p, needs + ", and a scene holds at most 2^32 leaves: lower trees, detail, branching or leaves_per_twig");
+  const MemoryLimit memory = readMemoryLimit();
+  const uint64_t limit = std::min(kMaxLeaves, maxForestLeaves(memory));
   if (leaves > limit)
-    r.fail(p, "this forest would have " + std::to_string(leaves) + " leaves; describing them needs about " +
-                  readableBytes(std::min(leaves, UINT64_MAX / kForestBoundBytesPerLeaf) * kForestBoundBytesPerLeaf) + ", more than this machine's memory allows (" +
-                  std::to_string(limit) + " leaves): lower trees, detail, branching or leaves_per_twig");
+    r.failResource(p, needs + " (" + std::to_string(kForestBoundBytesPerLeaf) + " B per leaf), more than the " +
+                          memory.describe() + " allows (" + std::to_string(limit) +
+                          " leaves): lower trees, detail, branching or leaves_per_twig");
   std::shared_ptr<const Forest> forest;
   try {
     forest = std::make_shared<const Forest>(fp, limit);

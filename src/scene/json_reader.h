@@ -24,6 +24,12 @@ class JsonReader {
   [[noreturn]] void fail(const std::string& ptr, const std::string& msg) const {
     throw InputError(file_, pos_.place(ptr), (ptr.empty() ? "/" : ptr) + ": " + msg);
   }
+  // "line:column" of the value at `ptr`, for messages that are not errors (warnings).
+  std::string place(const std::string& ptr) const { return pos_.place(ptr); }
+  // A resource limit met at this place (exit code 3): "file:line:column: ptr: msg".
+  [[noreturn]] void failResource(const std::string& ptr, const std::string& msg) const {
+    throw ResourceError(file_ + ":" + pos_.place(ptr), (ptr.empty() ? "/" : ptr) + ": " + msg);
+  }
   static std::string typeName(const json& j) { return j.type_name(); }
 
   void object(const json& j, const std::string& ptr, std::initializer_list<const char*> allowed) const {

@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <numbers>
 #include "geometry/bilinear_patch.h"
 #include "geometry/disk_patch.h"
@@ -30,11 +32,38 @@ uint32_t emissiveMaterial(Scene& scene, const std::string& name, Rgb radiance, b
   return uint32_t(scene.materials.size() - 1);
 }
 
+// A one-sided area light at `center` emitting toward `normal` lights nothing of the scene when
+// every corner of the shapes' box lies behind its plane (or on it): the usual cause is a rect
+// light whose edges were given in the other order.
+bool facesAwayFrom(const Box3& shapes, Vec3 center, Vec3 normal) {
+  if (shapes.empty()) return false;
+  const Vec3 e = shapes.extent();
+  const float tolerance = 1e-6f * std::max({e.x, e.y, e.z, length(center - shapes.center())});
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 corner{k & 1 ? shapes.hi.x : shapes.lo.x, k & 2 ? shapes.hi.y : shapes.lo.y, k & 4 ? shapes.hi.z : shapes.lo.z};
+    if (dot(corner - center, normal) > tolerance) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void readLights(const JsonReader& r, const json& j, Scene& scene) {
   if (!j.is_array()) r.fail("/lights", "expected an array of lights");
   const std::filesystem::path dir = std::filesystem::path(scene.path).parent_path();
+  // The box of the shapes (read before the lights; lights do not count), made when first needed.
+  const size_t shapeLeaves = scene.leaves.size();
+  std::optional<Box3> shapes;
+  auto warnIfFacingAway = [&](const std::string& p, const char* type, Vec3 center, Vec3 normal, const char* hint) {
+    if (!shapes) {
+      shapes.emplace();
+      for (size_t i = 0; i < shapeLeaves; ++i) shapes->extend(scene.leaves.bounds(i));
+    }
+    if (facesAwayFrom(*shapes, center, normal))
+      scene.warnings.push_back(scene.path + ":" + r.place(p) + ": " + p + ": this " + type +
+                               " light emits away from every shape of the scene (their whole bounding box lies "
+                               "behind it), so it lights nothing; " + hint);
+  };
   for (size_t l = 0; l < j.size(); ++l) {
     const std::string p = "/lights/" + std::to_string(l);
     const json& light = j[l];
@@ -74,7 +103,11 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       const Vec3 ev = r.vec3(r.member(light, p, "edge_v"), p + "/edge_v");
       if (!(length(cross(eu, ev)) > 0)) r.fail(p, "edge_u and edge_v span no area");
       const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
-      const uint32_t m = emissiveMaterial(scene, "rect light " + std::to_string(l), le, twoSided());
+      const bool both = twoSided();
+      const uint32_t m = emissiveMaterial(scene, "rect light " + std::to_string(l), le, both);
+      if (!both)
+        warnIfFacingAway(p, "rect", c + (eu + ev) * 0.5f, normalize(cross(eu, ev)),
+                         "it emits toward edge_u x edge_v: swap edge_u and edge_v, or set \"two_sided\": true");
       addPatch(r, p, scene, std::make_shared<BilinearPatch>(c, c + eu, c + ev, c + eu + ev), m);
     } else if (type == "disk") {
       r.object(light, p, {"type", "center", "normal", "radius", "radiance", "two_sided"});
@@ -83,7 +116,9 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       const float radius = float(r.number(r.member(light, p, "radius"), p + "/radius"));
       if (!(radius > 0)) r.fail(p + "/radius", "the radius must be positive");
       const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
-      const uint32_t m = emissiveMaterial(scene, "disk light " + std::to_string(l), le, twoSided());
+      const bool both = twoSided();
+      const uint32_t m = emissiveMaterial(scene, "disk light " + std::to_string(l), le, both);
+      if (!both) warnIfFacingAway(p, "disk", c, n, "it emits toward its normal: negate it, or set \"two_sided\": true");
       addPatch(r, p, scene, std::make_shared<DiskPatch>(c, n, radius), m);
     } else if (type == "distant") {
       r.object(light, p, {"type", "direction", "irradiance", "angular_radius"});

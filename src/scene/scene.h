@@ -32,6 +32,9 @@ struct Scene {
   std::vector<uint32_t> leafMaterial;     // per leaf
   std::vector<PointLight> pointLights;
   SceneLights moreLights;                 // spot, distant and environment lights
+  // What the loader noticed that is not an error (a light that lights nothing), one sentence
+  // each naming the file and the place; the program prints them as warnings.
+  std::vector<std::string> warnings;
 };
 
 }  // namespace rayes

@@ -4,6 +4,7 @@
 // but the inputs: no output, no temporary, no folder created for outputs.
 //
 // "$D" in arguments and expected text stands for the row's temporary folder.
+#include <sys/stat.h>
 #include <algorithm>
 #include <fstream>
 #include <map>
@@ -20,10 +21,11 @@
 namespace rayes {
 namespace {
 
-// A file to create: `content` as bytes, or a folder when `folder` is set.
+// A file to create: `content` as bytes, or a folder when `folder` is set, or a FIFO (a named
+// pipe nobody writes to: opening it to read would block forever) when `fifo` is set.
 struct InputFile {
   std::string name, content;
-  bool folder = false;
+  bool folder = false, fifo = false;
 };
 
 struct HostileCase {
@@ -72,6 +74,7 @@ InputFile withShapes(const std::string& v) { SceneParts p; p.shapes = v; return 
 InputFile withLights(const std::string& v) { SceneParts p; p.lights = v; return scene(p); }
 InputFile validScene() { return scene(SceneParts{}); }
 InputFile folder(const std::string& name) { return {name, "", true}; }
+InputFile fifo(const std::string& name) { return {name, "", false, true}; }
 
 template <size_t N>
 std::string bytes(const char (&a)[N]) { return std::string(a, N - 1); }
@@ -160,6 +163,10 @@ std::vector<HostileCase> catalogue() {
       {"SceneMissing", {}, {}, "$D/s.json", "cannot open scene file: No such file or directory"},
       {"SceneIsAFolder", {folder("s.json")}, {}, "$D/s.json", "scene file is a directory"},
       {"SceneEmpty", {{"s.json", ""}}, {}, "s.json:1:1", "JSON syntax error"},
+      // Inputs must be regular files: a FIFO blocks the reader forever, /dev/zero never ends.
+      {"SceneIsAFifo", {fifo("s.json")}, {}, "$D/s.json", "scene file is not a regular file"},
+      {"SceneIsDevZero", {}, {"render", "/dev/zero", "-o", "$D/out/o.exr", "-q"}, "/dev/zero",
+       "scene file is not a regular file"},
       {"SceneBlank", {{"s.json", "  \n\n"}}, {}, "s.json:3:1", "JSON syntax error"},
       {"SceneTruncated", {{"s.json", "{\n  \"camera\": {\"position\": [0, "}}, {}, "s.json:2:", "JSON syntax error"},
       {"SceneTrailingComma", {{"s.json", "{\n  \"camera\": {},\n}"}}, {}, "s.json:3:1", "JSON syntax error"},
@@ -315,7 +322,7 @@ std::vector<HostileCase> catalogue() {
       {"ForestTreesNotANumber", {withShapes(forestShape(R"("trees": "many")"))}, {}, "s.json:6:",
        "/shapes/0/trees: expected an integer, got string"},
       {"ForestAbsurdDetail", {withShapes(forestShape(R"("trees": 16777216, "detail": 8, "branching": 6)"))}, {},
-       "s.json:6:", "more than this machine's memory allows"},
+       "s.json:6:", "a scene holds at most 2^32 leaves"},
       {"ForestDetailOutOfRange", {withShapes(forestShape(R"("detail": 9)"))}, {}, "s.json:6:",
        "/shapes/0/detail: must be in [0, 8]"},
       {"ForestFractionalSeed", {withShapes(forestShape(R"("seed": 1.5)"))}, {}, "s.json:6:",
@@ -339,6 +346,7 @@ std::vector<HostileCase> catalogue() {
       // --- files the scene names: .bpt, .obj, textures, height maps
       {"BptMissing", {bptShapeScene()}, {}, col(6, kShapesCol + 45), "cannot open file"},
       {"BptIsAFolder", {bptShapeScene(), folder("p.bpt")}, {}, col(6, kShapesCol + 45), "is a directory"},
+      {"BptIsAFifo", {bptShapeScene(), fifo("p.bpt")}, {}, "$D/p.bpt", "Bézier patch file is not a regular file"},
       {"BptClaims1e8Patches", {bptShapeScene(), {"p.bpt", "100000000\n1,1,1\n2\n"}}, {}, "p.bpt:line 1",
        "claims 100000000 patches"},
       {"BptClaimsTooManyPoints", {bptShapeScene(), {"p.bpt", "1\n1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16\n99999\n0,0,0\n"}},
@@ -355,6 +363,7 @@ std::vector<HostileCase> catalogue() {
       {"BptBinaryGarbage", {bptShapeScene(), {"p.bpt", kPng1x1}}, {}, "p.bpt:line 1", "malformed number"},
       {"ObjMissing", {objShapeScene()}, {}, col(6, kShapesCol + 45), "cannot open file"},
       {"ObjIsAFolder", {objShapeScene(), folder("m.obj")}, {}, col(6, kShapesCol + 45), "is a directory"},
+      {"ObjIsAFifo", {objShapeScene(), fifo("m.obj")}, {}, "$D/m.obj", "OBJ file is not a regular file"},
       {"ObjFaceIndexOutOfRange", {objShapeScene(), {"m.obj", kCubeObj + "f 1 2 99\n"}}, {}, "m.obj:line 15",
        "vertex index 99 out of range"},
       {"ObjTagLiesAboutItsCounts", {objShapeScene(), {"m.obj", kCubeObj + "t crease 1000000/1/0 0 1 2\n"}}, {},
@@ -375,6 +384,8 @@ std::vector<HostileCase> catalogue() {
        "out of range"},
       {"TextureMissing", {textureScene("t.png")}, {}, "s.json:5:", "cannot open image: No such file"},
       {"TextureIsAFolder", {textureScene("t.png"), folder("t.png")}, {}, "s.json:5:", "image is a directory"},
+      {"TextureIsAFifo", {textureScene("t.png"), fifo("t.png")}, {}, "s.json:5:", "image is not a regular file"},
+      {"TextureIsDevZero", {textureScene("/dev/zero")}, {}, "s.json:5:", "image is not a regular file"},
       {"TextureNotAPng", {textureScene("t.png"), {"t.png", "GIF89a not a png at all"}}, {}, "s.json:5:",
        "cannot read PNG image"},
       {"TextureTruncatedPng", {textureScene("t.png"), {"t.png", kPng1x1.substr(0, 45)}}, {}, "s.json:5:",
@@ -390,6 +401,7 @@ std::vector<HostileCase> catalogue() {
       {"TextureUnknownFormat", {textureScene("t.gif"), {"t.gif", "GIF89a"}}, {}, "s.json:5:", "unknown image format"},
       {"HeightMapMissing", {heightMapScene("h.exr")}, {}, "s.json:6:", "cannot open height map"},
       {"HeightMapIsAFolder", {heightMapScene("h.exr"), folder("h.exr")}, {}, "s.json:6:", "is a directory"},
+      {"HeightMapIsAFifo", {heightMapScene("h.exr"), fifo("h.exr")}, {}, "s.json:6:", "is not a regular file"},
       {"HeightMapNotAnExr", {heightMapScene("h.exr"), {"h.exr", "P5 2 2 255"}}, {}, "s.json:6:",
        "cannot read height map"},
       {"HeightMapTruncated", {heightMapScene("h.exr"), {"h.exr", halfOf(exrBytes("Y"))}}, {}, "s.json:6:",
@@ -436,6 +448,10 @@ std::vector<HostileCase> catalogue() {
        "cannot open reference image"},
       {"ReferenceIsAFolder", {validScene(), folder("ref.exr")}, renderWith({"--reference", "$D/ref.exr"}),
        "$D/ref.exr", "reference image is a directory"},
+      {"ReferenceIsAFifo", {validScene(), fifo("ref.exr")}, renderWith({"--reference", "$D/ref.exr"}), "$D/ref.exr",
+       "reference image is not a regular file"},
+      {"ReferenceIsDevZero", {validScene()}, renderWith({"--reference", "/dev/zero"}), "/dev/zero",
+       "reference image is not a regular file"},
       {"ReferenceNotAnExr", {validScene(), {"ref.exr", kPng1x1}}, renderWith({"--reference", "$D/ref.exr"}),
        "$D/ref.exr", "cannot read reference image"},
       {"ReferenceWithoutGreen", {validScene(), {"ref.exr", exrBytes("R")}}, renderWith({"--reference", "$D/ref.exr"}),
@@ -462,10 +478,12 @@ std::vector<HostileCase> catalogue() {
       {"PngOutputIsAlsoTheReport", {validScene()}, {"render", "$D/s.json", "-o", "$D/out/p.png", "--report",
                                                     "$D/out/p.png", "-q"},
        "$D/out/p.png", "given as the preview and as the report"},
-      {"OutputIsADevice", {validScene()}, {"render", "$D/s.json", "-o", "/dev/null", "-q"}, "/dev/null",
-       "cannot write the image: not a regular file"},
-      {"OutputIsTheScene", {validScene()}, {"render", "$D/s.json", "-o", "$D/s.json", "-q"}, "$D/s.json",
-       "the image would overwrite an input of this run"},
+      {"OutputIsAFifo", {validScene(), fifo("out/o.exr")}, {}, "$D/out/o.exr", "cannot write the image: not a regular file"},
+      // -o takes .exr, .png and .film only (any other name would have been written as an EXR).
+      {"OutputIsADevice", {validScene()}, {"render", "$D/s.json", "-o", "/dev/null", "-q"}, "-o: '/dev/null'",
+       "no extension"},
+      {"OutputIsTheScene", {validScene()}, {"render", "$D/s.json", "-o", "$D/s.json", "-q"}, "-o: '$D/s.json'",
+       "unknown extension '.json'"},
       {"StatsIsTheScene", {validScene()}, renderWith({"--stats", "$D/s.json"}), "$D/s.json",
        "the stats would overwrite an input of this run"},
       {"OutputIsTheReference", {validScene(), {"ref.exr", referenceBytes()}},
@@ -488,6 +506,10 @@ TEST_P(HostileInput, IsExit2WithFileAndPlaceAndNothingWritten) {
   const std::string dir = temp.dir().string();
   for (const InputFile& f : c.files) {
     if (f.folder) std::filesystem::create_directories(temp.path(f.name));
+    else if (f.fifo) {
+      std::filesystem::create_directories(std::filesystem::path(temp.path(f.name)).parent_path());
+      ASSERT_EQ(::mkfifo(temp.path(f.name).c_str(), 0644), 0) << f.name;
+    }
     else temp.write(f.name, f.content);
   }
   const std::vector<std::string> before = temp.entries();

@@ -1,0 +1,46 @@
+// What a render will hold at its largest, by part, known before any of it is allocated; the
+// Renderer checks it against the memory limit that applies (core/memory.h: a cgroup, RLIMIT_AS,
+// physical memory) and refuses with ResourceError (exit code 3) naming the option of the largest
+// part, instead of dying in the allocation. The parts are budgets (rays, grid cache, beams) or
+// exact sizes (film, outputs) or estimates (dice buffers); the scene is already loaded and
+// counts as memory in use.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace rayes {
+
+// The film's sums per pixel (shading/film.h: 15 doubles, 3 32-bit counters), and what writing
+// the EXR adds per pixel (14 float channels, made from the film before writing).
+constexpr uint64_t kFilmBytesPerPixel = 15 * 8 + 3 * 4;
+constexpr uint64_t kOutputBytesPerPixel = 14 * 4;
+// A dice buffer per thread at level m holds about this much per grid vertex ((2^m + 1)^2
+// vertices: positions, normals, the implicit BVH, border trees): 58 MB at level 10.
+constexpr uint64_t kDiceBytesPerVertex = 55;
+
+struct RenderMemoryPlan {
+  int width = 0, height = 0;
+  uint64_t film = 0, outputs = 0;  // --res
+  uint64_t rays = 0;               // --ray-memory: the batch's paths, ray slots and the engine's per-ray state
+  uint64_t diceBuffers = 0;        // --max-lod (and --threads): one dice buffer per thread
+  uint64_t gridCache = 0;          // --grid-cache
+  uint64_t beams = 0;              // --beam-memory (lbt)
+  uint64_t total() const { return film + outputs + rays + diceBuffers + gridCache + beams; }
+  // The option whose part is largest, and the parts for a message.
+  std::string largestOption() const;
+  std::string parts() const;
+};
+
+struct Scene;
+struct RenderOptions;
+// The plan of a render of `scene` with `options`, whose ray batches take `rayBytes`, on `threads` threads.
+RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& options, uint64_t rayBytes, int threads);
+
+// The dice buffers of `threads` threads at level `maxLod`.
+uint64_t diceBufferEstimate(int maxLod, int threads);
+
+// Throws ResourceError naming the option of the largest part when the plan does not fit what
+// the memory limit has available now.
+void checkRenderMemory(const RenderMemoryPlan& plan);
+
+}  // namespace rayes
