@@ -1,4 +1,5 @@
 #include "app/allocator_settings.h"
+#include <cstdlib>  // defines __GLIBC__ on glibc
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
