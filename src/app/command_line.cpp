@@ -149,6 +149,31 @@ int runCommandLine(int argc, char** argv) {
                                           "samples, paths, ETA, resident memory) or none (as -q)")
       ->check(CLI::IsMember({"human", "json", "none"}));
   r->allow_extras();
+  // Batch jobs and farms (docs/batch-and-farm.md).
+  r->add_option("--crop", a.crop, "x0,y0,x1,y1: render only this window of pixels (x1, y1 excluded), the same "
+                                  "pixels as the whole render's there; the EXR's data window, the PNG its size");
+  r->add_option("--part", a.part, "I/N: render part I of N of the frame (bands of rows; lt: ranges of light paths) "
+                                  "into -o NAME.film; rayes merge makes the image of the N parts, the same bits as "
+                                  "one render");
+  r->add_option("--checkpoint", a.checkpoint, "keep the render's progress in this .film file (every "
+                                              "--checkpoint-every seconds and when stopped by SIGTERM, SIGINT or "
+                                              "SIGHUP: exit code 4); removed when the render is done");
+  r->add_option("--checkpoint-every", a.checkpointEvery, "seconds between checkpoints (default 60)");
+  r->add_flag("--resume", a.resume, "continue from the checkpoint (--checkpoint, or the --time-limit default) if "
+                                    "it exists; a checkpoint of another scene, settings or version is refused");
+  r->add_option("--time-limit", a.timeLimit, "stop after this many seconds with a checkpoint (exit code 4; without "
+                                             "--checkpoint it is <output>.checkpoint.film)");
+
+  CLI::App* m = app.add_subcommand("merge", "combine the parts of a split render (rayes render --part I/N -o "
+                                            "part-I.film) into the image, the same bits as one render");
+  MergeArgs ma;
+  m->add_option("parts", ma.parts, "the parts' .film files (or one complete .film)")->required();
+  m->add_option("-o,--output", ma.outputs, "the image: .exr (a PNG preview beside it unless a .png is named too), "
+                                           ".png or .film; may be given several times")
+      ->required()
+      ->allow_extra_args(false);  // one name per -o, so parts may follow it
+  m->add_option("--stats", ma.stats, "the parts' statistics combined as JSON (docs/stats.md, \"Merged parts\")");
+  m->add_flag("-q,--quiet", ma.quiet, "no message when done");
 
   RenderArgs ca;
   CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
@@ -187,9 +212,9 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // A mistyped subcommand: name the nearest.
-    if (!r->parsed() && !c->parsed() && argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "render" &&
-        std::string(argv[1]) != "converge") {
-      const std::string near = closestName(argv[1], {"render", "converge"});
+    if (!r->parsed() && !c->parsed() && !m->parsed() && argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "render" &&
+        std::string(argv[1]) != "converge" && std::string(argv[1]) != "merge") {
+      const std::string near = closestName(argv[1], {"render", "converge", "merge"});
       std::cerr << "rayes: " << argv[1] << ": unknown command" << (near.empty() ? "" : "; did you mean " + near + "?")
                 << "\n(run 'rayes --help' for the commands)\n";
       return 2;
@@ -202,7 +227,7 @@ int runCommandLine(int argc, char** argv) {
           return 2;
         }
     // Point at the help of the subcommand that was being parsed.
-    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : "";
+    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : m->parsed() ? "merge " : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
@@ -215,6 +240,7 @@ int runCommandLine(int argc, char** argv) {
   try {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
+    if (m->parsed()) return runMerge(ma);
   } catch (const ResourceError& e) {
     std::cerr << "rayes: " << e.message() << "\n";
     return 3;

@@ -15,7 +15,8 @@ RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& optio
   RenderMemoryPlan p;
   p.width = scene.width;
   p.height = scene.height;
-  const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
+  // The film and the outputs hold the crop window alone (a part's band is within it).
+  const uint64_t pixels = options.crop.empty() ? uint64_t(scene.width) * uint64_t(scene.height) : options.crop.pixels();
   p.film = pixels * kFilmBytesPerPixel;
   p.outputs = pixels * kOutputBytesPerPixel;
   p.rays = rayBytes;
@@ -25,7 +26,7 @@ RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& optio
     p.diceBuffers = diceBufferEstimate(options.maxLod, threads);
     if (options.diceCacheEntries == 0) p.gridCache = options.gridCacheBytes;
   }
-  if (options.method.name == "lbt") p.beams = options.method.beams.memoryBytes;
+  p.beams = methodBudgetBytes(options.method);
   return p;
 }
 

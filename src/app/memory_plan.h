@@ -12,7 +12,7 @@ namespace rayes {
 
 // The film's sums per pixel (shading/film.h: 15 doubles, 3 32-bit counters), and what writing
 // the EXR adds per pixel (14 float channels, made from the film before writing).
-constexpr uint64_t kFilmBytesPerPixel = 15 * 8 + 3 * 4;
+constexpr uint64_t kFilmBytesPerPixel = 12 * 8 + 3 * 16 + 3 * 4;  // doubles, fixed-point splats, counts
 constexpr uint64_t kOutputBytesPerPixel = 14 * 4;
 // A dice buffer per thread at level m holds about this much per grid vertex ((2^m + 1)^2
 // vertices: positions, normals, the implicit BVH, border trees): 58 MB at level 10.

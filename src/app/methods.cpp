@@ -43,6 +43,10 @@ const std::vector<std::string>& methodNames() {
   return names;
 }
 
+size_t methodBudgetBytes(const MethodOptions& options) {
+  return methodOf(options.name) == Method::LightBeams ? options.beams.memoryBytes : 0;
+}
+
 void checkMethodOptions(const MethodOptions& options) {
   const Method method = methodOf(options.name);
   const bool causticMethod = method == Method::LightBeams || method == Method::PhotonMapping ||

@@ -35,6 +35,9 @@ const std::vector<std::string>& methodNames();
 // Checks the name and the options that depend on the method; throws InputError naming the
 // option (--method, --caustic-paths).
 void checkMethodOptions(const MethodOptions& options);
+// The memory a method's own budget lets it take besides the ray budget (lbt: --beam-memory;
+// 0 for the others), for the render's memory plan.
+size_t methodBudgetBytes(const MethodOptions& options);
 // The integrator for options.name over the render's data (which must outlive it). Fast: any
 // work through the ray engine waits for Integrator::prepare.
 std::unique_ptr<Integrator> makeMethod(const MethodOptions& options, const Scene& scene, const RenderData& data);

@@ -77,6 +77,7 @@ class BeamIntegrator final : public Integrator {
                  CausticPaths causticPaths, float laterGatherProbability);
   ~BeamIntegrator() override;
 
+  IntegratorTraits traits() const override { return {.beamsUpFront = true}; }
   uint32_t raysPerPath() const override { return pt_->raysPerPath(); }
   size_t bytesPerPath() const override { return pt_->bytesPerPath(); }
   size_t leafTableBytes() const override { return pt_->leafTableBytes(); }
@@ -87,6 +88,7 @@ class BeamIntegrator final : public Integrator {
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override { return pt_->shade(bounce, rays, stats); }
   void finish(Film& film, ShadeStats& stats) override;
   bool setPixelBlock(uint32_t n) override { return pt_->setPixelBlock(n); }
+  bool setPixelWindow(const PixelWindow& window) override { return pt_->setPixelWindow(window); }
   MethodStats methodStats() const override;
 
   // The beams built by prepare() (null when none were, or when they are in batches:
