@@ -3,6 +3,7 @@
 #include <string>
 #include <CLI/CLI.hpp>
 #include "app/commands.h"
+#include "app/farm_command.h"
 #include "core/error.h"
 
 namespace rayes {
@@ -95,11 +96,7 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
 
 }  // namespace
 
-int runCommandLine(int argc, char** argv) {
-  CLI::App app{"rayes: a streaming micropolygon ray tracer. Rays are traced in generations, sorted by the\n"
-               "patch they may hit, and every patch is diced on demand into micropolygons."};
-  app.require_subcommand(1);
-  RenderArgs a;
+CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
   CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md)");
   r->add_option("scene", a.scene, "the scene file")->required();
   r->add_option("-o,--output", a.out, "output OpenEXR (beauty RGBA, depth, normal, lod); a PNG preview is written "
@@ -116,6 +113,15 @@ int runCommandLine(int argc, char** argv) {
                                              "image after each (more dicings; the same final image). Implied by "
                                              "--reference");
   addSharedOptions(r, a);
+  return r;
+}
+
+int runCommandLine(int argc, char** argv) {
+  CLI::App app{"rayes: a streaming micropolygon ray tracer. Rays are traced in generations, sorted by the\n"
+               "patch they may hit, and every patch is diced on demand into micropolygons."};
+  app.require_subcommand(1);
+  RenderArgs a;
+  CLI::App* r = addRenderCommand(app, a);
 
   RenderArgs ca;
   CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
@@ -143,6 +149,17 @@ int runCommandLine(int argc, char** argv) {
   c->add_option("--svg", ca.svg, "the chart's file (default: the CSV's name with .svg)");
   addSharedOptions(c, ca);
 
+  // rayes farm submit: the words after "--" are for sbatch, not for CLI11.
+  FarmArgs fa;
+  CLI::App* f = addFarmCommand(app, fa);
+  if (argc > 1 && std::string(argv[1]) == "farm")
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--") {
+        fa.sbatchArgs.assign(argv + i + 1, argv + argc);
+        argc = i;
+        break;
+      }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -151,13 +168,14 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Point at the help of the subcommand that was being parsed.
-    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : "";
+    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : f->parsed() ? "farm submit " : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
   try {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
+    if (f->parsed()) return runFarmSubmit(fa, f->remaining());
   } catch (const ResourceError& e) {
     std::cerr << "rayes: " << e.message() << "\n";
     return 3;
