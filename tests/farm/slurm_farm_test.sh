@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# `rayes farm submit` on a real one-node Slurm cluster (tests/farm/slurm_cluster.sh), end to end:
+#  1. a 4-task job of a small scene; its merged image equals a single `rayes render` of the same
+#     scene and settings bit for bit (cmp of the EXRs: the writer puts nothing but the film in
+#     them, no time or host, so equal films give equal files; every channel is compared);
+#  2. the same job again, one array task killed mid-way (`scancel --signal=KILL` once its
+#     checkpoint exists, then `scontrol requeue`): the task resumes from its checkpoint and the
+#     merged image is again the same.
+# usage: slurm_farm_test.sh RAYES_BINARY WORK_FOLDER   (ctest runs it as `farm_slurm`)
+# Exit 77 (ctest: skipped) when it cannot run here: not root, Slurm or munge not installed, or
+# the daemons do not start; with RAYES_REQUIRE_SLURM=1 (.ci/run sets it) those fail instead.
+set -euo pipefail
+[ $# -eq 2 ] || { echo "usage: $0 RAYES_BINARY WORK_FOLDER" >&2; exit 2; }
+rayes=$(realpath "$1")
+work=$2
+here=$(cd "$(dirname "$0")" && pwd)
+scene=$(realpath "$here/../../scenes/teapot.json")
+# Each part takes a few seconds (long enough to be killed after its first checkpoint, at 1 s).
+settings=(--res 160x120 --spp 64 --seed 7)
+
+skip() {
+  if [ "${RAYES_REQUIRE_SLURM:-0}" = 1 ]; then echo "FAIL (RAYES_REQUIRE_SLURM=1): $*" >&2; exit 1; fi
+  echo "SKIP: $*"
+  exit 77
+}
+[ "$(id -u)" -eq 0 ] || skip "the Slurm test cluster needs root"
+
+rm -rf "$work"
+mkdir -p "$work"
+work=$(cd "$work" && pwd)
+cluster=$work/cluster
+stop() { "$here/slurm_cluster.sh" stop "$cluster" || true; }
+trap stop EXIT
+start_rc=0
+"$here/slurm_cluster.sh" start "$cluster" || start_rc=$?
+[ $start_rc -eq 77 ] && skip "Slurm or munge is not installed (scripts/setup installs them)"
+[ $start_rc -eq 0 ] || skip "the Slurm daemons did not start (their logs are above)"
+export SLURM_CONF=$cluster/slurm.conf
+
+fail() {
+  echo "FAIL: $*" >&2
+  for f in "$work"/*/part-*.log "$work"/*/merge.log; do
+    [ -f "$f" ] && { echo "---- $f" >&2; cat "$f" >&2; }
+  done
+  echo "---- squeue" >&2
+  squeue -t all >&2 || true
+  exit 1
+}
+
+job_state() { scontrol show job "$1" 2>/dev/null | grep -o 'JobState=[A-Z_]*' | head -n 1 | cut -d= -f2; }
+
+# Waits until job $1 has ended (at most $2 s); fails unless it COMPLETED.
+wait_completed() {
+  local state="" t
+  for ((t = 0; t < $2 * 5; t++)); do
+    state=$(job_state "$1")
+    case $state in
+      COMPLETED) return 0 ;;
+      FAILED | CANCELLED | TIMEOUT | NODE_FAIL | OUT_OF_MEMORY | BOOT_FAIL | DEADLINE) break ;;
+    esac
+    sleep 0.2
+  done
+  fail "job $1 ended ${state:-unknown} (expected COMPLETED within $2 s)"
+}
+
+# Submits the 4-task job into folder $1 with output $2; sets render_job and merge_job.
+submit() {
+  local out
+  out=$("$rayes" farm submit "$scene" --tasks 4 "${settings[@]}" --checkpoint-every 1 -q --dir "$1" -o "$2") \
+    || fail "rayes farm submit exited $?"
+  echo "$out"
+  render_job=$(sed -n 's/^render job \([0-9]*\):.*/\1/p' <<<"$out")
+  merge_job=$(sed -n 's/^merge job \([0-9]*\):.*/\1/p' <<<"$out")
+  [ -n "$render_job" ] && [ -n "$merge_job" ] || fail "no job ids in farm submit's output"
+}
+
+same_image() {
+  cmp "$1" "$2" || fail "$2 differs from the single render $1"
+  echo "ok: $2 equals $1 byte for byte"
+}
+
+# The single-machine render.
+"$rayes" render "$scene" "${settings[@]}" -q -o "$work/single.exr" || fail "the single render exited $?"
+
+# 1. Four tasks, merged.
+submit "$work/parts-1" "$work/farm-1.exr"
+wait_completed "$merge_job" 240
+same_image "$work/single.exr" "$work/farm-1.exr"
+
+# 2. Task 1 killed after its first checkpoint, requeued: it resumes.
+submit "$work/parts-2" "$work/farm-2.exr"
+task=${render_job}_1
+for ((t = 0; t < 600; t++)); do
+  [ -f "$work/parts-2/part-1.checkpoint" ] && break
+  [ -f "$work/parts-2/part-1.film" ] && fail "part 1 finished before it wrote a checkpoint: give the test render more work"
+  sleep 0.1
+done
+[ -f "$work/parts-2/part-1.checkpoint" ] || fail "part 1 wrote no checkpoint within 60 s"
+scancel --signal=KILL "$task"
+for ((t = 0; t < 100; t++)); do
+  case $(job_state "$task") in RUNNING | COMPLETING) sleep 0.1 ;; *) break ;; esac
+done
+state=$(job_state "$task")
+[ "$state" = CANCELLED ] || fail "task $task is $state after scancel --signal=KILL (expected CANCELLED: killed mid-way)"
+[ -f "$work/parts-2/part-1.film" ] && fail "part 1 was written although its task was killed"
+scontrol requeue "$task"
+# A requeued task may start cred_expire (10 s) later; the test need not wait for that.
+scontrol update JobId="$task" StartTime=now >/dev/null 2>&1 || true
+wait_completed "$merge_job" 240
+grep -q "resuming from" "$work/parts-2/part-1.log" || fail "the requeued task 1 did not resume from its checkpoint"
+same_image "$work/single.exr" "$work/farm-2.exr"
+echo "ok: a task killed mid-way and requeued resumed from its checkpoint; the image is the same"
