@@ -105,7 +105,8 @@ SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
 CredType=cred/munge
-AuthInfo=socket=$socket,cred_expire=10
+# cred_expire: a requeued job waits this + 1 s before it runs again (Slurm's default: 120).
+AuthInfo=socket=$socket,cred_expire=5
 StateSaveLocation=$dir/state
 SlurmdSpoolDir=$dir/spool
 SlurmctldPidFile=${pidfiles[1]}
