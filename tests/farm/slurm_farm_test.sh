@@ -15,8 +15,9 @@ rayes=$(realpath "$1")
 work=$2
 here=$(cd "$(dirname "$0")" && pwd)
 scene=$(realpath "$here/../../scenes/teapot.json")
-# Each part takes a few seconds (long enough to be killed after its first checkpoint, at 1 s).
-settings=(--res 160x120 --spp 64 --seed 7)
+# Each part takes a few seconds on one thread (-- --cpus-per-task=1 below: two tasks at a time
+# on 2 cores), long enough to be killed after its first checkpoint (--checkpoint-every 1).
+settings=(--res 160x120 --spp 128 --seed 7)
 
 skip() {
   if [ "${RAYES_REQUIRE_SLURM:-0}" = 1 ]; then echo "FAIL (RAYES_REQUIRE_SLURM=1): $*" >&2; exit 1; fi
@@ -66,7 +67,8 @@ wait_completed() {
 # Submits the 4-task job into folder $1 with output $2; sets render_job and merge_job.
 submit() {
   local out
-  out=$("$rayes" farm submit "$scene" --tasks 4 "${settings[@]}" --checkpoint-every 1 -q --dir "$1" -o "$2") \
+  out=$("$rayes" farm submit "$scene" --tasks 4 "${settings[@]}" --checkpoint-every 1 -q --dir "$1" -o "$2" \
+    -- --cpus-per-task=1) \
     || fail "rayes farm submit exited $?"
   echo "$out"
   render_job=$(sed -n 's/^render job \([0-9]*\):.*/\1/p' <<<"$out")
@@ -87,25 +89,33 @@ submit "$work/parts-1" "$work/farm-1.exr"
 wait_completed "$merge_job" 240
 same_image "$work/single.exr" "$work/farm-1.exr"
 
-# 2. Task 1 killed after its first checkpoint, requeued: it resumes.
+# 2. A task killed after its first checkpoint (task 1, or the next one should a task finish
+#    between its checkpoint and the kill), then requeued: it resumes.
 submit "$work/parts-2" "$work/farm-2.exr"
-task=${render_job}_1
-for ((t = 0; t < 600; t++)); do
-  [ -f "$work/parts-2/part-1.checkpoint" ] && break
-  [ -f "$work/parts-2/part-1.film" ] && fail "part 1 finished before it wrote a checkpoint: give the test render more work"
-  sleep 0.1
+killed=""
+for i in 1 2 3 4; do
+  task=${render_job}_$i
+  for ((t = 0; t < 600; t++)); do
+    [ -f "$work/parts-2/part-$i.checkpoint" ] && break
+    [ -f "$work/parts-2/part-$i.film" ] && break
+    sleep 0.1
+  done
+  [ -f "$work/parts-2/part-$i.checkpoint" ] || continue
+  scancel --signal=KILL "$task"
+  for ((t = 0; t < 100; t++)); do
+    case $(job_state "$task") in RUNNING | COMPLETING) sleep 0.1 ;; *) break ;; esac
+  done
+  state=$(job_state "$task")
+  [ "$state" = COMPLETED ] && continue  # it finished just before the kill
+  [ "$state" = CANCELLED ] || fail "task $task is $state after scancel --signal=KILL (expected CANCELLED)"
+  [ -f "$work/parts-2/part-$i.film" ] && fail "part $i was written although its task was killed"
+  killed=$i
+  break
 done
-[ -f "$work/parts-2/part-1.checkpoint" ] || fail "part 1 wrote no checkpoint within 60 s"
-scancel --signal=KILL "$task"
-for ((t = 0; t < 100; t++)); do
-  case $(job_state "$task") in RUNNING | COMPLETING) sleep 0.1 ;; *) break ;; esac
-done
-state=$(job_state "$task")
-[ "$state" = CANCELLED ] || fail "task $task is $state after scancel --signal=KILL (expected CANCELLED: killed mid-way)"
-[ -f "$work/parts-2/part-1.film" ] && fail "part 1 was written although its task was killed"
+[ -n "$killed" ] || fail "no task could be killed after a checkpoint: give the test render more work"
 # It runs again cred_expire + 1 s later (6 s on the test cluster), resuming from its checkpoint.
 scontrol requeue "$task"
 wait_completed "$merge_job" 240
-grep -q "resuming from" "$work/parts-2/part-1.log" || fail "the requeued task 1 did not resume from its checkpoint"
+grep -q "resuming from" "$work/parts-2/part-$killed.log" || fail "the requeued task $killed did not resume from its checkpoint"
 same_image "$work/single.exr" "$work/farm-2.exr"
 echo "ok: a task killed mid-way and requeued resumed from its checkpoint; the image is the same"
