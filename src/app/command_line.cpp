@@ -113,6 +113,20 @@ CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
                                              "image after each (more dicings; the same final image). Implied by "
                                              "--reference");
   addSharedOptions(r, a);
+  // Batch jobs and farms (docs/batch-and-farm.md).
+  r->add_option("--crop", a.crop, "x0,y0,x1,y1: render only this window of pixels (x1, y1 excluded), the same "
+                                  "pixels as the whole render's there; the EXR's data window, the PNG its size");
+  r->add_option("--part", a.part, "I/N: render part I of N of the frame (bands of rows; lt: ranges of light paths) "
+                                  "into -o NAME.film; rayes merge makes the image of the N parts, the same bits as "
+                                  "one render");
+  r->add_option("--checkpoint", a.checkpoint, "keep the render's progress in this .film file (every "
+                                              "--checkpoint-every seconds and when stopped by SIGTERM, SIGINT or "
+                                              "SIGHUP: exit code 4); removed when the render is done");
+  r->add_option("--checkpoint-every", a.checkpointEvery, "seconds between checkpoints (default 60)");
+  r->add_flag("--resume", a.resume, "continue from the checkpoint (--checkpoint, or the --time-limit default) if "
+                                    "it exists; a checkpoint of another scene, settings or version is refused");
+  r->add_option("--time-limit", a.timeLimit, "stop after this many seconds with a checkpoint (exit code 4; without "
+                                             "--checkpoint it is <output>.checkpoint.film)");
   return r;
 }
 
@@ -122,6 +136,16 @@ int runCommandLine(int argc, char** argv) {
   app.require_subcommand(1);
   RenderArgs a;
   CLI::App* r = addRenderCommand(app, a);
+
+  CLI::App* m = app.add_subcommand("merge", "combine the parts of a split render (rayes render --part I/N -o "
+                                            "part-I.film) into the image, the same bits as one render");
+  MergeArgs ma;
+  m->add_option("parts", ma.parts, "the parts' .film files (or one complete .film)")->required();
+  m->add_option("-o,--output", ma.outputs, "the image: .exr (a PNG preview beside it unless a .png is named too), "
+                                           ".png or .film; may be given several times")
+      ->required();
+  m->add_option("--stats", ma.stats, "the parts' statistics combined as JSON (docs/stats.md, \"Merged parts\")");
+  m->add_flag("-q,--quiet", ma.quiet, "no message when done");
 
   RenderArgs ca;
   CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
@@ -168,13 +192,18 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // Point at the help of the subcommand that was being parsed.
-    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : f->parsed() ? "farm submit " : "";
+    const char* which = c->parsed()   ? "converge "
+                        : r->parsed() ? "render "
+                        : m->parsed() ? "merge "
+                        : f->parsed() ? "farm submit "
+                                      : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
   try {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
+    if (m->parsed()) return runMerge(ma);
     if (f->parsed()) return runFarmSubmit(fa, f->remaining());
   } catch (const ResourceError& e) {
     std::cerr << "rayes: " << e.message() << "\n";

@@ -1,11 +1,21 @@
 // The subcommands of the `rayes` command line, each from its parsed arguments; both return the
 // exit code and throw InputError for bad input (command_line.cpp turns it into exit code 2).
 #pragma once
+#include <string>
+#include <vector>
 #include "app/render_args.h"
 
 namespace rayes {
 
+// `rayes merge`'s arguments.
+struct MergeArgs {
+  std::vector<std::string> parts, outputs;
+  std::string stats;
+  bool quiet = false;
+};
+
 int runRender(const RenderArgs& a);    // render_command.cpp
 int runConverge(const RenderArgs& a);  // converge_command.cpp
+int runMerge(const MergeArgs& a);      // merge_command.cpp
 
 }  // namespace rayes

@@ -28,14 +28,21 @@ void writeExr(const std::string& path, const Film& film) {
   const int w = film.width(), h = film.height();
   const std::vector<float> rgba = film.beautyRgba(), depth = film.depth(), normal = film.normal(), lod = film.lod();
   const std::vector<float> albedo = film.albedo(), material = film.materialId(), samples = film.sampleCount();
-  Imf::Header header(w, h);
+  // A window of the image (--crop): its pixels are the data window, the full image the display
+  // window, as production renderers write crops (compositors place them by it).
+  const PixelWindow& win = film.window();
+  const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(film.fullWidth() - 1, film.fullHeight() - 1));
+  const Imath::Box2i data(Imath::V2i(win.x0, win.y0), Imath::V2i(win.x1 - 1, win.y1 - 1));
+  Imf::Header header(display, data);
   const char* names[] = {"R", "G", "B", "A", "depth.Z", "normal.X", "normal.Y", "normal.Z", "lod.Y",
                          "albedo.R", "albedo.G", "albedo.B", "materialId.Y", "samples.Y"};
   for (const char* c : names) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
   Imf::FrameBuffer fb;
   const size_t f = sizeof(float);
+  // OpenEXR addresses a slice by absolute coordinates: the buffer's origin is the data window's.
+  const ptrdiff_t origin = ptrdiff_t(win.x0) + ptrdiff_t(win.y0) * ptrdiff_t(w);
   auto slice = [&](const float* base, size_t stride) {
-    return Imf::Slice(Imf::FLOAT, (char*)base, f * stride, f * stride * size_t(w));
+    return Imf::Slice(Imf::FLOAT, (char*)(base - origin * ptrdiff_t(stride)), f * stride, f * stride * size_t(w));
   };
   fb.insert("R", slice(rgba.data() + 0, 4));
   fb.insert("G", slice(rgba.data() + 1, 4));
@@ -53,7 +60,7 @@ void writeExr(const std::string& path, const Film& film) {
   fb.insert("samples.Y", slice(samples.data(), 1));
   Imf::OutputFile file(path.c_str(), header);
   file.setFrameBuffer(fb);
-  file.writePixels(h);
+  if (h > 0) file.writePixels(h);
 }
 
 namespace {

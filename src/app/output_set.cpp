@@ -1,52 +1,14 @@
 #include "app/output_set.h"
 #include <cerrno>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <unistd.h>
+#include "app/interrupt.h"
 #include "core/error.h"
 
 namespace rayes {
 namespace fs = std::filesystem;
-namespace {
-
-// The temporaries of live sets, for a run stopped by SIGINT, SIGTERM or SIGHUP: the handler
-// may only call async-signal-safe functions (unlink, signal, raise), so the paths are kept in
-// plain arrays. A path too long for a slot, or a slot table full, is only not removed on a signal.
-constexpr int kSlots = 16;
-char pendingPath[kSlots][4096];
-volatile std::sig_atomic_t pendingUsed[kSlots];
-
-extern "C" void removePendingAndReraise(int sig) {
-  for (int k = 0; k < kSlots; ++k)
-    if (pendingUsed[k]) ::unlink(pendingPath[k]);
-  std::signal(sig, SIG_DFL);
-  std::raise(sig);
-}
-
-int registerPending(const std::string& path) {
-  static const bool installed = [] {
-    for (int sig : {SIGINT, SIGTERM, SIGHUP})  // an ignored signal (nohup) stays ignored
-      if (std::signal(sig, removePendingAndReraise) == SIG_IGN) std::signal(sig, SIG_IGN);
-    return true;
-  }();
-  (void)installed;
-  if (path.size() >= sizeof pendingPath[0]) return -1;
-  for (int k = 0; k < kSlots; ++k)
-    if (!pendingUsed[k]) {
-      std::memcpy(pendingPath[k], path.c_str(), path.size() + 1);
-      pendingUsed[k] = 1;
-      return k;
-    }
-  return -1;
-}
-
-void unregisterPending(int slot) {
-  if (slot >= 0) pendingUsed[slot] = 0;
-}
-
-}  // namespace
 
 OutputSet::~OutputSet() {
   if (!committed_) removeTemporaries();
@@ -56,10 +18,12 @@ void OutputSet::removeTemporaries() {
   std::error_code ec;
   for (const Entry& e : entries_) {
     fs::remove(e.temporary, ec);
-    unregisterPending(e.signalSlot);
+    unregisterCleanup(e.signalSlot);
   }
   // Folders this set created, deepest first; fs::remove leaves a folder that is not empty.
   for (auto it = createdFolders_.rbegin(); it != createdFolders_.rend(); ++it) fs::remove(*it, ec);
+  for (int slot : folderSlots_) unregisterCleanup(slot);
+  folderSlots_.clear();
 }
 
 void OutputSet::add(const std::string& target, const std::string& what) {
@@ -79,6 +43,8 @@ void OutputSet::add(const std::string& target, const std::string& what) {
     std::vector<fs::path> missing;
     for (fs::path p = dir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) missing.push_back(p);
     createdFolders_.insert(createdFolders_.end(), missing.rbegin(), missing.rend());
+    // A run stopped by a signal removes them too (outermost registered first).
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) folderSlots_.push_back(registerCleanupFolder(it->string()));
     fs::create_directories(dir, ec);
     if (ec) throw InputError(target, "", "cannot create the folder for the " + what + ": " + ec.message());
   }
@@ -90,7 +56,7 @@ void OutputSet::add(const std::string& target, const std::string& what) {
     throw InputError(target, "", "cannot write the " + what + ": " + std::strerror(err));
   }
   std::fclose(f);
-  entries_.push_back({target, temporary, what, registerPending(temporary)});
+  entries_.push_back({target, temporary, what, registerCleanupFile(temporary)});
 }
 
 const OutputSet::Entry& OutputSet::entry(const std::string& target) const {
@@ -131,7 +97,9 @@ void OutputSet::commit() {
     committed_ = true;
     throw InputError(entries_[k].target, "", "cannot write the " + entries_[k].what + ": " + reason);
   }
-  for (const Entry& e : entries_) unregisterPending(e.signalSlot);
+  for (const Entry& e : entries_) unregisterCleanup(e.signalSlot);
+  for (int slot : folderSlots_) unregisterCleanup(slot);
+  folderSlots_.clear();
   committed_ = true;
 }
 

@@ -3,8 +3,9 @@
 // are they renamed onto their targets. On any failure -- while writing, or a rename -- no
 // output of the run is left behind: temporaries are removed, and targets already renamed in
 // this commit are removed too, and so are folders created for them; a run stopped by SIGINT,
-// SIGTERM or SIGHUP removes its temporaries before it dies. The one place in the program that
-// writes output files.
+// SIGTERM or SIGHUP removes its temporaries and the folders it created before it dies
+// (app/interrupt.h). The one place in the program that writes output files (besides the
+// checkpoint, which is written atomically on its own: app/checkpoint.h).
 //
 // Failures are InputError naming the target with the system's reason (errno is read before
 // any cleanup can overwrite it): an unwritable output is bad input, exit code 2.
@@ -51,6 +52,7 @@ class OutputSet {
   std::vector<Entry> entries_;
   std::vector<std::string> inputs_;
   std::vector<std::string> createdFolders_;  // outermost first
+  std::vector<int> folderSlots_;             // their slots in the signal handler's table (app/interrupt.h)
   bool committed_ = false;
 };
 

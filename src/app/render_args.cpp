@@ -135,6 +135,40 @@ Scene preparedScene(const RenderArgs& a) {
   return scene;
 }
 
+PixelWindow parseCrop(const std::string& text, int width, int height) {
+  int64_t v[4];
+  size_t at = 0;
+  for (int k = 0; k < 4; ++k) {
+    const size_t comma = k < 3 ? text.find(',', at) : text.size();
+    if (comma == std::string::npos) throw InputError("--crop", "", "expected x0,y0,x1,y1, got '" + text + "'");
+    const std::string part = text.substr(at, comma - at);
+    const auto [p, ec] = std::from_chars(part.data(), part.data() + part.size(), v[k]);
+    if (part.empty() || ec != std::errc() || p != part.data() + part.size())
+      throw InputError("--crop", "", "expected x0,y0,x1,y1 with whole numbers, got '" + text + "'");
+    at = comma + 1;
+  }
+  if (!(0 <= v[0] && v[0] < v[2] && v[2] <= width && 0 <= v[1] && v[1] < v[3] && v[3] <= height))
+    throw InputError("--crop", "", "'" + text + "' is not a window of the " + std::to_string(width) + "x" +
+                                       std::to_string(height) + " image (0 <= x0 < x1 <= width, 0 <= y0 < y1 <= height; x1 and y1 excluded)");
+  return {int(v[0]), int(v[1]), int(v[2]), int(v[3])};
+}
+
+void parsePart(const std::string& text, int& part, int& parts) {
+  const size_t slash = text.find('/');
+  int64_t v[2] = {0, 0};
+  const std::string s[2] = {slash == std::string::npos ? text : text.substr(0, slash),
+                            slash == std::string::npos ? "" : text.substr(slash + 1)};
+  for (int k = 0; k < 2; ++k) {
+    const auto [p, ec] = std::from_chars(s[k].data(), s[k].data() + s[k].size(), v[k]);
+    if (s[k].empty() || ec != std::errc() || p != s[k].data() + s[k].size())
+      throw InputError("--part", "", "expected I/N (part I of N, 1-based), got '" + text + "'");
+  }
+  if (!(1 <= v[0] && v[0] <= v[1] && v[1] <= kMaxParts))
+    throw InputError("--part", "", "'" + text + "': needs 1 <= I <= N <= " + std::to_string(kMaxParts));
+  part = int(v[0]);
+  parts = int(v[1]);
+}
+
 std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what) {
   int w = 0, h = 0;
   std::vector<float> rgb = readExrRgb(path, w, h);

@@ -27,6 +27,11 @@ struct RenderArgs {
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
+  // render: batch jobs (docs/batch-and-farm.md)
+  std::string crop, part, checkpoint;
+  double checkpointEvery = 60;
+  std::optional<double> timeLimit;
+  bool resume = false;
   // converge
   double beamLobeCells = 2;
   double budget = 0, beamGrowth = 1.4142135623730951;
@@ -38,6 +43,12 @@ struct RenderArgs {
 RenderOptions checkedOptions(const RenderArgs& a);
 // Loads the scene and applies --res, --spp and --seed.
 Scene preparedScene(const RenderArgs& a);
+// --crop x0,y0,x1,y1 (x1, y1 excluded) inside a width x height image; throws InputError("--crop").
+PixelWindow parseCrop(const std::string& text, int width, int height);
+// --part I/N (1 <= I <= N <= kMaxParts); throws InputError("--part").
+inline constexpr int kMaxParts = 65536;
+void parsePart(const std::string& text, int& part, int& parts);
+
 // An RGB image of the scene's size from `path`, for `what` (a reference, a mask).
 std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what);
 

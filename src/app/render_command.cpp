@@ -1,10 +1,21 @@
 // `rayes render`: one scene to an image, with its statistics and report; every output all or
-// nothing (OutputSet).
+// nothing (OutputSet). Batch jobs (docs/batch-and-farm.md): --crop and --part choose the
+// pixels or the share of the work, -o NAME.film writes the film's sums for `rayes merge`,
+// --checkpoint / --time-limit make the render resumable (exit code 4 when it stopped with a
+// checkpoint written), --resume continues one.
+#include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <memory>
+#include "app/batch_job.h"
+#include "app/checkpoint.h"
 #include "app/commands.h"
+#include "app/film_file.h"
 #include "app/html_report.h"
 #include "app/image_io.h"
+#include "app/interrupt.h"
 #include "app/output_set.h"
 #include "app/progress.h"
 #include "app/renderer.h"
@@ -16,10 +27,16 @@
 namespace rayes {
 namespace {
 
-bool endsWithPng(const std::string& path) {
+std::string extensionOf(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".png";
+  return ext;
+}
+
+std::string secondsText(double s) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", s);
+  return text;
 }
 
 }  // namespace
@@ -27,25 +44,49 @@ bool endsWithPng(const std::string& path) {
 int runRender(const RenderArgs& a) {
   const auto wall0 = Clock::now();
   RenderOptions options = checkedOptions(a);
+  // Batch jobs: what is checked without the scene.
+  if (!a.part.empty()) parsePart(a.part, options.part, options.parts);
+  if (!(a.checkpointEvery > 0) || !std::isfinite(a.checkpointEvery))
+    throw InputError("--checkpoint-every", "", "must be a positive number of seconds");
+  if (a.timeLimit && (!(*a.timeLimit > 0) || !std::isfinite(*a.timeLimit)))
+    throw InputError("--time-limit", "", "must be a positive number of seconds");
+  // -o NAME.png asks for the preview alone, -o NAME.film for the film's sums alone (a part of a
+  // split, for rayes merge); any other name gets the EXR and the preview beside it.
+  const std::string out = a.out.empty() ? "out/" + std::filesystem::path(a.scene).stem().string() + ".exr" : a.out;
+  const std::string ext = extensionOf(out);
+  const bool filmOut = ext == ".film", pngOnly = ext == ".png";
+  const std::string exr = pngOnly || filmOut ? "" : out;
+  const std::string png = filmOut ? "" : pngOnly ? out : std::filesystem::path(out).replace_extension(".png").string();
+  if (options.parts > 1 && !filmOut)
+    throw InputError("--part", "", "a part is a partial film: give -o NAME.film (rayes merge makes the image of the parts)");
+  const std::string checkpointPath =
+      !a.checkpoint.empty() ? a.checkpoint : a.timeLimit || a.resume ? defaultCheckpointPath(out) : "";
+  if (!checkpointPath.empty() &&
+      std::filesystem::path(checkpointPath).lexically_normal() == std::filesystem::path(out).lexically_normal())
+    throw InputError(out, "", "the output and the checkpoint are the same file");
+  // A resumable render stops at a signal with a checkpoint; any other dies of it, cleaning up.
+  const bool resumable = !checkpointPath.empty();
+  setStopOnSignal(resumable);
+  options.frequentBatches = resumable;
   ThreadLimit limit(a.threads);
   Scene scene = preparedScene(a);
   const double loadSeconds = secondsSince(wall0);
+  if (!a.crop.empty()) options.crop = parseCrop(a.crop, scene.width, scene.height);
   if (!a.reference.empty()) {
     options.reference = imageOfSceneSize(a.reference, scene, "reference");
     options.progressive = true;  // the error curve has one point per pass
   }
-  // -o NAME.png asks for the preview alone; any other name gets the EXR and the preview beside it.
-  const std::string out = a.out.empty() ? "out/" + std::filesystem::path(a.scene).stem().string() + ".exr" : a.out;
-  const bool pngOnly = endsWithPng(out);
-  const std::string exr = pngOnly ? "" : out;
-  const std::string png = pngOnly ? out : std::filesystem::path(out).replace_extension(".png").string();
-  OutputSet outputs;
-  outputs.addInput(a.scene);
-  outputs.addInput(a.reference);
-  if (!exr.empty()) outputs.add(exr, "image");
-  outputs.add(png, "preview");
-  if (!a.stats.empty()) outputs.add(a.stats, "stats");
-  if (!a.report.empty()) outputs.add(a.report, "report");
+  auto outputs = std::make_unique<OutputSet>();
+  outputs->addInput(a.scene);
+  outputs->addInput(a.reference);
+  outputs->addInput(checkpointPath);
+  if (filmOut) outputs->add(out, "film");
+  if (!exr.empty()) outputs->add(exr, "image");
+  if (!png.empty()) outputs->add(png, "preview");
+  if (!a.stats.empty()) outputs->add(a.stats, "stats");
+  if (!a.report.empty()) outputs->add(a.report, "report");
+  std::unique_ptr<Checkpointer> checkpoint;
+  if (resumable) checkpoint = std::make_unique<Checkpointer>(checkpointPath, a.checkpointEvery);
 
   Renderer renderer(scene, options);
   // Not silenced by --quiet: a scene far from the origin for its size is the one case where
@@ -56,26 +97,92 @@ int runRender(const RenderArgs& a) {
                  "%.3g of a leaf, above 2^-16): the image may differ from the same scene near the origin by more "
                  "than rounding (docs/design.md, \"Precision\"); move the scene nearer the origin\n",
                  a.scene.c_str(), (unsigned long long)f.lowPrecisionLeaves, scene.leaves.size(), f.coarsestRelativeSpacing);
-  ProgressReporter progress(!a.quiet, scene.samplesPerPixel);
-  const Film film = renderer.render([&](uint64_t d, uint64_t t, int s) { progress.update(d, t, s); });
-  progress.finish();
-
-  if (!exr.empty()) outputs.write(exr, [&](const std::string& tmp) { writeExr(tmp, film); });
-  outputs.write(png, [&](const std::string& tmp) { writePngPreview(tmp, film); });
-  if (!a.stats.empty() || !a.report.empty()) {
-    const RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
-                      secondsSince(wall0)};
-    const auto stats = statsToJson(scene, options, renderer.stats(), run);
-    if (!a.stats.empty()) outputs.writeText(a.stats, stats.dump(2) + "\n");
-    if (!a.report.empty()) {
-      const auto reportDir = std::filesystem::path(a.report).parent_path();
-      const auto rel = std::filesystem::proximate(png, reportDir.empty() ? std::filesystem::path(".") : reportDir);
-      outputs.writeText(a.report, htmlReport(stats, rel.string()));
+  const FilmFileHeader header = filmHeader("film", a.scene, scene, options, renderer);
+  if (checkpoint) {
+    checkpoint->describe(header);
+    if (a.resume) {
+      std::error_code ec;
+      if (!std::filesystem::exists(checkpointPath, ec)) {
+        if (!a.quiet) std::fprintf(stderr, "rayes: no checkpoint %s yet: rendering from the start\n", checkpointPath.c_str());
+      } else {
+        FilmFile saved = readFilmFile(checkpointPath);
+        if (saved.header.kind != "checkpoint")
+          throw InputError(checkpointPath, "", "cannot resume from it: a " + saved.header.kind + " film, not a checkpoint");
+        checkSameRender(checkpointPath, saved.header, header, "resume from", "this render");
+        renderer.resume(std::move(saved.film),
+                        Renderer::Position{saved.header.pass, saved.header.next, saved.header.blockPixels});
+        checkpoint->resumed();
+      }
     }
   }
-  outputs.commit();
+
+  ProgressReporter progress(!a.quiet, scene.samplesPerPixel);
+  uint64_t done = 0, total = 0;
+  Renderer::Control control;
+  const double timeLimit = a.timeLimit.value_or(0);
+  control.stop = [&] { return stopRequested() || (timeLimit > 0 && secondsSince(wall0) >= timeLimit); };
+  if (checkpoint) control.batchDone = [&](const Film& f, const Renderer::Position& at) { checkpoint->batchDone(f, at); };
+  const Film film = renderer.render(
+      [&](uint64_t d, uint64_t t, int s) {
+        done = d;
+        total = t;
+        progress.update(d, t, s);
+      },
+      control);
+  progress.finish();
+
+  if (renderer.interrupted()) {
+    const int sig = stopSignal();
+    const std::string why = sig ? std::string("stopped by ") + (sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP")
+                                : "the time limit of " + secondsText(timeLimit) + " s is reached";
+    const std::string failure = checkpoint->writeNow(film, renderer.position());
+    outputs.reset();  // no output of an unfinished render is left, nor a folder made for one
+    if (checkpoint->valid()) {
+      if (!failure.empty())
+        std::fprintf(stderr, "rayes: cannot write a newer checkpoint to %s: %s; the previous one is kept\n",
+                     checkpointPath.c_str(), failure.c_str());
+      std::fprintf(stderr, "rayes: %s: the checkpoint %s holds %.1f %% of the render; run the same command with --resume to finish it\n",
+                   why.c_str(), checkpointPath.c_str(), total ? 100.0 * double(done) / double(total) : 0.0);
+      return 4;
+    }
+    checkpoint.reset();
+    if (sig) {
+      std::fprintf(stderr, "rayes: %s: cannot write the checkpoint %s: %s\n", why.c_str(), checkpointPath.c_str(), failure.c_str());
+      setStopOnSignal(false);
+      std::raise(sig);  // dies of it as an unhandled signal would
+    }
+    throw ResourceError("--checkpoint", why + ", but the checkpoint " + checkpointPath + " cannot be written: " + failure);
+  }
+
+  const bool wantStats = !a.stats.empty() || !a.report.empty() || filmOut;
+  nlohmann::json stats;
+  if (wantStats) {
+    const RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
+                      secondsSince(wall0)};
+    stats = statsToJson(scene, options, renderer.stats(), run);
+  }
+  if (filmOut) {
+    FilmFileHeader h = header;
+    h.kind = options.parts > 1 ? "part" : "film";
+    h.complete = true;
+    h.pass = renderer.position().pass;
+    h.stats = stats;
+    outputs->write(out, [&](const std::string& tmp) { writeFilmFile(tmp, h, film); });
+  }
+  if (!exr.empty()) outputs->write(exr, [&](const std::string& tmp) { writeExr(tmp, film); });
+  if (!png.empty()) outputs->write(png, [&](const std::string& tmp) { writePngPreview(tmp, film); });
+  if (!a.stats.empty()) outputs->writeText(a.stats, stats.dump(2) + "\n");
+  if (!a.report.empty()) {
+    const auto reportDir = std::filesystem::path(a.report).parent_path();
+    const auto rel = png.empty() ? std::filesystem::path()
+                                 : std::filesystem::proximate(png, reportDir.empty() ? std::filesystem::path(".") : reportDir);
+    outputs->writeText(a.report, htmlReport(stats, rel.string()));
+  }
+  outputs->commit();
+  // The render is whole: its checkpoint is of no more use.
+  if (checkpoint) checkpoint->removeFile();
   if (!a.quiet) {
-    const std::string what = exr.empty() ? png : exr + " and " + png;
+    const std::string what = filmOut ? out : exr.empty() ? png : exr + " and " + png;
     std::fprintf(stderr, "rayes: wrote %s (%.2fs)\n", what.c_str(), secondsSince(wall0));
   }
   return 0;

@@ -101,25 +101,50 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
 
 Renderer::~Renderer() = default;
 
+PixelWindow partBand(const PixelWindow& window, int part, int parts) {
+  const int64_t h = window.height();
+  return {window.x0, window.y0 + int(int64_t(part - 1) * h / parts), window.x1, window.y0 + int(int64_t(part) * h / parts)};
+}
+
+std::pair<uint64_t, uint64_t> partIds(uint64_t total, int part, int parts) {
+  using u128 = unsigned __int128;
+  return {uint64_t(u128(total) * unsigned(part - 1) / unsigned(parts)), uint64_t(u128(total) * unsigned(part) / unsigned(parts))};
+}
+
+PixelWindow Renderer::filmWindow() const {
+  const PixelWindow crop = options_.crop.empty() ? PixelWindow::whole(scene_.width, scene_.height) : options_.crop;
+  if (integrator_->traits().lightPathIds) return crop;
+  return partBand(crop, options_.part, options_.parts);
+}
+
+void Renderer::resume(Film film, const Position& at) {
+  if (!(film.window() == filmWindow()) || film.fullWidth() != scene_.width || film.fullHeight() != scene_.height)
+    throw std::logic_error("Renderer::resume: the film's window is not this render's");
+  resumeFilm_ = std::make_unique<Film>(std::move(film));
+  position_ = at;
+}
+
 // The integrator's own paths before a pass's camera paths (photons), batched by the same budget.
-void Renderer::traceLightPass(int s0, int s1, int pass, int& batch) {
+void Renderer::traceLightPass(int s0, int s1, int pass, int& batch, const Control& control) {
   if (!integrator_->traits().lightPasses) return;
   const Integrator::IdRange ids = integrator_->lightPaths(s0, s1);
   if (ids.first == ids.end) return;
   RayBatch rays;
   rays.timed = raysTimed();
   for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
+    checkStop(control);
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
     integrator_->startLight(first, count, rays);
-    runGenerations(pass, batch, rays, true);
+    runGenerations(pass, batch, rays, true, control);
     integrator_->finishLightBatch(stats_.shade);
     ++stats_.batches;
   }
   integrator_->lightPassDone(stats_.shade);
 }
 
-void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths) {
+void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control) {
   for (int depth = 0;; ++depth) {
+    checkStop(control);
     GenerationRecord rec{pass, batch, depth, {}};
     engine_->trace(rays, rec.stats, stats_.trace);
     stats_.generations.push_back(std::move(rec));
@@ -130,58 +155,107 @@ void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPat
   }
 }
 
-void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film) {
+void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film,
+                              const Control& control) {
   for (uint32_t round = 0, rounds = integrator_->roundsPerBatch(); round < rounds; ++round) {
     integrator_->startRound(round);
     integrator_->start(first, count, rays);
-    runGenerations(pass, batch, rays, false);
+    runGenerations(pass, batch, rays, false, control);
   }
   const auto tf = Clock::now();
   integrator_->finish(film, stats_.shade);
   stats_.timeFilm += secondsSince(tf);
 }
 
-Film Renderer::render(const Progress& progress) {
+Film Renderer::render(const Progress& progress, const Control& control) {
   const auto t0 = Clock::now();
-  Film film(scene_.width, scene_.height);
+  const PixelWindow window = filmWindow();
+  const bool lightIds = integrator_->traits().lightPathIds;
+  if (!lightIds && !integrator_->setPixelWindow(window) && !(window == PixelWindow::whole(scene_.width, scene_.height)))
+    throw std::logic_error("the method cannot render a window of the image");
+  Film film = resumeFilm_ ? std::move(*resumeFilm_) : Film(scene_.width, scene_.height, window);
+  resumeFilm_.reset();
+  const Position start = position_;
+  interrupted_ = false;
   RayBatch rays;
   rays.timed = raysTimed();
-  const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
+  // Camera ids per sample: the window's pixels, or light tracing's paths over the whole image.
+  const uint64_t pixels = lightIds ? uint64_t(scene_.width) * uint64_t(scene_.height) : window.pixels();
   const int spp = scene_.samplesPerPixel;
-  const uint64_t total = pixels * uint64_t(spp);
+  const auto [partFirst, partEnd] =
+      lightIds ? partIds(pixels * uint64_t(spp), options_.part, options_.parts) : std::pair<uint64_t, uint64_t>{0, pixels * uint64_t(spp)};
+  // A pass's camera ids, this part's share of them.
+  auto passIds = [&](int s0, int s1) {
+    const uint64_t first = std::max(uint64_t(s0) * pixels, partFirst), end = std::min(uint64_t(s1) * pixels, partEnd);
+    return std::pair<uint64_t, uint64_t>{first, std::max(first, end)};
+  };
+  const uint64_t total = partEnd - partFirst;
   uint64_t done = 0;
   int s0 = 0, pass = 0;
-  while (s0 < spp) {
-    // One pass of every sample, or (progressive) 1, 1, 2, 4, ...: after each progressive pass the
-    // film is a complete image, at the cost of re-dicing every leaf once more per pass.
-    const int s1 = options_.progressive ? std::min(spp, s0 + std::max(1, s0)) : spp;
-    const uint64_t end = uint64_t(s1) * pixels;
-    // A pass of every sample that needs several batches goes block by block of pixels, each
-    // batch all the samples of as many pixels as fit (Integrator::setPixelBlock): its rays
-    // then meet the leaves of a part of the image, each more often.
-    uint64_t step = stats_.pathsPerBatch;
-    const uint64_t blockPixels = stats_.pathsPerBatch / uint64_t(spp);
-    const bool blocks = s0 == 0 && s1 == spp && blockPixels > 0 && blockPixels < pixels &&
-                        integrator_->setPixelBlock(uint32_t(blockPixels));
-    if (blocks) {
-      step = blockPixels * uint64_t(spp);
-      stats_.pixelsPerBlock = blockPixels;
+  position_ = {};
+  try {
+    while (s0 < spp) {
+      // One pass of every sample, or (progressive) 1, 1, 2, 4, ...: after each progressive pass the
+      // film is a complete image, at the cost of re-dicing every leaf once more per pass.
+      const int s1 = options_.progressive ? std::min(spp, s0 + std::max(1, s0)) : spp;
+      const auto [passFirst, end] = passIds(s0, s1);
+      int batch = 0;
+      if (pass < start.pass) {
+        // Done before the checkpoint. The first pass's light paths may leave state for later
+        // passes (pm's map, ppm's first radius): traced again when the render resumes later.
+        done += end - passFirst;
+        if (pass == 0 && passFirst < end) traceLightPass(s0, s1, pass, batch, control);
+        s0 = s1;
+        ++pass;
+        continue;
+      }
+      const bool resumingHere = pass == start.pass && start.next > passFirst;
+      // A pass of every sample that needs several batches goes block by block of pixels, each
+      // batch all the samples of as many pixels as fit (Integrator::setPixelBlock): its rays
+      // then meet the leaves of a part of the image, each more often. A resumed pass keeps the
+      // layout its checkpoint's ids were counted in.
+      uint64_t blockPixels = 0;
+      if (resumingHere) {
+        blockPixels = start.blockPixels;
+      } else if (!lightIds && s0 == 0 && s1 == spp) {
+        uint64_t b = stats_.pathsPerBatch / uint64_t(spp);
+        if (options_.frequentBatches) b = std::min<uint64_t>(b, (pixels + kCheckpointBatchesPerPass - 1) / kCheckpointBatchesPerPass);
+        if (b > 0 && b < pixels) blockPixels = b;
+      }
+      const bool blocks = blockPixels > 0 && integrator_->setPixelBlock(uint32_t(blockPixels));
+      if (!blocks) blockPixels = 0;
+      uint64_t step = stats_.pathsPerBatch;
+      if (blocks) {
+        step = std::min<uint64_t>(blockPixels * uint64_t(spp), stats_.pathsPerBatch);
+        stats_.pixelsPerBlock = blockPixels;
+      } else if (options_.frequentBatches) {
+        step = std::min<uint64_t>(step, std::max<uint64_t>(1, (end - passFirst + kCheckpointBatchesPerPass - 1) / kCheckpointBatchesPerPass));
+      }
+      uint64_t first = resumingHere ? std::min(start.next, end) : passFirst;
+      done += first - passFirst;
+      position_ = {pass, first, blockPixels};
+      if (first < end) traceLightPass(s0, s1, pass, batch, control);
+      for (; first < end; first += step, ++batch) {
+        checkStop(control);
+        const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(step, end - first));
+        runCameraBatch(first, count, pass, batch, rays, film, control);
+        ++stats_.batches;
+        done += count;
+        position_ = first + count < end ? Position{pass, first + count, blockPixels} : Position{pass + 1, 0, 0};
+        if (control.batchDone) control.batchDone(film, position_);
+        if (progress) progress(done, total, s0);
+      }
+      if (!options_.reference.empty())
+        stats_.errorCurve.push_back({s1, secondsSince(t0), rmseAgainst(film, options_.reference)});
+      if (blocks) integrator_->setPixelBlock(0);
+      position_ = {pass + 1, 0, 0};
+      s0 = s1;
+      ++pass;
+      if (progress) progress(done, total, s1);
     }
-    int batch = 0;
-    traceLightPass(s0, s1, pass, batch);
-    for (uint64_t first = uint64_t(s0) * pixels; first < end; first += step, ++batch) {
-      const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(step, end - first));
-      runCameraBatch(first, count, pass, batch, rays, film);
-      ++stats_.batches;
-      done += count;
-      if (progress) progress(done, total, s0);
-    }
-    if (!options_.reference.empty())
-      stats_.errorCurve.push_back({s1, secondsSince(t0), rmseAgainst(film, options_.reference)});
-    if (blocks) integrator_->setPixelBlock(0);
-    s0 = s1;
-    ++pass;
-    if (progress) progress(done, total, s1);
+  } catch (const Stopped&) {
+    interrupted_ = true;
+    integrator_->setPixelBlock(0);
   }
   // The method's own figures again: some grow while the passes run (beams retraced per round).
   stats_.method = integrator_->methodStats();
@@ -191,13 +265,24 @@ Film Renderer::render(const Progress& progress) {
   stats_.memory.borderBounds = stats_.engine.borderBoundBytes;
   stats_.memory.diceBuffers = engine_->fixedBytes() - stats_.engine.cachePeakBytes - stats_.engine.borderBoundBytes;
   stats_.memory.film = film.bytes();
+  stats_.splatSaturations = film.splatSaturations();
   stats_.timeTotal = secondsSince(t0);
   return film;
 }
 
 double rmseAgainst(const Film& film, const std::vector<float>& ref) {
   const PixelRegion whole{0, 0, film.width(), film.height(), {}};
-  return errorAgainst(film.beautyRgba(), ref, whole, film.width(), film.height()).rmse;
+  const PixelWindow& w = film.window();
+  if (w == PixelWindow::whole(film.fullWidth(), film.fullHeight()))
+    return errorAgainst(film.beautyRgba(), ref, whole, film.width(), film.height()).rmse;
+  // The reference is of the full image: its pixels in the film's window.
+  std::vector<float> inWindow;
+  inWindow.reserve(3 * w.pixels());
+  for (int y = w.y0; y < w.y1; ++y) {
+    const float* row = ref.data() + 3 * (size_t(y) * size_t(film.fullWidth()) + size_t(w.x0));
+    inWindow.insert(inWindow.end(), row, row + 3 * size_t(w.width()));
+  }
+  return errorAgainst(film.beautyRgba(), inWindow, whole, film.width(), film.height()).rmse;
 }
 
 }  // namespace rayes

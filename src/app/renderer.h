@@ -23,8 +23,23 @@
 //           { RayEngine::trace (one generation) -> Integrator::shade (next generation) } until
 //           no ray is left; then Integrator::finish.
 //
+//   window: what this process renders of the frame (RenderOptions::crop, part/parts): the
+//           film holds the crop, or for part I of N of a method whose camera ids are pixels a
+//           band of its rows, rows [y0 + floor((I-1) h / N), y0 + floor(I h / N)) (partBand);
+//           light tracing (Integrator traits().lightPathIds) splits its light path ids
+//           [0, pixels x spp) into N ranges instead and keeps the crop's splats. Light passes
+//           (photons) and prepare (beams) are the whole frame's in every part.
+//   stop:   Control::stop is asked between generations; when it says stop, the batch in flight
+//           is abandoned and render() returns the film as it was after the last whole batch,
+//           with interrupted() and the Position to resume from. A Position (pass, the next
+//           batch's first id, the pass's pixel block) names a batch boundary; resume() starts
+//           there with the film a checkpoint kept, tracing the first pass's and the current
+//           pass's light paths again (Integrator, "Resume").
+//
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
-// per-ray LOD: batches cover whole sample indices or whole pixels, the film adds samples in order.
+// per-ray LOD: batches cover whole sample indices or whole pixels, the film adds samples in
+// order, and light tracing's splats add exactly; a window, a part or a resume changes none of
+// the pixels it renders.
 // Not thread-safe; render() uses all threads allowed by the caller's ThreadLimit.
 #pragma once
 #include <functional>
@@ -67,7 +82,20 @@ struct RenderOptions {
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   MethodOptions method;          // --method and the options of each method
   std::vector<float> reference;  // RGB per pixel; empty: no error curve; else one point per pass
+  PixelWindow crop;              // the pixels rendered (--crop); empty: the whole image
+  int part = 1, parts = 1;       // this process renders part `part` of `parts` (--part I/N)
+  // Batches small enough to stop at often (--checkpoint, --time-limit): at least
+  // kCheckpointBatchesPerPass per pass; the image does not change.
+  bool frequentBatches = false;
 };
+
+inline constexpr int kCheckpointBatchesPerPass = 16;
+
+// Part `part` of `parts` (1-based) of a window's rows: rows [y0 + floor((part-1) h / parts),
+// y0 + floor(part h / parts)), every column (empty when parts exceeds the rows).
+PixelWindow partBand(const PixelWindow& window, int part, int parts);
+// Part `part` of `parts` of the ids [0, total): [floor((part-1) total / parts), floor(part total / parts)).
+std::pair<uint64_t, uint64_t> partIds(uint64_t total, int part, int parts);
 
 struct GenerationRecord {
   int pass = 0, batch = 0, depth = 0;
@@ -105,6 +133,7 @@ struct RenderStats {
   uint64_t micropolygonsPotential = 0;
   uint64_t pathsPerBatch = 0, candidateCapacity = 0, batches = 0;
   uint64_t pixelsPerBlock = 0;   // batches by blocks of this many pixels, all their samples (0: sample-major)
+  uint64_t splatSaturations = 0; // light tracing: splats or sums beyond the film's fixed-point range (Film)
   bool progressive = false;      // rendered in passes (asked for, or the integrator's traits)
   size_t raysPerPath = 0;        // ray slots per path (bytes_per_ray = bytesPerPath / raysPerPath)
   size_t bytesPerPath = 0, topLevelBytes = 0, diceBufferBytes = 0;
@@ -122,7 +151,26 @@ class Renderer {
 
   // progress(done paths, total paths, samples finished so far)
   using Progress = std::function<void(uint64_t, uint64_t, int)>;
-  Film render(const Progress& progress = {});
+  // A batch boundary: the pass, the first id of the next camera batch in that pass's id layout
+  // (0: the pass's start), and the pixel block of that layout (0: sample-major ids).
+  struct Position {
+    int pass = 0;
+    uint64_t next = 0;
+    uint64_t blockPixels = 0;
+  };
+  struct Control {
+    std::function<bool()> stop;  // asked between generations and batches; true: stop (see above)
+    // After every camera batch, with the film and the position of the next batch.
+    std::function<void(const Film&, const Position&)> batchDone;
+  };
+  // The film's window: the crop, or its band for this part (light tracing: the crop).
+  PixelWindow filmWindow() const;
+  // Continue from a checkpoint: `film` (of filmWindow()) holds every batch before `at`.
+  void resume(Film film, const Position& at);
+  Film render(const Progress& progress = {}, const Control& control = {});
+  // After render(): whether Control::stop stopped it, and where it stopped (or ended).
+  bool interrupted() const { return interrupted_; }
+  const Position& position() const { return position_; }
   const RenderStats& stats() const { return stats_; }
   // What one path costs in the ray memory budget (the unit of --ray-memory).
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
@@ -133,7 +181,11 @@ class Renderer {
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
   // Whether the ray batches keep a shutter time per ray: only when something moves.
   bool raysTimed() const { return stats_.features.movingLeaves > 0; }
-  void traceLightPass(int s0, int s1, int pass, int& batch);
+  void traceLightPass(int s0, int s1, int pass, int& batch, const Control& control);
+  struct Stopped {};  // thrown by the stop check, caught by render()
+  void checkStop(const Control& control) const {
+    if (control.stop && control.stop()) throw Stopped{};
+  }
 
   const Scene& scene_;
   RenderOptions options_;
@@ -141,11 +193,15 @@ class Renderer {
   std::unique_ptr<Integrator> integrator_;
   std::unique_ptr<RayEngine> engine_;
   RenderStats stats_;
+  std::unique_ptr<Film> resumeFilm_;
+  Position position_;
+  bool interrupted_ = false;
   // One camera batch: every round of the integrator, then its film.
-  void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film);
+  void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film,
+                      const Control& control);
   // Generations of the batch in `rays` until no path goes on (camera paths, or the
   // integrator's light paths).
-  void runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths);
+  void runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control);
 };
 
 // Root-mean-square difference of the film's mean RGB against a reference (RGB per pixel).

@@ -55,6 +55,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"pixels_per_block", s.pixelsPerBlock},
       {"nonfinite_samples_dropped", s.shade.nonFinite.load()},
       {"splats", s.shade.splats.load()},
+      {"splat_saturations", s.splatSaturations},
       {"photons_traced", s.shade.photonsTraced.load()},
       {"photons_stored", s.shade.photonsStored.load()},
       {"photon_map_bytes", s.shade.photonMapBytes.load()},

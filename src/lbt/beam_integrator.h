@@ -86,6 +86,7 @@ class BeamIntegrator final : public Integrator {
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override { return pt_->shade(bounce, rays, stats); }
   void finish(Film& film, ShadeStats& stats) override;
   bool setPixelBlock(uint32_t n) override { return pt_->setPixelBlock(n); }
+  bool setPixelWindow(const PixelWindow& window) override { return pt_->setPixelWindow(window); }
   MethodStats methodStats() const override;
 
   // The beams built by prepare() (null when none were, or when they are in batches:

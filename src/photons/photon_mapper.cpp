@@ -48,6 +48,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
   void start(uint64_t first, uint32_t count, RayBatch& rays) override { pt_.start(first, count, rays); }
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override { return pt_.shade(bounce, rays, stats); }
   void finish(Film& film, ShadeStats& stats) override { pt_.finish(film, stats); }
+  bool setPixelWindow(const PixelWindow& window) override { return pt_.setPixelWindow(window); }
 
   IdRange lightPaths(int s0, int s1) const override {
     const uint64_t n = options_.photonsPerSample;

@@ -1,49 +1,123 @@
 #include "shading/film.h"
+#include <cmath>
+#include <limits>
 
 namespace rayes {
+namespace {
 
-Film::Film(int width, int height) : width_(width), height_(height) {
-  const size_t n = size_t(width) * size_t(height);
-  rgb_.assign(3 * n, 0.0); alpha_.assign(n, 0.0); depth_.assign(n, 0.0); normal_.assign(3 * n, 0.0);
-  lod_.assign(n, 0.0); count_.assign(n, 0); hits_.assign(n, 0); albedo_.assign(3 * n, 0.0);
-  material_.assign(n, -1);
-  splat_.assign(3 * n, 0.0);
+constexpr __int128 kSplatMax = ~(__int128(1) << 127);  // 2^127 - 1
+constexpr __int128 kSplatMin = -kSplatMax;
+// A splat's fixed-point value must stay below this (2^126) to be taken as it is.
+constexpr double kSplatScale = 18446744073709551616.0;  // 2^kSplatFractionBits
+constexpr double kSplatLimit = 85070591730234615865843651857942052864.0;  // 2^126
+
+__int128 toFixed(double v, uint64_t& saturations) {
+  const double scaled = v * kSplatScale;
+  if (std::fabs(scaled) < kSplatLimit) return __int128(std::nearbyint(scaled));
+  if (std::isnan(scaled)) return 0;  // the light tracer drops non-finite splats before this
+  ++saturations;
+  return scaled > 0 ? kSplatMax : kSplatMin;
 }
 
-void Film::addSplat(uint32_t p, Rgb v) {
-  splat_[3 * p] += v.x; splat_[3 * p + 1] += v.y; splat_[3 * p + 2] += v.z;
+void addSaturating(__int128& sum, __int128 v, uint64_t& saturations) {
+  if (__builtin_add_overflow(sum, v, &sum)) {
+    sum = v > 0 ? kSplatMax : kSplatMin;
+    ++saturations;
+  }
 }
 
-void Film::add(uint32_t p, const PixelSample& s) {
-  rgb_[3 * p] += s.radiance.x; rgb_[3 * p + 1] += s.radiance.y; rgb_[3 * p + 2] += s.radiance.z;
-  ++count_[p];
+double fromFixed(__int128 v) { return double(v) / kSplatScale; }
+
+}  // namespace
+
+Film::Film(int width, int height) : Film(width, height, PixelWindow::whole(width, height)) {}
+
+Film::Film(int width, int height, PixelWindow window)
+    : fullWidth_(width), fullHeight_(height), window_(window),
+      wholeImage_(window == PixelWindow::whole(width, height)) {
+  const size_t n = window.pixels();
+  Sums& s = sums_;
+  s.rgb.assign(3 * n, 0.0); s.alpha.assign(n, 0.0); s.depth.assign(n, 0.0); s.normal.assign(3 * n, 0.0);
+  s.lod.assign(n, 0.0); s.count.assign(n, 0); s.hits.assign(n, 0); s.albedo.assign(3 * n, 0.0);
+  s.material.assign(n, -1);
+  s.splat.assign(3 * n, 0);
+}
+
+void Film::addSplat(uint32_t pixel, Rgb v) {
+  __int128* s = &sums_.splat[3 * index(pixel)];
+  addSaturating(s[0], toFixed(v.x, sums_.splatSaturations), sums_.splatSaturations);
+  addSaturating(s[1], toFixed(v.y, sums_.splatSaturations), sums_.splatSaturations);
+  addSaturating(s[2], toFixed(v.z, sums_.splatSaturations), sums_.splatSaturations);
+}
+
+void Film::add(uint32_t pixel, const PixelSample& s) {
+  const size_t p = index(pixel);
+  Sums& f = sums_;
+  f.rgb[3 * p] += s.radiance.x; f.rgb[3 * p + 1] += s.radiance.y; f.rgb[3 * p + 2] += s.radiance.z;
+  ++f.count[p];
   if (!s.hitSurface) return;
-  alpha_[p] += 1.0;
-  depth_[p] += s.depth;
-  normal_[3 * p] += s.normal.x; normal_[3 * p + 1] += s.normal.y; normal_[3 * p + 2] += s.normal.z;
-  lod_[p] += s.lod;
-  albedo_[3 * p] += s.albedo.x; albedo_[3 * p + 1] += s.albedo.y; albedo_[3 * p + 2] += s.albedo.z;
-  if (!hits_[p]) material_[p] = s.materialId;
-  ++hits_[p];
+  f.alpha[p] += 1.0;
+  f.depth[p] += s.depth;
+  f.normal[3 * p] += s.normal.x; f.normal[3 * p + 1] += s.normal.y; f.normal[3 * p + 2] += s.normal.z;
+  f.lod[p] += s.lod;
+  f.albedo[3 * p] += s.albedo.x; f.albedo[3 * p + 1] += s.albedo.y; f.albedo[3 * p + 2] += s.albedo.z;
+  if (!f.hits[p]) f.material[p] = s.materialId;
+  ++f.hits[p];
+}
+
+bool Film::addFilm(const Film& part) {
+  if (part.fullWidth_ != fullWidth_ || part.fullHeight_ != fullHeight_ || !part.window_.inside(window_)) return false;
+  const PixelWindow& w = part.window_;
+  auto at = [&](int x, int y) { return size_t(y - window_.y0) * size_t(window_.width()) + size_t(x - window_.x0); };
+  const Sums& src = part.sums_;
+  for (int y = w.y0; y < w.y1; ++y)
+    for (int x = w.x0; x < w.x1; ++x) {
+      const size_t q = size_t(y - w.y0) * size_t(w.width()) + size_t(x - w.x0);
+      if (src.count[q] && sums_.count[at(x, y)]) return false;
+    }
+  for (int y = w.y0; y < w.y1; ++y)
+    for (int x = w.x0; x < w.x1; ++x) {
+      const size_t q = size_t(y - w.y0) * size_t(w.width()) + size_t(x - w.x0), p = at(x, y);
+      for (int c = 0; c < 3; ++c)
+        addSaturating(sums_.splat[3 * p + c], src.splat[3 * q + c], sums_.splatSaturations);
+      if (!src.count[q]) continue;
+      // A pixel's camera samples come from this part alone: its sums are copied as they are.
+      for (int c = 0; c < 3; ++c) {
+        sums_.rgb[3 * p + c] = src.rgb[3 * q + c];
+        sums_.normal[3 * p + c] = src.normal[3 * q + c];
+        sums_.albedo[3 * p + c] = src.albedo[3 * q + c];
+      }
+      sums_.alpha[p] = src.alpha[q];
+      sums_.depth[p] = src.depth[q];
+      sums_.lod[p] = src.lod[q];
+      sums_.material[p] = src.material[q];
+      sums_.count[p] = src.count[q];
+      sums_.hits[p] = src.hits[q];
+    }
+  sums_.splatPaths += src.splatPaths;
+  sums_.splatSaturations += src.splatSaturations;
+  return true;
 }
 
 std::vector<float> Film::beautyRgba() const {
-  const size_t n = count_.size();
+  const Sums& f = sums_;
+  const size_t n = f.count.size();
   std::vector<float> out(4 * n, 0.0f);
-  const double splatScale = splatPaths_ ? double(n) / double(splatPaths_) : 0.0;
+  const double fullPixels = double(fullWidth_) * double(fullHeight_);
+  const double splatScale = f.splatPaths ? fullPixels / double(f.splatPaths) : 0.0;
   for (size_t p = 0; p < n; ++p) {
-    if (!count_[p]) {
-      for (int c = 0; c < 3; ++c) out[4 * p + c] = float(splat_[3 * p + c] * splatScale);
+    if (!f.count[p]) {
+      for (int c = 0; c < 3; ++c) out[4 * p + c] = float(fromFixed(f.splat[3 * p + c]) * splatScale);
       out[4 * p + 3] = 1.0f;
       continue;
     }
-    const double inv = 1.0 / count_[p];
+    const double inv = 1.0 / f.count[p];
     for (int c = 0; c < 3; ++c) {
-      double v = rgb_[3 * p + c] * inv;
-      if (splatPaths_) v += splat_[3 * p + c] * splatScale;
+      double v = f.rgb[3 * p + c] * inv;
+      if (f.splatPaths) v += fromFixed(f.splat[3 * p + c]) * splatScale;
       out[4 * p + c] = float(v);
     }
-    out[4 * p + 3] = float(alpha_[p] * inv);
+    out[4 * p + 3] = float(f.alpha[p] * inv);
   }
   return out;
 }
@@ -58,18 +132,19 @@ std::vector<float> meanOverHits(const std::vector<double>& sum, const std::vecto
 }
 }  // namespace
 
-std::vector<float> Film::depth() const { return meanOverHits(depth_, hits_, 1); }
-std::vector<float> Film::normal() const { return meanOverHits(normal_, hits_, 3); }
-std::vector<float> Film::lod() const { return meanOverHits(lod_, hits_, 1); }
-std::vector<float> Film::albedo() const { return meanOverHits(albedo_, hits_, 3); }
-std::vector<float> Film::materialId() const { return std::vector<float>(material_.begin(), material_.end()); }
-std::vector<float> Film::sampleCount() const { return std::vector<float>(count_.begin(), count_.end()); }
+std::vector<float> Film::depth() const { return meanOverHits(sums_.depth, sums_.hits, 1); }
+std::vector<float> Film::normal() const { return meanOverHits(sums_.normal, sums_.hits, 3); }
+std::vector<float> Film::lod() const { return meanOverHits(sums_.lod, sums_.hits, 1); }
+std::vector<float> Film::albedo() const { return meanOverHits(sums_.albedo, sums_.hits, 3); }
+std::vector<float> Film::materialId() const { return std::vector<float>(sums_.material.begin(), sums_.material.end()); }
+std::vector<float> Film::sampleCount() const { return std::vector<float>(sums_.count.begin(), sums_.count.end()); }
 
 size_t Film::bytes() const {
-  const size_t doubles = rgb_.capacity() + alpha_.capacity() + depth_.capacity() + normal_.capacity() +
-                         lod_.capacity() + albedo_.capacity() + splat_.capacity();
-  return doubles * sizeof(double) + material_.capacity() * sizeof(int32_t) +
-         (count_.capacity() + hits_.capacity()) * sizeof(uint32_t);
+  const Sums& f = sums_;
+  const size_t doubles = f.rgb.capacity() + f.alpha.capacity() + f.depth.capacity() + f.normal.capacity() +
+                         f.lod.capacity() + f.albedo.capacity();
+  return doubles * sizeof(double) + f.splat.capacity() * sizeof(__int128) + f.material.capacity() * sizeof(int32_t) +
+         (f.count.capacity() + f.hits.capacity()) * sizeof(uint32_t);
 }
 
 }  // namespace rayes

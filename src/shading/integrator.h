@@ -27,6 +27,15 @@
 // increasing order, and finish() must add to each pixel in an order fixed by the path ids alone,
 // so the image is bit-identical for any thread count, batch size, pixel block and trace order
 // (docs/design.md, invariant 2).
+// Windows (--crop, a part of a farm split): an integrator whose camera ids are pixels takes
+// setPixelWindow(w), and its ids then cover w's pixels only, each path keyed (RNG) by its
+// full-image pixel and sample as in the whole image; one whose traits().lightPathIds (lt)
+// traces light paths over the whole image and keeps only the splats the film's window holds.
+// Anything else a method derives from the image (photon counts, radii, beams) depends on the
+// full image, never on the window.
+// Resume (from a checkpoint, in the middle of pass p): the Renderer traces the light paths of
+// the first pass and then of pass p again, so a pass's light paths may leave state for later
+// passes only from the first pass (pm's one map, ppm's first radius).
 // bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
 // memory budget can be divided into whole paths; it must not change after prepare().
 //
@@ -74,6 +83,9 @@ struct IntegratorSetup {
 struct IntegratorTraits {
   bool progressive = false;  // renders in passes of 1, 1, 2, 4, ... spp (ppm: a map and radius per pass)
   bool lightPasses = false;  // traces paths of its own before each pass's camera paths (lightPaths)
+  // Camera batches are light paths spread over the whole image (lt): ids are not pixels, a
+  // window only filters the splats, and a farm split divides the ids, not the pixels.
+  bool lightPathIds = false;
 };
 
 class Integrator {
@@ -94,6 +106,9 @@ class Integrator {
   // Orders camera path ids by blocks of n pixels, every sample of a block before the next block
   // (PathTracer::setPixelBlock), if the integrator can; false: ids stay sample-major.
   virtual bool setPixelBlock(uint32_t /*n*/) { return false; }
+  // Camera path ids cover `window`'s pixels only (PathTracer::setPixelWindow); false: the
+  // integrator cannot (then only the whole image may be rendered, unless traits().lightPathIds).
+  virtual bool setPixelWindow(const PixelWindow& /*window*/) { return false; }
 
   struct IdRange { uint64_t first = 0, end = 0; };
   virtual IdRange lightPaths(int /*s0*/, int /*s1*/) const { return {}; }

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 #include "core/rng.h"
 #include "shading/bsdf.h"
 #include "shading/light_path.h"
@@ -31,7 +30,7 @@ LightTracer::LightTracer(const ShadingScene& scene, CausticPaths causticPaths)
     : scene_(scene), causticPaths_(causticPaths), splatsPerPath_(uint32_t(std::max(0, scene.integrator.maxDepth)) + 1) {}
 
 size_t LightTracer::bytesPerPath() const {
-  return sizeof(Rgb) + sizeof(Splat) + 2 + splatsPerPath_ * (sizeof(Splat) + sizeof(SortItem));
+  return sizeof(Rgb) + sizeof(Splat) + 2 + splatsPerPath_ * sizeof(Splat);
 }
 
 bool LightTracer::writeConnection(uint32_t k, uint32_t vertex, const CameraConnection& c, Rgb value, Vec3 origin,
@@ -145,15 +144,9 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
 }
 
 void LightTracer::finish(Film& film, ShadeStats& stats) {
-  // Sorted by (pixel, path, vertex): a pixel's splats are added in path-id order, which is
-  // the same for every batching since batches are increasing id ranges.
-  order_.clear();
-  for (size_t i = 0; i < splats_.size(); ++i)
-    if (splats_[i].pixel != kNoPixel) order_.push_back({splats_[i].pixel, i});
-  tbb::parallel_sort(order_.begin(), order_.end(), [](const SortItem& a, const SortItem& b) {
-    return a.pixel != b.pixel ? a.pixel < b.pixel : a.index < b.index;
-  });
-  for (const SortItem& s : order_) film.addSplat(s.pixel, splats_[s.index].value);
+  // The film's splat buffer is exact (fixed point): any order of adding gives the same sums.
+  for (const Splat& s : splats_)
+    if (s.pixel != kNoPixel && film.contains(s.pixel)) film.addSplat(s.pixel, s.value);
   film.countSplatPaths(throughput_.size());
 }
 

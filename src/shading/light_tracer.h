@@ -18,8 +18,9 @@
 //           next segment with the adjoint's weight: eta² undone for refraction (importance is
 //           not compressed like radiance) and Veach's shading-normal correction
 //           |ns·wi| |ng·wo| / (|ng·wi| |ns·wo|). Russian roulette on the throughput.
-//   finish: the batch's splats are sorted by (pixel, path, vertex) and added in that order, so
-//           each pixel adds in path-id order whatever the batching and threads.
+//   finish: the batch's splats inside the film's window are added to its exact (fixed-point)
+//           splat buffer: the sum does not depend on the order, so any batching, thread count
+//           or farm split (ranges of light path ids, summed by rayes merge) gives the same bits.
 // A path has at most max_depth scattering vertices, like the path tracer's paths. Random
 // numbers are keyed like the path tracer's ((pixel, sample) of the path id, vertex, seed) with
 // their own dimensions. The AOVs stay empty: nothing is seen from the camera.
@@ -39,6 +40,7 @@ class LightTracer final : public Integrator {
  public:
   explicit LightTracer(const ShadingScene& scene, CausticPaths causticPaths = CausticPaths::All);
 
+  IntegratorTraits traits() const override { return {.lightPathIds = true}; }
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override;
   void start(uint64_t first, uint32_t count, RayBatch& rays) override;
@@ -49,10 +51,6 @@ class LightTracer final : public Integrator {
   struct Splat {
     uint32_t pixel = kNoPixel;
     Rgb value;
-  };
-  struct SortItem {
-    uint32_t pixel;
-    uint64_t index;  // path * splatsPerPath + vertex
   };
   static constexpr uint32_t kNoPixel = 0xffffffffu;
 
@@ -70,7 +68,6 @@ class LightTracer final : public Integrator {
   std::vector<Splat> pending_;       // the connection in flight
   std::vector<uint8_t> pendingVertex_;
   std::vector<Splat> splats_;        // splatsPerPath_ per path
-  std::vector<SortItem> order_;
 };
 
 }  // namespace rayes

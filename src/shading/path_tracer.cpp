@@ -27,7 +27,7 @@ enum Dim : uint32_t { kPixel = 0, kLightPick = 2, kLight = 3, kBsdf = 5, kRoulet
 PathTracer::PathIds PathTracer::idsOf(uint64_t id) const {
   const IdBlocks l = idBlocks();
   const uint64_t b = id / l.perBlock, size = l.pixelsIn(b), r = id - b * l.perBlock;
-  return {static_cast<uint32_t>(b * l.block + r % size), static_cast<uint32_t>(r / size)};
+  return {fullPixel(window(), b * l.block + r % size), static_cast<uint32_t>(r / size)};
 }
 
 void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const {
@@ -343,8 +343,10 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
 void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) const {
   const uint64_t first = paths.first, end = paths.first + paths.size();
   if (first == end) return;
-  // The batch's pixels: those of the blocks its ids fall in (idsOf's inverse below).
+  // The batch's pixels (of the window, in its row order): those of the blocks its ids fall in
+  // (idsOf's inverse below).
   const IdBlocks l = idBlocks();
+  const PixelWindow w = window();
   const uint64_t p0 = first / l.perBlock * l.block, p1 = std::min(l.pixels, ((end - 1) / l.perBlock + 1) * l.block);
   tbb::parallel_for(tbb::blocked_range<uint64_t>(p0, p1, 4096), [&](const auto& r) {
     for (uint64_t p = r.begin(); p != r.end(); ++p) {
@@ -360,7 +362,7 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
           sample.radiance = {0, 0, 0};
           stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
         }
-        film.add(static_cast<uint32_t>(p), sample);
+        film.add(fullPixel(w, p), sample);
       }
     }
   });

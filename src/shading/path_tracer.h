@@ -139,7 +139,8 @@ class PathTracer final : public Integrator {
   };
   explicit PathTracer(const ShadingScene& scene) : PathTracer(scene, Options{}) {}
   PathTracer(const ShadingScene& scene, Options options)
-      : scene_(scene), options_(options), shadeRank_(shadeRanks(scene.leafMaterial)) {}
+      : scene_(scene), options_(options), shadeRank_(shadeRanks(scene.leafMaterial)),
+        window_(PixelWindow::whole(scene.width, scene.height)) {}
 
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
@@ -164,6 +165,15 @@ class PathTracer final : public Integrator {
     blockPixels_ = n;
     return true;
   }
+  // Camera path ids cover the window's pixels only (--crop, a part of a farm split): the
+  // window's pixels are numbered in row order, and idsOf gives each path the full-image pixel
+  // it lands on, so a pixel gets the same samples (the RNG is keyed by that pixel) in any
+  // window. By default the whole image.
+  bool setPixelWindow(const PixelWindow& window) override {
+    window_ = window;
+    return true;
+  }
+  // A path's full-image pixel and its sample.
   struct PathIds { uint32_t pixel, sample; };
   PathIds idsOf(uint64_t id) const;
 
@@ -216,16 +226,23 @@ class PathTracer final : public Integrator {
   GatherRunner gatherRunner_;
   PathBatch paths_;
   uint32_t blockPixels_ = 0;  // setPixelBlock's n
-  // The id layout idsOf reads and finish inverts: block b holds pixels [b·block, b·block +
-  // pixelsIn(b)) and ids [b·perBlock, (b+1)·perBlock).
+  PixelWindow window_;        // setPixelWindow's
+  const PixelWindow& window() const { return window_; }
+  // The id layout idsOf reads and finish inverts: block b holds the window's pixels [b·block,
+  // b·block + pixelsIn(b)) (in the window's row order) and ids [b·perBlock, (b+1)·perBlock).
   struct IdBlocks {
     uint64_t pixels, block, perBlock;
     uint64_t pixelsIn(uint64_t b) const { return std::min(block, pixels - b * block); }
   };
   IdBlocks idBlocks() const {
-    const uint64_t pixels = uint64_t(scene_.width) * uint64_t(scene_.height);
+    const uint64_t pixels = window().pixels();
     const uint64_t block = blockPixels_ ? blockPixels_ : pixels;
     return {pixels, block, block * uint64_t(std::max(1, scene_.samplesPerPixel))};
+  }
+  // The full-image index of the window's pixel q (row order).
+  uint32_t fullPixel(const PixelWindow& w, uint64_t q) const {
+    const uint64_t ww = uint64_t(w.width());
+    return static_cast<uint32_t>((uint64_t(w.y0) + q / ww) * uint64_t(scene_.width) + uint64_t(w.x0) + q % ww);
   }
 };
 

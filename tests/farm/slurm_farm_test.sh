@@ -3,9 +3,9 @@
 #  1. a 4-task job of a small scene; its merged image equals a single `rayes render` of the same
 #     scene and settings bit for bit (cmp of the EXRs: the writer puts nothing but the film in
 #     them, no time or host, so equal films give equal files; every channel is compared);
-#  2. the same job again, one array task killed mid-way (`scancel --signal=KILL` once its
-#     checkpoint exists, then `scontrol requeue`): the task resumes from its checkpoint and the
-#     merged image is again the same.
+#  2. the same job again, two array tasks killed mid-way once their checkpoint exists (one with
+#     `scancel --signal=KILL`, one with SIGKILL to its processes), then `scontrol requeue`d: they
+#     resume from their checkpoints and the merged image is again the same.
 # usage: slurm_farm_test.sh RAYES_BINARY WORK_FOLDER   (ctest runs it as `farm_slurm`)
 # Exit 77 (ctest: skipped) when it cannot run here: not root, Slurm or munge not installed, or
 # the daemons do not start; with RAYES_REQUIRE_SLURM=1 (.ci/run sets it) those fail instead.
@@ -89,33 +89,63 @@ submit "$work/parts-1" "$work/farm-1.exr"
 wait_completed "$merge_job" 240
 same_image "$work/single.exr" "$work/farm-1.exr"
 
-# 2. A task killed after its first checkpoint (task 1, or the next one should a task finish
-#    between its checkpoint and the kill), then requeued: it resumes.
-submit "$work/parts-2" "$work/farm-2.exr"
-killed=""
-for i in 1 2 3 4; do
-  task=${render_job}_$i
+# 2. Two tasks killed after their first checkpoint, then requeued; both resume. The first with
+#    the issue's `scancel --signal=KILL`, which Slurm carries out as a cancel: TERM to every
+#    process of the task first, so rayes writes a checkpoint as it stops (exit code 4) and the
+#    task ends CANCELLED. The second with SIGKILL to the task's processes themselves (a node's
+#    OOM killer, a crash): no checkpoint at that moment, the last periodic one is resumed, and
+#    the task ends FAILED. (If a task finishes between its checkpoint and the kill, the next
+#    task is taken.)
+task_pids() {  # the processes of array task $1 on this node
+  local id
+  id=$(scontrol show job "$1" | sed -n 's/^JobId=\([0-9]*\) .*/\1/p' | head -n 1)
+  scontrol listpids "$id" 2>/dev/null | awk 'NR > 1 && $1 ~ /^[0-9]+$/ {print $1}'
+}
+# kill_after_checkpoint I HOW (scancel or sigkill): 0 when task I was killed mid-way.
+kill_after_checkpoint() {
+  local i=$1 how=$2 task=${render_job}_$1 t state pids
   for ((t = 0; t < 600; t++)); do
     [ -f "$work/parts-2/part-$i.checkpoint" ] && break
-    [ -f "$work/parts-2/part-$i.film" ] && break
+    [ -f "$work/parts-2/part-$i.film" ] && return 1
     sleep 0.1
   done
-  [ -f "$work/parts-2/part-$i.checkpoint" ] || continue
-  scancel --signal=KILL "$task"
+  [ -f "$work/parts-2/part-$i.checkpoint" ] || fail "part $i wrote no checkpoint within 60 s"
+  if [ "$how" = scancel ]; then
+    scancel --signal=KILL "$task"
+  else
+    pids=$(task_pids "$task")
+    [ -n "$pids" ] && kill -KILL $pids
+  fi
   for ((t = 0; t < 100; t++)); do
     case $(job_state "$task") in RUNNING | COMPLETING) sleep 0.1 ;; *) break ;; esac
   done
   state=$(job_state "$task")
-  [ "$state" = COMPLETED ] && continue  # it finished just before the kill
-  [ "$state" = CANCELLED ] || fail "task $task is $state after scancel --signal=KILL (expected CANCELLED)"
+  [ "$state" = COMPLETED ] && return 1
+  if [ "$how" = scancel ]; then
+    [ "$state" = CANCELLED ] || fail "task $task is $state after scancel --signal=KILL (expected CANCELLED)"
+  else
+    [ "$state" = FAILED ] || fail "task $task is $state after SIGKILL (expected FAILED)"
+  fi
   [ -f "$work/parts-2/part-$i.film" ] && fail "part $i was written although its task was killed"
-  killed=$i
-  break
+  echo "killed task $task ($how) after its first checkpoint: $state"
+  return 0
+}
+submit "$work/parts-2" "$work/farm-2.exr"
+killed=()
+for i in 1 2 3 4; do
+  how=sigkill
+  [ ${#killed[@]} -eq 0 ] && how=scancel
+  if kill_after_checkpoint "$i" "$how"; then
+    killed+=("$i")
+    # It runs again cred_expire + 1 s later (6 s on the test cluster), resuming from its checkpoint.
+    scontrol requeue "${render_job}_$i"
+  fi
+  [ ${#killed[@]} -eq 2 ] && break
 done
-[ -n "$killed" ] || fail "no task could be killed after a checkpoint: give the test render more work"
-# It runs again cred_expire + 1 s later (6 s on the test cluster), resuming from its checkpoint.
-scontrol requeue "$task"
+[ ${#killed[@]} -eq 2 ] || fail "tasks finished before they could be killed: give the test render more work"
 wait_completed "$merge_job" 240
-grep -q "resuming from" "$work/parts-2/part-$killed.log" || fail "the requeued task $killed did not resume from its checkpoint"
+for i in "${killed[@]}"; do
+  grep -q "resuming from" "$work/parts-2/part-$i.log" || fail "the requeued task $i did not resume from its checkpoint"
+done
 same_image "$work/single.exr" "$work/farm-2.exr"
-echo "ok: a task killed mid-way and requeued resumed from its checkpoint; the image is the same"
+echo "ok: tasks ${killed[*]}, killed mid-way and requeued, resumed from their checkpoints; the image is the same"
