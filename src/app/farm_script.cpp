@@ -112,11 +112,15 @@ std::string mergeScript(const FarmJob& job) {
     << "/part-$i.log); requeue it (scontrol requeue ${RAYES_FARM_RENDER_JOB:-<render job>}_$i), then submit this script again\" >&2\n"
        "  fi\n"
        "done\n"
-       "exec " << shellQuoted(job.rayes) << " merge";
+    << shellQuoted(job.rayes) << " merge";
   for (int i = 1; i <= job.tasks; ++i) s << " \\\n  " << shellQuoted(partFilm(job, i));
   for (const std::string& o : job.outputs) s << " \\\n  -o " << shellQuoted(o);
   if (!job.stats.empty()) s << " \\\n  --stats " << shellQuoted(job.stats);
-  s << "\n";
+  s << "\n"
+       "rc=$?\n"
+       "echo \"rayes farm: merge ended with exit code $rc; CPU time (user system) of this shell, then of rayes:\"\n"
+       "times\n"
+       "exit \"$rc\"\n";
   return s.str();
 }
 

@@ -88,6 +88,14 @@ start_cluster() {
   local socket=$dir/munge-socket/munge.socket host
   host=$(hostname -s)
 
+  # munged refuses a socket in a folder that not everyone may pass through (mktemp -d makes 700).
+  local up=$dir
+  while [ "$up" != / ]; do
+    [ "$(( 0$(stat -c %a "$up") & 01 ))" -ne 0 ] ||
+      { echo "slurm_cluster: $up is not open to everyone (o+x): munged refuses a socket below it" >&2; exit 2; }
+    up=$(dirname "$up")
+  done
+
   trap 'stop_cluster' EXIT  # on any failure below, stop what was started
   mungekey --create --keyfile="$dir/munge/munge.key" >/dev/null 2>&1 || fail "mungekey could not create a key in $dir/munge"
   munged --key-file="$dir/munge/munge.key" --socket="$socket" --pid-file="${pidfiles[0]}" \
