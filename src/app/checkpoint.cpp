@@ -77,7 +77,13 @@ void Checkpointer::batchDone(const Film& film, const Renderer::Position& next) {
 }
 
 std::string Checkpointer::writeNow(const Film& film, const Renderer::Position& next) {
-  last_ = Clock::now();
+  const auto t0 = Clock::now();
+  struct Timed {
+    const Clock::time_point& t0;
+    double& seconds;
+    ~Timed() { seconds += secondsSince(t0); }
+  } timed{t0, seconds_};
+  last_ = t0;
   header_.pass = next.pass;
   header_.next = next.next;
   header_.blockPixels = next.blockPixels;

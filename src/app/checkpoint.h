@@ -44,6 +44,8 @@ class Checkpointer {
   // The render is complete and its outputs written: the checkpoint is removed.
   void removeFile();
   int written() const { return written_; }
+  // Wall seconds spent writing checkpoints (the cost of --checkpoint; the stats' checkpoints.time_s).
+  double seconds() const { return seconds_; }
 
  private:
   std::string path_;
@@ -52,6 +54,7 @@ class Checkpointer {
   Clock::time_point last_;
   bool valid_ = false;
   int written_ = 0;
+  double seconds_ = 0;
   std::string lastFailure_;
   std::vector<int> folderSlots_;  // folders created for the checkpoint, in the signal cleanup table
   std::vector<std::string> createdFolders_;

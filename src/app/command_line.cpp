@@ -143,7 +143,8 @@ int runCommandLine(int argc, char** argv) {
   m->add_option("parts", ma.parts, "the parts' .film files (or one complete .film)")->required();
   m->add_option("-o,--output", ma.outputs, "the image: .exr (a PNG preview beside it unless a .png is named too), "
                                            ".png or .film; may be given several times")
-      ->required();
+      ->required()
+      ->allow_extra_args(false);  // one name per -o, so parts may follow it
   m->add_option("--stats", ma.stats, "the parts' statistics combined as JSON (docs/stats.md, \"Merged parts\")");
   m->add_flag("-q,--quiet", ma.quiet, "no message when done");
 

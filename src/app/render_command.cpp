@@ -98,6 +98,7 @@ int runRender(const RenderArgs& a) {
                  "than rounding (docs/design.md, \"Precision\"); move the scene nearer the origin\n",
                  a.scene.c_str(), (unsigned long long)f.lowPrecisionLeaves, scene.leaves.size(), f.coarsestRelativeSpacing);
   const FilmFileHeader header = filmHeader("film", a.scene, scene, options, renderer);
+  bool resumedFrom = false;
   if (checkpoint) {
     checkpoint->describe(header);
     if (a.resume) {
@@ -112,6 +113,7 @@ int runRender(const RenderArgs& a) {
         renderer.resume(std::move(saved.film),
                         Renderer::Position{saved.header.pass, saved.header.next, saved.header.blockPixels});
         checkpoint->resumed();
+        resumedFrom = true;
       }
     }
   }
@@ -160,6 +162,9 @@ int runRender(const RenderArgs& a) {
     const RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
                       secondsSince(wall0)};
     stats = statsToJson(scene, options, renderer.stats(), run);
+    if (checkpoint)
+      stats["checkpoints"] = {{"file", checkpointPath}, {"written", checkpoint->written()},
+                              {"time_s", checkpoint->seconds()}, {"resumed", resumedFrom}};
   }
   if (filmOut) {
     FilmFileHeader h = header;

@@ -99,6 +99,9 @@ TEST_F(Farm, AFilmOutputResolvesToTheSameImage) {
   EXPECT_FALSE(fs::exists(path("f.png"))) << "a .film output is the film alone";
   ASSERT_EQ(merge({path("f.film")}, {"-o", path("again.exr"), "-o", path("again.png")}).code, 0);
   EXPECT_TRUE(readExrImage(path("t.exr")).sameBits(readExrImage(path("again.exr"))));
+  // -o takes one name each time, so the parts may come after it.
+  ASSERT_EQ(runRayes({"merge", "-q", "-o", path("first.exr"), path("f.film")}).code, 0);
+  EXPECT_TRUE(readExrImage(path("t.exr")).sameBits(readExrImage(path("first.exr"))));
 }
 
 TEST_F(Farm, TimeLimitStopsWithACheckpointThatResumesToTheSameImage) {
