@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include "app/closest_name.h"
 #include "app/commands.h"
+#include "app/farm_command.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "core/version.h"
@@ -121,12 +122,7 @@ std::string leftOverMessage(const CLI::App* app) {
 
 }  // namespace
 
-int runCommandLine(int argc, char** argv) {
-  CLI::App app{"rayes: a streaming micropolygon ray tracer. Rays are traced in generations, sorted by the\n"
-               "patch they may hit, and every patch is diced on demand into micropolygons."};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("rayes ") + programVersion(), "print the program's version and exit");
-  RenderArgs a;
+CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
   CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md)");
   r->add_option("scene", a.scene, "the scene file; - reads it from standard input (its relative file names "
                                   "then resolve against the current directory)")->required();
@@ -163,6 +159,16 @@ int runCommandLine(int argc, char** argv) {
                                     "it exists; a checkpoint of another scene, settings or version is refused");
   r->add_option("--time-limit", a.timeLimit, "stop after this many seconds with a checkpoint (exit code 4; without "
                                              "--checkpoint it is <output>.checkpoint.film)");
+  return r;
+}
+
+int runCommandLine(int argc, char** argv) {
+  CLI::App app{"rayes: a streaming micropolygon ray tracer. Rays are traced in generations, sorted by the\n"
+               "patch they may hit, and every patch is diced on demand into micropolygons."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("rayes ") + programVersion(), "print the program's version and exit");
+  RenderArgs a;
+  CLI::App* r = addRenderCommand(app, a);
 
   CLI::App* m = app.add_subcommand("merge", "combine the parts of a split render (rayes render --part I/N -o "
                                             "part-I.film) into the image, the same bits as one render");
@@ -202,6 +208,17 @@ int runCommandLine(int argc, char** argv) {
   addSharedOptions(c, ca);
   c->allow_extras();
 
+  // rayes farm submit: the words after "--" are for sbatch, not for CLI11.
+  FarmArgs fa;
+  CLI::App* f = addFarmCommand(app, fa);
+  if (argc > 1 && std::string(argv[1]) == "farm")
+    for (int i = 2; i < argc; ++i)
+      if (std::string(argv[i]) == "--") {
+        fa.sbatchArgs.assign(argv + i + 1, argv + argc);
+        argc = i;
+        break;
+      }
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -227,7 +244,11 @@ int runCommandLine(int argc, char** argv) {
           return 2;
         }
     // Point at the help of the subcommand that was being parsed.
-    const char* which = c->parsed() ? "converge " : r->parsed() ? "render " : m->parsed() ? "merge " : "";
+    const char* which = c->parsed()   ? "converge "
+                        : r->parsed() ? "render "
+                        : m->parsed() ? "merge "
+                        : f->parsed() ? "farm submit "
+                                      : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
@@ -241,6 +262,7 @@ int runCommandLine(int argc, char** argv) {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
     if (m->parsed()) return runMerge(ma);
+    if (f->parsed()) return runFarmSubmit(fa, f->remaining());
   } catch (const ResourceError& e) {
     std::cerr << "rayes: " << e.message() << "\n";
     return 3;

@@ -4,6 +4,15 @@
 // nothing written), 1 anything else (a bug or the machine failing).
 #pragma once
 
+namespace CLI {
+class App;
+}
+
 namespace rayes {
+struct RenderArgs;
+
 int runCommandLine(int argc, char** argv);
+// Adds the `render` subcommand, every option of `rayes render`, filling `a`; returns it.
+// `rayes farm submit` parses its render options with it too.
+CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a);
 }

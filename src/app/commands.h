@@ -18,4 +18,9 @@ int runRender(const RenderArgs& a);    // render_command.cpp
 int runConverge(const RenderArgs& a);  // converge_command.cpp
 int runMerge(const MergeArgs& a);      // merge_command.cpp
 
+// An output's extension, lower case (".exr"); and the one check of an image output's name
+// (render's and merge's -o, farm submit's outputs): .exr, .png or .film, else InputError("-o").
+std::string lowerExtension(const std::string& path);  // render_command.cpp
+void checkOutputName(const std::string& out);         // render_command.cpp
+
 }  // namespace rayes

@@ -19,12 +19,6 @@
 namespace rayes {
 namespace {
 
-std::string extensionOf(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
 std::string partName(int part, int parts) { return std::to_string(part) + "/" + std::to_string(parts); }
 
 }  // namespace
@@ -33,11 +27,7 @@ int runMerge(const MergeArgs& a) {
   const auto wall0 = Clock::now();
   if (a.parts.empty()) throw InputError("merge", "", "no part given");
   if (a.outputs.empty()) throw InputError("-o", "", "give the image to write: -o OUT.exr (and/or OUT.png, OUT.film)");
-  for (const std::string& o : a.outputs) {
-    const std::string ext = extensionOf(o);
-    if (ext != ".exr" && ext != ".png" && ext != ".film")
-      throw InputError(o, "", "merge writes .exr, .png or .film; not '" + ext + "'");
-  }
+  for (const std::string& o : a.outputs) checkOutputName(o);
   // Every part read and checked before anything is written.
   std::vector<FilmFile> parts;
   for (const std::string& path : a.parts) parts.push_back(readFilmFile(path));
@@ -80,11 +70,11 @@ int runMerge(const MergeArgs& a) {
   for (const std::string& path : a.parts) outputs.addInput(path);
   // An EXR gets its preview beside it, as from rayes render, unless a PNG is named.
   bool pngNamed = false;
-  for (const std::string& o : a.outputs) pngNamed = pngNamed || extensionOf(o) == ".png";
+  for (const std::string& o : a.outputs) pngNamed = pngNamed || lowerExtension(o) == ".png";
   std::vector<std::pair<std::string, std::string>> writes;  // (path, extension)
   for (const std::string& o : a.outputs) {
-    writes.push_back({o, extensionOf(o)});
-    if (extensionOf(o) == ".exr" && !pngNamed)
+    writes.push_back({o, lowerExtension(o)});
+    if (lowerExtension(o) == ".exr" && !pngNamed)
       writes.push_back({std::filesystem::path(o).replace_extension(".png").string(), ".png"});
   }
   for (const auto& [path, ext] : writes) outputs.add(path, ext == ".exr" ? "image" : ext == ".png" ? "preview" : "film");

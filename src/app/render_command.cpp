@@ -25,9 +25,8 @@
 #include "core/timer.h"
 
 namespace rayes {
-namespace {
 
-std::string extensionOf(const std::string& path) {
+std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
   return ext;
@@ -35,12 +34,14 @@ std::string extensionOf(const std::string& path) {
 
 // -o takes the names of what can be written, and nothing else: a.jpg must not become an EXR.
 void checkOutputName(const std::string& out) {
-  const std::string ext = extensionOf(out);
+  const std::string ext = lowerExtension(out);
   if (ext != ".exr" && ext != ".png" && ext != ".film")
     throw InputError("-o", "", "'" + out + "': " + (ext.empty() ? std::string("no extension") : "unknown extension '" + ext + "'") +
                                    "; an output is .exr (the image, a PNG preview beside it), .png (the preview "
                                    "alone) or .film (the film's state, for rayes merge)");
 }
+
+namespace {
 
 std::string secondsText(double s) {
   char text[32];
@@ -64,7 +65,7 @@ int runRender(const RenderArgs& a) {
   // split, for rayes merge); any other name gets the EXR and the preview beside it.
   const std::string stem = a.scene == kStdinScene ? "stdin" : std::filesystem::path(a.scene).stem().string();
   const std::string out = a.out.empty() ? "out/" + stem + ".exr" : a.out;
-  const std::string ext = extensionOf(out);
+  const std::string ext = lowerExtension(out);
   const bool filmOut = ext == ".film", pngOnly = ext == ".png";
   const std::string exr = pngOnly || filmOut ? "" : out;
   const std::string png = filmOut ? "" : pngOnly ? out : std::filesystem::path(out).replace_extension(".png").string();
