@@ -1,4 +1,5 @@
 #include "app/command_line.h"
+#include <algorithm>
 #include <iostream>
 #include <string>
 #include <CLI/CLI.hpp>
@@ -219,6 +220,16 @@ int runCommandLine(int argc, char** argv) {
         break;
       }
 
+  // What a subcommand that takes extras (to name a mistyped option) left over: one message.
+  const auto reportLeftOver = [&] {
+    for (const CLI::App* sub : {r, c})
+      if (sub->parsed())
+        if (const std::string left = leftOverMessage(sub); !left.empty()) {
+          std::cerr << "rayes: " << left << "\n(run 'rayes " << sub->get_name() << " --help' for the options)\n";
+          return true;
+        }
+    return false;
+  };
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -229,20 +240,16 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // A mistyped subcommand: name the nearest.
-    if (!r->parsed() && !c->parsed() && !m->parsed() && argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "render" &&
-        std::string(argv[1]) != "converge" && std::string(argv[1]) != "merge") {
-      const std::string near = closestName(argv[1], {"render", "converge", "merge"});
+    const std::vector<std::string> commands = {"render", "converge", "merge", "farm"};
+    if (!r->parsed() && !c->parsed() && !m->parsed() && !f->parsed() && argc > 1 && argv[1][0] != '-' &&
+        std::find(commands.begin(), commands.end(), argv[1]) == commands.end()) {
+      const std::string near = closestName(argv[1], commands);
       std::cerr << "rayes: " << argv[1] << ": unknown command" << (near.empty() ? "" : "; did you mean " + near + "?")
                 << "\n(run 'rayes --help' for the commands)\n";
       return 2;
     }
     // A mistyped option explains the rest (a required option "missing" is usually the mistyped one).
-    for (const CLI::App* sub : {r, c})
-      if (sub->parsed())
-        if (const std::string left = leftOverMessage(sub); !left.empty()) {
-          std::cerr << "rayes: " << left << "\n(run 'rayes " << sub->get_name() << " --help' for the options)\n";
-          return 2;
-        }
+    if (reportLeftOver()) return 2;
     // Point at the help of the subcommand that was being parsed.
     const char* which = c->parsed()   ? "converge "
                         : r->parsed() ? "render "
@@ -252,12 +259,7 @@ int runCommandLine(int argc, char** argv) {
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
   }
-  for (const CLI::App* sub : {r, c})
-    if (sub->parsed())
-      if (const std::string left = leftOverMessage(sub); !left.empty()) {
-        std::cerr << "rayes: " << left << "\n(run 'rayes " << sub->get_name() << " --help' for the options)\n";
-        return 2;
-      }
+  if (reportLeftOver()) return 2;
   try {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
