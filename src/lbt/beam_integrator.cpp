@@ -79,11 +79,9 @@ void BeamIntegrator::traceChunk(const BeamSeeds& seeds, size_t first, const Beam
   std::vector<BeamSegment> segments;
   BeamTraceStats stats;
   try {
-    segments = traceBeams(scene_, seeds, to, [this](RayBatch& rays) {
-      if (keptGrids_) keptGrids_->trace(setup_.trace, rays);
-      else setup_.trace(rays);
-    }, stats,
-                          &budget_, &keep);
+    // Chunks are traced only inside prepare()'s and startRound()'s KeptGrids.
+    const auto trace = [this](RayBatch& rays) { keptGrids_->trace(setup_.trace, rays); };
+    segments = traceBeams(scene_, seeds, to, trace, stats, &budget_, &keep);
   } catch (const BeamBudgetExceeded& e) {
     // First the range being gathered makes room (closes: its store is built and freed), then
     // the chunk is halved.
