@@ -75,7 +75,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
     if (m.type == MaterialType::Conductor) {
       s.rho = fresnelConductor(dot(w, n), m.eta, m.k);
     } else {
-      s.rho = m.specular.at(h.u, h.v);
+      s.rho = m.specular.at(textureQueryAt(scene, h));
       s.sigma = GaussianLobe{s.rho, m.sigma}.smooth() ? 0.0f : m.sigma;
     }
   }

@@ -97,7 +97,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
           landed_[k] = 1;
           continue;
         }
-        const Bsdf bsdf = hit.mat->bsdfAt(hit.h.u, hit.h.v);
+        const Bsdf bsdf = hit.mat->bsdfAt(textureQueryAt(scene_, hit.h));
         if (continueLightPath(scene_, hit, bsdf, vertex, keyOf(first_ + k, vertex), k, cs, throughput_[k], rays, stats))
           ++local;
       }

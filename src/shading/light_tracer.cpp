@@ -102,7 +102,7 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
       if (!lightPathHit(scene_, rays, cs, stats, hit)) continue;
       const Material& mat = *hit.mat;
       if (mat.reflectsNothing()) continue;
-      const Bsdf bsdf = mat.bsdfAt(hit.h.u, hit.h.v);
+      const Bsdf bsdf = mat.bsdfAt(textureQueryAt(scene_, hit.h));
       const RayHit& h = hit.h;
       const Vec3 p = hit.at.p, wi = hit.wi;
       const SurfaceHit& at = hit.at;

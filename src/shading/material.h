@@ -1,5 +1,5 @@
 // Materials are data: a model name and its parameters, each colour optionally a texture of
-// the hit's (u, v). bsdfAt() turns one into a Bsdf at a hit. Any material may also emit
+// the hit, read at a TextureQuery (shading/texture_query.h). bsdfAt() turns one into a Bsdf at a hit. Any material may also emit
 // (emission radiance, leaving the side the patch normal dP/du x dP/dv points to, or both
 // sides when twoSided). Parameter meanings and units: docs/scene-format.md, "materials".
 #pragma once
@@ -17,7 +17,8 @@ struct ColorParam {
   std::shared_ptr<const Texture> texture;
   ColorParam() = default;
   ColorParam(Rgb v) : value(v) {}
-  Rgb at(float u, float v) const { return texture ? value * texture->eval(u, v) : value; }
+  Rgb at(const TextureQuery& q) const { return texture ? value * texture->eval(q) : value; }
+  Rgb at(float u, float v) const { return at(TextureQuery::at(u, v)); }
 };
 
 enum class MaterialType : uint8_t { Diffuse, Conductor, Dielectric, Plastic, Phong, Glossy };
@@ -37,17 +38,20 @@ struct Material {
   bool twoSided = false;
   bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 
-  Bsdf bsdfAt(float u, float v) const {
+  Bsdf bsdfAt(const TextureQuery& q) const {
     switch (type) {
-      case MaterialType::Diffuse: return Lambert{albedo.at(u, v)};
+      case MaterialType::Diffuse: return Lambert{albedo.at(q)};
       case MaterialType::Conductor: return Conductor{eta, k, roughness};
       case MaterialType::Dielectric: return Dielectric{eta.x, roughness};
-      case MaterialType::Plastic: return Plastic{albedo.at(u, v), eta.x, plasticFdrIn};
-      case MaterialType::Phong: return Phong{albedo.at(u, v), specular.at(u, v), exponent};
-      case MaterialType::Glossy: return GaussianLobe{specular.at(u, v), sigma};
+      case MaterialType::Plastic: return Plastic{albedo.at(q), eta.x, plasticFdrIn};
+      case MaterialType::Phong: return Phong{albedo.at(q), specular.at(q), exponent};
+      case MaterialType::Glossy: return GaussianLobe{specular.at(q), sigma};
     }
     return Lambert{};
   }
+  Bsdf bsdfAt(float u, float v) const { return bsdfAt(TextureQuery::at(u, v)); }
+  // Whether any parameter reads a texture (a hit on it needs a TextureQuery worth the name).
+  bool textured() const { return albedo.texture || specular.texture; }
   // A black diffuse material reflects nothing: no BSDF work at all.
   bool reflectsNothing() const {
     return type == MaterialType::Diffuse && !albedo.texture && isBlack(albedo.value);

@@ -234,7 +234,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
 
   // 3. The material at the hit becomes one BSDF.
   v.reflects = !v.mat->reflectsNothing();
-  if (v.reflects) v.bsdf = v.mat->bsdfAt(h.u, h.v);
+  if (v.reflects) v.bsdf = v.mat->bsdfAt(textureQueryAt(scene_, h));
   if (bounce == 0) recordFirstHit(v, paths);
   if (int(bounce) >= scene_.integrator.maxDepth || !v.reflects) {
     paths.alive[k] = 0;

@@ -15,4 +15,14 @@ std::vector<uint32_t> shadeRanks(const std::vector<uint32_t>& leafMaterial) {
   return rank;
 }
 
+TextureQuery textureQueryAt(const ShadingScene& scene, const RayHit& h) {
+  TextureQuery q = TextureQuery::at(h.u, h.v);
+  if (scene.texCoords && scene.texCoords->has(h.leaf)) {
+    const TexCoordSample st = scene.texCoords->at(h.leaf, h.u, h.v);
+    q.hasUv = true;
+    q.uv.x = st.s; q.uv.y = st.t;
+  }
+  return q;
+}
+
 }  // namespace rayes

@@ -2,7 +2,9 @@
 // the loaded Scene (app/render_data.h); every integrator reads it and never changes it.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
+#include "core/ray_batch.h"
 #include "shading/camera.h"
 #include "shading/light.h"
 #include "shading/material.h"
@@ -24,7 +26,13 @@ struct ShadingScene {
   std::vector<float> leafSide;         // longest side l of the leaf's box
   std::vector<float> leafDicingError;  // C of Patch::dicingErrorCoefficient (bound C / 4^level)
   LightSampler lights;
+  // The leaves' uv sets (null: no leaf has one; textures read the patch parameters).
+  std::shared_ptr<const TexCoordSource> texCoords;
 };
+
+// Where a hit's material reads its textures: the patch parameters, the leaf's uv set when it
+// has one, and the footprint (a point sample for now). Every method's shading asks this.
+TextureQuery textureQueryAt(const ShadingScene& scene, const RayHit& h);
 
 // Per leaf, its place in (material, leaf) order: the key that groups a generation's hits by
 // material and leaf for shading (PathTracer) in one 32-bit word. O(leaves + materials).

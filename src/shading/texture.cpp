@@ -55,7 +55,9 @@ float Texture::noise(float x, float y, int octaves) {
   return std::clamp(sum / norm, 0.0f, 1.0f);
 }
 
-Rgb Texture::eval(float u, float v) const {
+Rgb Texture::eval(const TextureQuery& q) const {
+  const TexturePoint& at = coordinates == Coordinates::Uv && q.hasUv ? q.uv : q.patch;
+  const float u = at.x, v = at.y;
   switch (kind) {
     case Kind::Image:
       return image ? bilinear(*image, u * scale, v * scale) : Rgb{};
