@@ -69,6 +69,7 @@ RenderData::RenderData(const Scene& scene) {
   shading.integrator = scene.integrator;
   shading.materials = scene.materials;
   shading.leafMaterial = scene.leafMaterial;
+  shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
   shading.leafDicingError.resize(n);
   for (size_t i = 0; i < n; ++i) {

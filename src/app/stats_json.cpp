@@ -98,6 +98,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"border_bounds", m.borderBounds},
       {"film", m.film},
       {"scene_description", m.sceneDescription},
+      {"uv_sets", m.uvSets},
   };
   j["memory"]["scene_bytes_per_leaf"] = m.leaves ? double(m.sceneDescription) / double(m.leaves) : 0.0;
   j["memory"]["peak_rss_bytes"] = peakRssBytes();
