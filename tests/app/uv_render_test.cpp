@@ -106,9 +106,16 @@ TEST(UvRender, StatsCountTheUvSetsBytesOnlyWhenThereAreSome) {
   Renderer r(with, RenderOptions{});
   // 49 values of (s, t), 4 indices per face for 36 faces, an 8-byte record per leaf.
   EXPECT_GE(r.stats().memory.uvSets, 49u * 8 + 36u * 4 * 4 + 36u * 8);
+  EXPECT_EQ(r.stats().features.uvLeaves, 36u);
   const Scene without = testing::smallTeapot();
   EXPECT_EQ(Renderer(without, RenderOptions{}).stats().memory.uvSets, 0u);
   EXPECT_FALSE(without.uvs);
+  // Uv sets that no texture reads are left out at load.
+  const Scene unread = parseScene(gridScene("bilinear", "patch"), "grid.json");
+  Renderer u(unread, RenderOptions{});
+  EXPECT_EQ(u.stats().memory.uvSets, 0u);
+  EXPECT_EQ(u.stats().features.uvLeaves, 0u);
+  EXPECT_TRUE(u.stats().features.uvSetsDropped);
 }
 
 }  // namespace

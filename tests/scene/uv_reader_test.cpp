@@ -132,6 +132,16 @@ TEST_F(UvScene, ASceneWithoutUvsHasNoTable) {
   const Scene s = load(R"({"type": "bilinear", "material": "c", "quads": [[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]]})");
   EXPECT_FALSE(s.uvs);
   EXPECT_EQ(s.materials[s.leafMaterial[0]].albedo.texture->coordinates, Texture::Coordinates::Uv);
+  EXPECT_FALSE(s.uvSetsDropped);
+}
+
+TEST_F(UvScene, UvSetsNoTextureReadsAreLeftOut) {
+  const std::string shape = R"({"type": "bilinear", "material": "c", "quads": [[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]],
+                                "uvs": [[[0,0],[1,0],[0,1],[1,1]]]})";
+  const Scene patch = loadScene(temp_.write("p.json", sceneWith(shape, R"("patch")")));
+  EXPECT_FALSE(patch.uvs);
+  EXPECT_TRUE(patch.uvSetsDropped);
+  EXPECT_TRUE(load(shape).uvs);
 }
 
 TEST_F(UvScene, InlineUvsPerVertexOrWithTheirOwnIndices) {
