@@ -2,8 +2,8 @@
 #include <optional>
 #include "core/error.h"
 #include "geometry/subdiv_mesh.h"
-#include "scene/obj_reader.h"
 #include "geometry/subdiv_uv.h"
+#include "scene/obj_reader.h"
 #include "scene/shape_kinds.h"
 
 namespace rayes {

@@ -1,5 +1,6 @@
 // Uv sets end to end: a checker in uv space on a subdivision surface renders as the checker of
-// its uv set, pixel by pixel, and the stats say what the uv sets cost. The surface is a flat
+// its uv set, pixel by pixel; the shipped uv-mapped scene renders the same bits whatever the
+// threads, order and batches; and the stats say what the uv sets cost. The surface is a flat
 // grid, so each pixel's piece of it is known exactly (the camera's rays through the pixel's
 // corners) and its uvs are an affine function of the position (below), which makes the albedo
 // of every pixel inside one checker square exact.
@@ -99,6 +100,14 @@ TEST(UvRender, PatchCoordinatesIgnoreTheUvSet) {
   const Scene patch = parseScene(gridScene("bilinear", "patch"), "grid.json");
   const auto a = Renderer(uv, RenderOptions{}).render().albedo(), b = Renderer(patch, RenderOptions{}).render().albedo();
   EXPECT_NE(a, b);
+}
+
+TEST(UvRender, ShippedUvCheckerIsOrderIndependent) {
+  // Uv lookups go through per-thread caches of Bfr surfaces: the image must not depend on which
+  // thread shaded what, in which order, or in how many batches.
+  const Scene s = testing::resized(loadScene(sourcePath("scenes/uv-checker.json")), 32, 24, 2);
+  ASSERT_TRUE(s.uvs);
+  testing::expectOrderIndependent(s, 150);
 }
 
 TEST(UvRender, StatsCountTheUvSetsBytesOnlyWhenThereAreSome) {
