@@ -10,6 +10,13 @@ two horns extruded from the head of that cage. Creases, in OpenSubdiv's tag form
 along the spine (infinitely sharp), the rims of the soles (sharpness 2), the horn tips
 (infinitely sharp). The cage is closed and all quads; its extraordinary vertices (valence 3
 and 5) sit where the limbs leave the body.
+
+Uv set (vt lines, f v/vt): a cylindrical projection about the body's long axis, s the angle
+around it (a full turn over [0, 1]) and t the position along it over [0, 1]. Each face takes
+its corners' angles within half a turn of its centre's, so the faces on either side of the
+bottom line (the angle's wrap, between the legs) get different uv values for the same vertices:
+a uv seam, continuous everywhere else. Textures repeat in s, so an image that tiles in s shows
+no seam in the render.
 """
 import math
 import sys
@@ -250,15 +257,47 @@ def join_pairs(m):
     return out
 
 
+def uv_set(m):
+    """(values, per-face value indices) of the cylindrical projection described above."""
+    axis_y, axis_z = 0.0, 0.95
+    xs = [p[0] for p in m.v]
+    x0, x1 = min(xs), max(xs)
+
+    def angle(p):
+        return math.atan2(p[1] - axis_y, p[2] - axis_z)
+
+    values, index, faces = [], {}, []
+    for f in m.f:
+        c = angle(centroid(m, f))
+        ids = []
+        for i in f:
+            a = angle(m.v[i])
+            while a - c > math.pi:
+                a -= 2 * math.pi
+            while a - c <= -math.pi:
+                a += 2 * math.pi
+            st = (round(a / (2 * math.pi) + 0.5, 6), round((m.v[i][0] - x0) / (x1 - x0), 6))
+            key = (i, st)
+            if key not in index:
+                index[key] = len(values)
+                values.append(st)
+            ids.append(index[key])
+        faces.append(ids)
+    return values, faces
+
+
 def main():
     m = build()
+    uvs, uv_faces = uv_set(m)
     w = sys.stdout.write
     w("# Catmull-Clark cage of a creature, written by scenes/make_creature.py (do not edit).\n")
-    w("# %d vertices, %d faces, %d creased edges.\n" % (len(m.v), len(m.f), len(m.crease)))
+    w("# %d vertices, %d faces, %d creased edges, %d uv values.\n" % (len(m.v), len(m.f), len(m.crease), len(uvs)))
     for p in m.v:
         w("v %.6f %.6f %.6f\n" % tuple(0.0 if abs(c) < 5e-7 else c for c in p))
-    for f in m.f:
-        w("f %s\n" % " ".join(str(i + 1) for i in f))
+    for st in uvs:
+        w("vt %.6f %.6f\n" % tuple(0.0 if abs(c) < 5e-7 else c for c in st))
+    for f, t in zip(m.f, uv_faces):
+        w("f %s\n" % " ".join("%d/%d" % (i + 1, k + 1) for i, k in zip(f, t)))
     by_sharpness = {}
     for e, s in sorted(m.crease.items()):
         by_sharpness.setdefault(s, []).append(e)

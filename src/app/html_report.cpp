@@ -118,6 +118,7 @@ std::string htmlReport(const json& s, const std::string& preview) {
         {"grid cache", mib("dice_cache"), "diced grids kept between uses, at its peak"},
         {"border bounds", mib("border_bounds"), "crack-closing border boxes kept between dicings"},
         {"film", mib("film"), "per-pixel sums"},
+        {"uv sets", mib("uv_sets"), "the leaves' texture coordinates (none without uvs)"},
         {"scene description", mib("scene_description"),
          number(m["scene_bytes_per_leaf"].get<double>()) + " B per leaf: grows with the scene"},
         {"peak resident", double(t["peak_rss_bytes"].get<uint64_t>()) / double(1 << 20), "whole process"}},

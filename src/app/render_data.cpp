@@ -19,6 +19,9 @@ SceneFeatures featuresOf(const Scene& scene, const std::vector<Box3>& leafBoxes,
     f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
     f.lowPrecisionLeaves += spacing > 0x1p-16f;
   }
+  if (scene.uvs)
+    for (size_t i = 0; i < facts.size(); ++i) f.uvLeaves += scene.uvs->has(uint32_t(i));
+  f.uvSetsDropped = scene.uvSetsDropped;
   f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
   f.environment = scene.moreLights.environment != nullptr;
   f.distantLights = scene.moreLights.distants.size();
@@ -69,6 +72,7 @@ RenderData::RenderData(const Scene& scene) {
   shading.integrator = scene.integrator;
   shading.materials = scene.materials;
   shading.leafMaterial = scene.leafMaterial;
+  shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
   shading.leafDicingError.resize(n);
   for (size_t i = 0; i < n; ++i) {

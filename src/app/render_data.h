@@ -24,6 +24,8 @@ struct SceneFeatures {
   uint64_t displacedLeaves = 0;
   uint64_t subdivisionLeaves = 0;
   uint64_t borderClosureLeaves = 0;  // leaves whose borders need crack-closing regions
+  uint64_t uvLeaves = 0;             // leaves with a uv set that a texture reads
+  bool uvSetsDropped = false;        // Scene::uvSetsDropped
   bool environment = false;
   uint64_t distantLights = 0;
   // Precision (docs/design.md): the coarsest float spacing over a leaf's size (the loader

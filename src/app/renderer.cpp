@@ -104,6 +104,7 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   m.leaves = scene_.leaves.size();
   m.sceneDescription = scene_.leaves.descriptionBytes() + scene_.leafMaterial.capacity() * sizeof(uint32_t) +
                        data_.leafTableBytes() + stats_.engine.leafTableBytes + integrator_->leafTableBytes();
+  m.uvSets = scene_.uvs ? scene_.uvs->bytes() : 0;
   return m;
 }
 

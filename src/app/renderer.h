@@ -120,6 +120,7 @@ struct MemoryByOwner {
   size_t diceCache = 0;          // diced grids kept between uses (--grid-cache, --dice-cache), at their peak
   size_t borderBounds = 0;       // Rayes: border boxes and radii kept between dicings (fixed capacity)
   size_t film = 0;
+  size_t uvSets = 0;             // the leaves' uv sets (scene/leaf_uv_table.h); 0 without any
   size_t sceneDescription = 0;   // the leaves (records, boxes, stored patches) and every per-leaf table
   uint64_t leaves = 0;
 };

@@ -98,6 +98,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"border_bounds", m.borderBounds},
       {"film", m.film},
       {"scene_description", m.sceneDescription},
+      {"uv_sets", m.uvSets},
   };
   j["memory"]["scene_bytes_per_leaf"] = m.leaves ? double(m.sceneDescription) / double(m.leaves) : 0.0;
   j["memory"]["peak_rss_bytes"] = peakRssBytes();
@@ -142,6 +143,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"subdivision_leaves", f.subdivisionLeaves},
       {"border_closure_leaves", f.borderClosureLeaves},
       {"border_region_hits", borderHits},
+      {"uv_leaves", f.uvLeaves},
       {"environment_light", f.environment},
       {"coarsest_relative_spacing", f.coarsestRelativeSpacing},
       {"low_precision_leaves", f.lowPrecisionLeaves},
@@ -152,6 +154,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
   if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";
   if (!f.environment) skipped["environment"] = "no environment light: escaping rays gather nothing";
+  if (f.uvSetsDropped) skipped["uv_sets"] = "no texture reads uv coordinates: the shapes' uv sets were left out at load";
+  else if (f.uvLeaves == 0) skipped["uv_sets"] = "no shape has a uv set: textures read the patch parameters";
   // The method's own section (beams), or why it was not built; a method without beams says so.
   for (const auto& [section, why] : s.method.skipped) skipped[section] = why;
   if (!s.method.section.empty() && !s.method.wasSkipped(s.method.section)) {

@@ -1,11 +1,12 @@
-// Subdivision surfaces (Catmull-Clark, and Loop for all-triangle meshes) through OpenSubdiv's
-// Bfr API, diced on demand like every other Patch.
+// Subdivision surfaces (Catmull-Clark, Loop for all-triangle meshes, and the bilinear scheme for
+// plain polygon meshes) through OpenSubdiv's Bfr API, diced on demand like every other Patch.
 //
 // Three layers, each immutable once built and shared by pointer:
 //  - SubdivMeshDesc: plain topology + positions + tags, as the OBJ or JSON reader produces it.
-//  - SubdivTopology: the Far::TopologyRefiner, the thread-safe Bfr surface factory (its cache
-//    of irregular patch topologies is shared by every thread), and the tables that make seams
-//    watertight (which face owns each edge and vertex). It does not depend on positions, so a
+//  - SubdivTopology: the Far::TopologyRefiner (with the uv set as its face-varying channel 0,
+//    when the mesh has one), the thread-safe Bfr surface factory (its cache of irregular patch
+//    topologies is shared by every thread), and the tables that make seams watertight (which
+//    face owns each edge and vertex). The uv set is evaluated by SubdivUvSet (subdiv_uv.h). It does not depend on positions, so a
 //    moving shape builds it once and one SubdivMesh per time sample.
 //  - SubdivMesh: the topology + control points (already transformed) + what depends on them:
 //    the limit position of every vertex, a bicubic Bézier form of every regular face, and
@@ -24,6 +25,7 @@
 // and its Bfr evaluation), subdiv_seams.cpp (the canonical border points), subdiv_dice.cpp (a
 // leaf's points and dicing); their shared internals in subdiv_mesh_internal.h.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -36,10 +38,17 @@
 
 namespace rayes {
 
-enum class SubdivScheme { CatmullClark, Loop };
+// Bilinear: OpenSubdiv's bilinear scheme, the control mesh itself (flat faces; a non-quad face
+// is split into quads about its centroid like Catmull-Clark's).
+enum class SubdivScheme { CatmullClark, Loop, Bilinear };
 
 // How boundary vertices are interpolated (OpenSubdiv's Sdc::Options::VtxBoundaryInterpolation).
 enum class SubdivBoundary { None, EdgeOnly, EdgeAndCorner };
+
+// How the uv set (face-varying data) is interpolated: OpenSubdiv's
+// Sdc::Options::FVarLinearInterpolation, from smooth everywhere (None) to bilinear in every face
+// (All, OpenSubdiv's default).
+enum class SubdivUvInterpolation { None, CornersOnly, CornersPlus1, CornersPlus2, Boundaries, All };
 
 struct SubdivCrease {
   int v0 = 0, v1 = 0;   // an existing edge
@@ -61,12 +70,19 @@ struct SubdivMeshDesc {
   std::vector<SubdivCrease> creases;
   std::vector<SubdivCorner> corners;
   std::vector<int> holes;         // face indices
+  // The uv set, optional (both empty: none): values (s, t), and one value index per face
+  // vertex (parallel to faceVertices). Where two faces sharing an edge give its ends different
+  // values, the uv set has a seam there.
+  std::vector<std::array<float, 2>> uvs;
+  std::vector<int> uvIndices;
+  SubdivUvInterpolation uvInterpolation = SubdivUvInterpolation::All;
 };
 
 // Bad topology: which item of the description (so a reader can name the line it came from).
 class SubdivInputError : public std::runtime_error {
  public:
-  enum class Item { Mesh, Vertex, Face, Crease, Corner, Hole };
+  // Uv: a uv value; UvFace: a face's uv indices.
+  enum class Item { Mesh, Vertex, Face, Crease, Corner, Hole, Uv, UvFace };
   SubdivInputError(Item item, int index, const std::string& msg) : std::runtime_error(msg), item(item), index(index) {}
   Item item;
   int index;  // -1 for Item::Mesh
@@ -75,7 +91,8 @@ class SubdivInputError : public std::runtime_error {
 class SubdivTopology;
 
 // Checks the description (indices in range, faces of >= 3 distinct vertices, creases on
-// existing edges, finite non-negative sharpness, Loop only on triangles) and builds the
+// existing edges, finite non-negative sharpness, Loop only on triangles; a uv set with one
+// index per face vertex, each in range, and finite values) and builds the
 // refiner and the surface factory. Throws SubdivInputError; also for topology OpenSubdiv
 // itself rejects. Positions are only used for their count.
 // regularAsBezier: evaluate regular faces (16 distinct B-spline control points) in Bézier form

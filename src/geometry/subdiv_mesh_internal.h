@@ -42,6 +42,7 @@ enum class LeafKind : uint8_t { Quad, QuadSubface, TriSubquad };
 // subdiv_mesh.h's second layer, as buildSubdivTopology (subdiv_topology.cpp) fills it.
 class SubdivTopology {
  public:
+  uint64_t id = 0;  // process-unique: keys per-thread caches (subdiv_uv.cpp)
   SubdivScheme scheme = SubdivScheme::CatmullClark;
   Sdc::SchemeType sdcScheme = Sdc::SCHEME_CATMARK;
   std::unique_ptr<Far::TopologyRefiner> refiner;
@@ -57,6 +58,9 @@ class SubdivTopology {
   std::vector<int> edgeOwner, edgeOwnerLocal;      // face with a limit surface, its local edge
   std::vector<int> vertexOwner, vertexOwnerLocal;  // likewise for vertices
   std::vector<std::pair<int, int>> leaves;          // (face, sub-face or -1)
+  // The uv set's values, s t per value (empty: none); its indices are the refiner's
+  // face-varying channel 0.
+  std::vector<float> uvs;
 
   int faces() const { return int(faceOffset.size()) - 1; }
   int faceSize(int f) const { return faceOffset[f + 1] - faceOffset[f]; }

@@ -4,6 +4,7 @@
 // regular, the owner of every edge and vertex (subdiv_seams.cpp evaluates through them), and the
 // leaves. Nothing here depends on positions.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -43,6 +44,46 @@ void installFarCallbacks() {
     Far::SetWarningCallback(farWarning);
   });
 }
+
+// A uv set: one value index per face vertex, in range, and finite values (a NaN would reach
+// every texture lookup on the faces using it).
+void validateUvs(const SubdivMeshDesc& d) {
+  using Item = SubdivInputError::Item;
+  if (d.uvs.empty() && d.uvIndices.empty()) return;
+  if (d.uvs.empty()) throw SubdivInputError(Item::Mesh, -1, "the mesh has uv indices but no uv values");
+  const int nuv = int(d.uvs.size());
+  for (int k = 0; k < nuv; ++k)
+    if (!std::isfinite(d.uvs[size_t(k)][0]) || !std::isfinite(d.uvs[size_t(k)][1]))
+      throw SubdivInputError(Item::Uv, k, "uv value is not finite");
+  if (d.uvIndices.size() != d.faceVertices.size())
+    throw SubdivInputError(Item::Mesh, -1,
+                           "the mesh has " + std::to_string(d.uvIndices.size()) + " uv indices for " +
+                               std::to_string(d.faceVertices.size()) + " face vertices (one per face vertex)");
+  size_t off = 0;
+  for (int f = 0; f < int(d.faceSizes.size()); ++f) {
+    for (int k = 0; k < d.faceSizes[size_t(f)]; ++k) {
+      const int i = d.uvIndices[off + size_t(k)];
+      if (i < 0 || i >= nuv)
+        throw SubdivInputError(Item::UvFace, f,
+                               "uv index " + std::to_string(i) + " out of range (0.." + std::to_string(nuv - 1) + ")");
+    }
+    off += size_t(d.faceSizes[size_t(f)]);
+  }
+}
+
+Sdc::Options::FVarLinearInterpolation fvarInterpolation(SubdivUvInterpolation i) {
+  switch (i) {
+    case SubdivUvInterpolation::None: return Sdc::Options::FVAR_LINEAR_NONE;
+    case SubdivUvInterpolation::CornersOnly: return Sdc::Options::FVAR_LINEAR_CORNERS_ONLY;
+    case SubdivUvInterpolation::CornersPlus1: return Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1;
+    case SubdivUvInterpolation::CornersPlus2: return Sdc::Options::FVAR_LINEAR_CORNERS_PLUS2;
+    case SubdivUvInterpolation::Boundaries: return Sdc::Options::FVAR_LINEAR_BOUNDARIES;
+    case SubdivUvInterpolation::All: return Sdc::Options::FVAR_LINEAR_ALL;
+  }
+  return Sdc::Options::FVAR_LINEAR_ALL;
+}
+
+std::atomic<uint64_t> gNextTopologyId{1};
 
 void validate(const SubdivMeshDesc& d) {
   using Item = SubdivInputError::Item;
@@ -112,6 +153,7 @@ void validate(const SubdivMeshDesc& d) {
     if (d.holes[h] < 0 || d.holes[h] >= int(d.faceSizes.size()))
       throw SubdivInputError(Item::Hole, h,
                              "hole face index out of range (0.." + std::to_string(d.faceSizes.size() - 1) + ")");
+  validateUvs(d);
 }
 
 }  // namespace
@@ -121,8 +163,11 @@ std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& 
   validate(d);
   installFarCallbacks();
   auto topo = std::make_shared<SubdivTopology>();
+  topo->id = gNextTopologyId++;
   topo->scheme = d.scheme;
-  topo->sdcScheme = d.scheme == SubdivScheme::Loop ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
+  topo->sdcScheme = d.scheme == SubdivScheme::Loop       ? Sdc::SCHEME_LOOP
+                    : d.scheme == SubdivScheme::Bilinear ? Sdc::SCHEME_BILINEAR
+                                                         : Sdc::SCHEME_CATMARK;
   topo->numVertices = int(d.positions.size());
 
   std::vector<int> creaseVerts, cornerVerts;
@@ -149,12 +194,21 @@ std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& 
   desc.cornerWeights = cornerW.data();
   desc.numHoles = int(d.holes.size());
   desc.holeIndices = d.holes.data();
+  Far::TopologyDescriptor::FVarChannel uvChannel;
+  if (!d.uvs.empty()) {
+    uvChannel.numValues = int(d.uvs.size());
+    uvChannel.valueIndices = d.uvIndices.data();
+    desc.numFVarChannels = 1;
+    desc.fvarChannels = &uvChannel;
+    topo->uvs.reserve(d.uvs.size() * 2);
+    for (const auto& st : d.uvs) topo->uvs.insert(topo->uvs.end(), st.begin(), st.end());
+  }
 
   Sdc::Options sdc;
   sdc.SetVtxBoundaryInterpolation(d.boundary == SubdivBoundary::None       ? Sdc::Options::VTX_BOUNDARY_NONE
                                   : d.boundary == SubdivBoundary::EdgeOnly ? Sdc::Options::VTX_BOUNDARY_EDGE_ONLY
                                                                            : Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-  sdc.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
+  sdc.SetFVarLinearInterpolation(fvarInterpolation(d.uvInterpolation));
   using RF = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   std::string errors;
   tFarErrors = &errors;

@@ -4,7 +4,8 @@
 
 namespace rayes {
 
-// {"type": "bezier", "file": "x.bpt"} or {"type": "bezier", "patches": [[16 points], ...]}
+// {"type": "bezier", "file": "x.bpt"} or {"type": "bezier", "patches": [[16 points], ...]},
+// optional "uvs": four (s, t) corners per patch (readCornerUvs).
 ShapeSource readBezierShape(const ShapeContext& ctx) {
   const JsonReader& r = ctx.reader;
   const json& shape = ctx.shape;
@@ -25,14 +26,16 @@ ShapeSource readBezierShape(const ShapeContext& ctx) {
       patches.push_back(cp);
     }
   }
-  return {{"file", "patches"}, [patches](const Transform& xf) {
+  return {{"file", "patches", "uvs"},
+          [patches](const Transform& xf) {
             std::vector<PatchPtr> out;
             for (auto cp : patches) {
               for (auto& v : cp) v = xf.point(v);
               out.push_back(std::make_shared<BezierPatch>(cp));
             }
             return out;
-          }};
+          },
+          readCornerUvs(ctx, patches.size())};
 }
 
 }  // namespace rayes

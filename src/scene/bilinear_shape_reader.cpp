@@ -4,7 +4,8 @@
 
 namespace rayes {
 
-// {"type": "bilinear", "quads": [[p00, p10, p01, p11], ...]}
+// {"type": "bilinear", "quads": [[p00, p10, p01, p11], ...]}, optional "uvs": four (s, t)
+// corners per quad, in the same order (readCornerUvs).
 ShapeSource readBilinearShape(const ShapeContext& ctx) {
   const JsonReader& r = ctx.reader;
   const json& qs = r.member(ctx.shape, ctx.ptr, "quads");
@@ -16,14 +17,16 @@ ShapeSource readBilinearShape(const ShapeContext& ctx) {
     if (!q.is_array() || q.size() != 4) r.fail(p, "expected 4 corners [p00, p10, p01, p11]");
     quads.push_back({r.vec3(q[0], p + "/0"), r.vec3(q[1], p + "/1"), r.vec3(q[2], p + "/2"), r.vec3(q[3], p + "/3")});
   }
-  return {{"quads"}, [quads](const Transform& xf) {
+  return {{"quads", "uvs"},
+          [quads](const Transform& xf) {
             std::vector<PatchPtr> out;
             for (auto q : quads) {
               for (auto& v : q) v = xf.point(v);
               out.push_back(std::make_shared<BilinearPatch>(q[0], q[1], q[2], q[3]));
             }
             return out;
-          }};
+          },
+          readCornerUvs(ctx, quads.size())};
 }
 
 }  // namespace rayes

@@ -41,6 +41,24 @@ class ObjParser {
       }
       off += size_t(out_.mesh.faceSizes[f]);
     }
+    // Texture coordinate indices likewise, once every vt line is read.
+    const int nuv = int(out_.mesh.uvs.size());
+    off = 0;
+    for (size_t f = 0; f < out_.mesh.faceSizes.size() && !out_.mesh.uvIndices.empty(); ++f) {
+      for (int k = 0; k < out_.mesh.faceSizes[f]; ++k) {
+        const int t = out_.mesh.uvIndices[off + size_t(k)];
+        if (t < 0 || t >= nuv)
+          throw InputError(file_, "line " + std::to_string(out_.faceLine[f]),
+                           "texture coordinate index " + std::to_string(t + 1) + " out of range (the file has " +
+                               std::to_string(nuv) + " vt lines)");
+      }
+      off += size_t(out_.mesh.faceSizes[f]);
+    }
+    // Texture coordinates no face uses are no uv set.
+    if (out_.mesh.uvIndices.empty()) {
+      out_.mesh.uvs.clear();
+      out_.uvLine.clear();
+    }
     return std::move(out_);
   }
 
@@ -86,10 +104,11 @@ class ObjParser {
     if (key == "v") return vertex();
     if (key == "f") return face();
     if (key == "t") return tag();
-    static const char* kSkipped[] = {"vt", "vn", "vp", "g", "o", "s", "usemtl", "mtllib"};
+    if (key == "vt") return textureCoordinate();
+    static const char* kSkipped[] = {"vn", "vp", "g", "o", "s", "usemtl", "mtllib"};
     for (const char* s : kSkipped)
       if (key == s) return;
-    fail("unsupported OBJ statement '" + std::string(key) + "' (expected v, f, t, or one of vt vn vp g o s usemtl mtllib)");
+    fail("unsupported OBJ statement '" + std::string(key) + "' (expected v, vt, f, t, or one of vn vp g o s usemtl mtllib)");
   }
 
   void vertex() {
@@ -107,30 +126,58 @@ class ObjParser {
   void face() {
     const int n = int(tokens_.size()) - 1;
     if (n < 3) fail("a face needs at least 3 vertices, this one has " + std::to_string(n));
+    int withUv = 0;
     for (int k = 1; k <= n; ++k) {
       std::string_view t = tokens_[size_t(k)];
       const size_t slash = t.find('/');
       const std::string_view idx = t.substr(0, slash);
-      if (slash != std::string_view::npos) {  // v/t, v//n, v/t/n: check the shape, ignore the values
+      std::string_view uv;  // the texture index of v/t and v/t/n; empty for v and v//n
+      if (slash != std::string_view::npos) {  // v/t, v//n, v/t/n: the normal is checked for shape only
         const std::string_view rest = t.substr(slash + 1);
         int slashes = 0;
         for (char c : rest) {
           if (c == '/') ++slashes;
-          else if (!(c == '-' || (c >= '0' && c <= '9'))) fail("malformed face vertex '" + std::string(t) + "'");
+          else if (!(c == '-' || c == '+' || (c >= '0' && c <= '9'))) fail("malformed face vertex '" + std::string(t) + "'");
         }
         if (slashes > 1) fail("malformed face vertex '" + std::string(t) + "'");
+        uv = rest.substr(0, rest.find('/'));
+        if (slashes == 0 && uv.empty()) fail("malformed face vertex '" + std::string(t) + "'");
       }
       if (idx.empty()) fail("malformed face vertex '" + std::string(t) + "'");
-      const long i = integer(idx);
-      long v;
-      if (i > 0) v = i - 1;
-      else if (i < 0) v = long(out_.mesh.positions.size()) + i;
-      else fail("vertex index 0 is not valid (OBJ indices start at 1)");
-      if (v < 0) fail("relative vertex index " + std::to_string(i) + " reaches before the first vertex");
-      out_.mesh.faceVertices.push_back(int(v));
+      out_.mesh.faceVertices.push_back(resolve(integer(idx), out_.mesh.positions.size(), "vertex"));
+      if (!uv.empty()) {
+        out_.mesh.uvIndices.push_back(resolve(integer(uv), out_.mesh.uvs.size(), "texture coordinate"));
+        ++withUv;
+      }
     }
+    if (withUv != 0 && withUv != n) fail("some corners of this face have a texture coordinate index (v/vt) and some do not");
+    // Either every face has texture coordinates or none: a uv set covers the whole mesh.
+    const bool faceHasUv = withUv == n;
+    if (out_.mesh.faceSizes.empty()) firstFaceHasUv_ = faceHasUv;
+    else if (faceHasUv != firstFaceHasUv_)
+      fail(std::string("this face has ") + (faceHasUv ? "" : "no ") + "texture coordinate indices (v/vt) and line " +
+           std::to_string(out_.faceLine[0]) + "'s face " + (firstFaceHasUv_ ? "has" : "has none") +
+           ": give every face of the mesh texture coordinates, or none");
     out_.mesh.faceSizes.push_back(n);
     out_.faceLine.push_back(line_);
+  }
+
+  // A one-based or negative (relative to the `defined` items so far) OBJ index, zero-based.
+  int resolve(long i, size_t defined, const char* what) const {
+    long v = 0;
+    if (i > 0) v = i - 1;
+    else if (i < 0) v = long(defined) + i;
+    else fail(std::string(what) + " index 0 is not valid (OBJ indices start at 1)");
+    if (v < 0) fail("relative " + std::string(what) + " index " + std::to_string(i) + " reaches before the first one");
+    return int(v);
+  }
+
+  void textureCoordinate() {
+    if (tokens_.size() < 2 || tokens_.size() > 4) fail("a texture coordinate needs u, and optionally v and w");
+    const float u = number(tokens_[1]), v = tokens_.size() > 2 ? number(tokens_[2]) : 0.0f;
+    if (tokens_.size() > 3) number(tokens_[3]);  // w: checked, unused
+    out_.mesh.uvs.push_back({u, v});
+    out_.uvLine.push_back(line_);
   }
 
   void tag() {
@@ -182,6 +229,7 @@ class ObjParser {
 
   std::string file_;
   int line_ = 0;
+  bool firstFaceHasUv_ = false;
   std::vector<std::string_view> tokens_;
   ObjMesh out_;
 };
@@ -203,6 +251,8 @@ int objLineOf(const ObjMesh& obj, const SubdivInputError& e) {
     case Item::Crease: return at(obj.creaseLine);
     case Item::Corner: return at(obj.cornerLine);
     case Item::Hole: return at(obj.holeLine);
+    case Item::Uv: return at(obj.uvLine);
+    case Item::UvFace: return at(obj.faceLine);
     default: return 0;
   }
 }

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 #include "geometry/leaf_source.h"
+#include "scene/leaf_uv_table.h"
 #include "shading/light.h"
 #include "shading/material.h"
 #include "shading/shading_scene.h"
@@ -30,6 +31,8 @@ struct Scene {
   std::vector<Material> materials;
   LeafList leaves;                        // leaf id = index
   std::vector<uint32_t> leafMaterial;     // per leaf
+  std::shared_ptr<LeafUvTable> uvs;       // the leaves' uv sets; null when no leaf has one or none is read
+  bool uvSetsDropped = false;             // shapes had uv sets, but no texture reads uv coordinates
   std::vector<PointLight> pointLights;
   SceneLights moreLights;                 // spot, distant and environment lights
   // What the loader noticed that is not an error (a light that lights nothing), one sentence

@@ -1,4 +1,5 @@
 #include "scene/scene_loader.h"
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -93,6 +94,14 @@ Scene parseScene(const std::string& fileText, const std::string& path) {
   readShapes(r, r.member(doc, "", "shapes"), scene, materials, dir);
   if (doc.contains("lights")) readLights(r, doc["lights"], scene);
   if (scene.leaves.empty()) r.fail("/shapes", "the scene has no shapes");
+  // Uv sets no texture reads cost memory and nothing else: leave them out.
+  const auto readsUv = [](const ColorParam& c) { return c.texture && c.texture->coordinates == Texture::Coordinates::Uv; };
+  if (scene.uvs && std::none_of(scene.materials.begin(), scene.materials.end(), [&](const Material& m) {
+        return readsUv(m.albedo) || readsUv(m.specular);
+      })) {
+    scene.uvs.reset();
+    scene.uvSetsDropped = true;
+  }
   return scene;
 }
 

@@ -10,6 +10,7 @@
 #include "core/transform.h"
 #include "geometry/displacement.h"
 #include "geometry/patch.h"
+#include "scene/leaf_uv_table.h"
 #include "scene/json_reader.h"
 
 namespace rayes {
@@ -27,7 +28,12 @@ struct ShapeContext {
 struct ShapeSource {
   std::vector<const char*> keys;  // the kind's own keys, besides the common ones
   std::function<std::vector<PatchPtr>(const Transform&)> build;
+  std::shared_ptr<const ShapeUvs> uvs;  // the patches' uv sets (null: none)
 };
+
+// A shape's optional "uvs" for `patches` Bézier or bilinear patches: one [[s, t] x 4] per
+// patch, at (u, v) = (0, 0), (1, 0), (0, 1), (1, 1). Null when the shape has no "uvs".
+std::shared_ptr<const ShapeUvs> readCornerUvs(const ShapeContext& ctx, size_t patches);
 
 ShapeSource readBezierShape(const ShapeContext& ctx);
 ShapeSource readBilinearShape(const ShapeContext& ctx);

@@ -22,7 +22,37 @@ uint32_t materialRef(const JsonReader& r, const json& obj, const std::string& p,
   return it->second;
 }
 
+std::shared_ptr<const ShapeUvs> readCornerUvs(const ShapeContext& ctx, size_t patches) {
+  const JsonReader& r = ctx.reader;
+  if (!ctx.shape.contains("uvs")) return nullptr;
+  const std::string p = ctx.ptr + "/uvs";
+  const json& us = ctx.shape["uvs"];
+  if (!us.is_array()) r.fail(p, "expected an array with one [[s, t] x 4] per patch, got " + JsonReader::typeName(us));
+  if (us.size() != patches)
+    r.fail(p, "expected one uv entry per patch: " + std::to_string(patches) + " patches, " +
+                  std::to_string(us.size()) + " entries");
+  auto out = std::make_shared<ShapeUvs>();
+  out->corners.resize(patches);
+  for (size_t k = 0; k < patches; ++k) {
+    const std::string pk = p + "/" + std::to_string(k);
+    if (!us[k].is_array() || us[k].size() != 4) r.fail(pk, "expected 4 corners [st00, st10, st01, st11]");
+    for (size_t c = 0; c < 4; ++c) {
+      const std::string pc = pk + "/" + std::to_string(c);
+      if (!us[k][c].is_array() || us[k][c].size() != 2) r.fail(pc, "expected [s, t]");
+      for (size_t x = 0; x < 2; ++x) out->corners[k][c][x] = float(r.number(us[k][c][x], pc + "/" + std::to_string(x)));
+    }
+  }
+  return out;
+}
+
 namespace {
+
+// Leaf `leaf` is patch k of a shape with uv sets.
+void addLeafUvs(Scene& scene, uint32_t leaf, const ShapeUvs& uvs, size_t k) {
+  if (!scene.uvs) scene.uvs = std::make_shared<LeafUvTable>();
+  if (uvs.subdiv) scene.uvs->setSubdiv(leaf, uvs.subdiv, uint32_t(k));
+  else scene.uvs->setCorners(leaf, uvs.corners[k]);
+}
 
 using KindReader = ShapeSource (*)(const ShapeContext&);
 const std::map<std::string, KindReader>& shapeKinds() {
@@ -68,8 +98,12 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     const DisplacementPtr disp = shape.contains("displacement") ? readDisplacement(ctx) : nullptr;
     const auto build = [&](const Transform& t) { return displacePatches(disp, source, t, source.build(t)); };
     // With "motion": one set of patches per time sample, each patch a MovingPatch of its versions.
-    for (auto& patch : shape.contains("motion") ? movingPatches(readMotion(ctx), xf, build) : build(xf))
-      addPatch(r, p, scene, std::move(patch), mat);
+    std::vector<PatchPtr> patches = shape.contains("motion") ? movingPatches(readMotion(ctx), xf, build) : build(xf);
+    for (size_t k = 0; k < patches.size(); ++k) {
+      const uint32_t leaf = uint32_t(scene.leaves.size());
+      addPatch(r, p, scene, std::move(patches[k]), mat);
+      if (source.uvs) addLeafUvs(scene, leaf, *source.uvs, k);
+    }
   }
 }
 

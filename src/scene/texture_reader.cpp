@@ -168,8 +168,13 @@ ColorParam readColorParam(const JsonReader& r, const json& j, const std::string&
     tex->scale = float(r.number(j["scale"], ptr + "/scale"));
     if (!(tex->scale > 0)) r.fail(ptr + "/scale", "the texture scale must be positive");
   }
+  if (j.contains("coordinates")) {  // "patch" (the default) or "uv"
+    const std::string coords = r.string(j["coordinates"], ptr + "/coordinates");
+    if (coords == "uv") tex->coordinates = Texture::Coordinates::Uv;
+    else if (coords != "patch") r.fail(ptr + "/coordinates", "unknown coordinates '" + coords + "' (expected patch or uv)");
+  }
   if (type == "image") {
-    r.object(j, ptr, {"type", "file", "scale", "tint"});
+    r.object(j, ptr, {"type", "file", "scale", "tint", "coordinates"});
     const std::string f = r.string(r.member(j, ptr, "file"), ptr + "/file");
     const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : sceneDir / f;
     tex->kind = Texture::Kind::Image;
@@ -186,8 +191,8 @@ ColorParam readColorParam(const JsonReader& r, const json& j, const std::string&
     }
     if (j.contains("tint")) c.value = r.color(j["tint"], ptr + "/tint", reflectance);
   } else if (type == "checker" || type == "noise") {
-    if (type == "checker") r.object(j, ptr, {"type", "colors", "scale"});
-    else r.object(j, ptr, {"type", "colors", "scale", "octaves"});
+    if (type == "checker") r.object(j, ptr, {"type", "colors", "scale", "coordinates"});
+    else r.object(j, ptr, {"type", "colors", "scale", "octaves", "coordinates"});
     tex->kind = type == "checker" ? Texture::Kind::Checker : Texture::Kind::Noise;
     const json& cs = r.member(j, ptr, "colors");
     if (!cs.is_array() || cs.size() != 2) r.fail(ptr + "/colors", "expected two colours");

@@ -1,13 +1,15 @@
 // The shipped creature (scenes/creature.obj, written by scenes/make_creature.py): a
 // Catmull-Clark cage of several hundred quads with creases and extraordinary vertices. Its
 // leaves' bounds hold the limit surface, its seams are bit-identical, rays aimed at the seams
-// never slip through, and the scene that shows it loads.
+// never slip through, its uv set is continuous across every edge its uv topology shares and
+// jumps by one turn across its seam, and the scene that shows it loads.
 #include <gtest/gtest.h>
 #include <cstring>
 #include <map>
 #include "dicing/dice_buffer.h"
 #include "geometry/subdiv_mesh.h"
 #include "geometry/subdiv_patch.h"
+#include "geometry/subdiv_uv.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_loader.h"
 #include "support/patch_test_util.h"
@@ -176,6 +178,56 @@ TEST(Creature, SeamsAreBitwiseAndRaysAtThemNeverMiss) {
   EXPECT_GT(rays, 8000);
   std::printf("[ creature ] %ld rays at shared edges, %ld misses (%ld directions not transversal, skipped)\n", rays,
               misses, skipped);
+}
+
+// Every edge shared by two faces (all quads, so leaf = face), evaluated from both at 9 points:
+// where both faces give the edge's ends the same uv values the two evaluations agree within the
+// rounding of a Bfr blend (BfrFace::evaluationError's estimate: at most 64 patch points, weights'
+// absolute sum 4, values within 1). Across the seam the two sides' s differ by one turn at the
+// ends the seam splits (both ends of an edge along it, one end of an edge leaving its end
+// points), and with linear interpolation (the default, "all") by the linear blend of the ends'
+// differences in between; t agrees everywhere.
+TEST(Creature, UvSetIsContinuousExceptAcrossItsSeam) {
+  const ObjMesh obj = loadObj(RAYES_SOURCE_DIR "/scenes/creature.obj");
+  ASSERT_EQ(obj.mesh.uvIndices.size(), obj.mesh.faceVertices.size());
+  const SubdivUvSet uvs(buildSubdivTopology(obj.mesh));
+  const float bound = 2 * gammaBound(128) * 4.0f;
+  struct Side { int face, k; };
+  std::map<std::pair<int, int>, std::vector<Side>> edges;
+  for (int f = 0; f < int(obj.mesh.faceSizes.size()); ++f)
+    for (int k = 0; k < 4; ++k) {
+      const int a = obj.mesh.faceVertices[size_t(4 * f + k)], b = obj.mesh.faceVertices[size_t(4 * f + (k + 1) % 4)];
+      edges[{std::min(a, b), std::max(a, b)}].push_back({f, k});
+    }
+  static const float corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  auto at = [&](Side sd, float x) {  // face sd.face's edge sd.k at x from its corner k
+    const float* p = corner[sd.k];
+    const float* q = corner[(sd.k + 1) % 4];
+    float st[2], du[2], dv[2];
+    uvs.evaluate(sd.face, p[0] + (q[0] - p[0]) * x, p[1] + (q[1] - p[1]) * x, st, du, dv);
+    return std::array<float, 2>{st[0], st[1]};
+  };
+  auto uvIndex = [&](Side sd, int which) { return obj.mesh.uvIndices[size_t(4 * sd.face + (sd.k + which) % 4)]; };
+  int seamEdges = 0, sharedEdges = 0;
+  for (const auto& [e, sides] : edges) {
+    ASSERT_EQ(sides.size(), 2u);
+    const Side a = sides[0], b = sides[1];
+    // b runs the edge the other way: its corner k is a's corner k + 1.
+    const bool shared = uvIndex(a, 0) == uvIndex(b, 1) && uvIndex(a, 1) == uvIndex(b, 0);
+    (shared ? sharedEdges : seamEdges)++;
+    // The jump of s at a's corners k and k + 1 (0 where shared, a turn where split).
+    const float jump0 = obj.mesh.uvs[size_t(uvIndex(b, 1))][0] - obj.mesh.uvs[size_t(uvIndex(a, 0))][0];
+    const float jump1 = obj.mesh.uvs[size_t(uvIndex(b, 0))][0] - obj.mesh.uvs[size_t(uvIndex(a, 1))][0];
+    if (!shared) EXPECT_GT(std::fabs(jump0) + std::fabs(jump1), 0.5f) << "seam edge " << e.first << "-" << e.second;
+    for (int i = 0; i <= 8; ++i) {
+      const float x = float(i) / 8;
+      const auto pa = at(a, x), pb = at(b, 1 - x);
+      EXPECT_NEAR(pb[0] - pa[0], (1 - x) * jump0 + x * jump1, bound) << "edge " << e.first << "-" << e.second;
+      EXPECT_NEAR(pb[1], pa[1], bound) << "edge " << e.first << "-" << e.second;
+    }
+  }
+  EXPECT_GT(seamEdges, 0);
+  EXPECT_GT(sharedEdges, 10 * seamEdges);
 }
 
 TEST(Creature, SceneLoads) {
