@@ -13,6 +13,7 @@ using OIIO::TextureOpt;
 using OIIO::TextureSystem;
 
 TextureSystem* sys(void* p) { return static_cast<TextureSystem*>(p); }
+TextureSystem::Perthread* threadOf(void* p) { return static_cast<TextureSystem::Perthread*>(p); }
 TextureSystem::TextureHandle* handleOf(void* p) { return static_cast<TextureSystem::TextureHandle*>(p); }
 
 float cleaned(float x) { return std::isfinite(x) && x > 0 ? x : 0.0f; }
@@ -53,7 +54,7 @@ Rgb TextureImage::filtered(float s, float t, float dsdx, float dtdx, float dsdy,
   float c[3] = {0, 0, 0};
   const int n = channels_ >= 3 ? 3 : 1;
   TextureSystem* ts = sys(system_);
-  if (!ts->texture(handleOf(handle_), ts->get_perthread_info(), opt, s, t, dsdx, dtdx, dsdy, dtdy, n, c))
+  if (!ts->texture(handleOf(handle_), threadOf(cache_->perthread()), opt, s, t, dsdx, dtdx, dsdy, dtdy, n, c))
     fail("cannot read texture tiles");
   return rgbOf(c, n);
 }
@@ -67,7 +68,7 @@ Rgb TextureImage::closest(float s, float t) const {
   float c[3] = {0, 0, 0};
   const int n = channels_ >= 3 ? 3 : 1;
   TextureSystem* ts = sys(system_);
-  if (!ts->texture(handleOf(handle_), ts->get_perthread_info(), opt, s, t, 0, 0, 0, 0, n, c))
+  if (!ts->texture(handleOf(handle_), threadOf(cache_->perthread()), opt, s, t, 0, 0, 0, 0, n, c))
     fail("cannot read texture tiles");
   return rgbOf(c, n);
 }
@@ -77,7 +78,7 @@ void TextureImage::texels(int level, int x0, int x1, int y0, int y1, int channel
   channel = std::clamp(channel, 0, channels_ - 1);
   TextureOpt opt;
   TextureSystem* ts = sys(system_);
-  if (!ts->get_texels(handleOf(handle_), ts->get_perthread_info(), opt, level, x0, x1, y0, y1, 0, 1, channel,
+  if (!ts->get_texels(handleOf(handle_), threadOf(cache_->perthread()), opt, level, x0, x1, y0, y1, 0, 1, channel,
                       channel + 1, OIIO::TypeDesc::FLOAT, out))
     fail("cannot read texels of MIP level " + std::to_string(level));
 }
@@ -119,7 +120,17 @@ TextureCache::TextureCache(TextureCacheOptions options)
   if (!notice_) notice_ = [](const std::string& s) { std::cerr << "rayes: " << s << "\n"; };
 }
 
-TextureCache::~TextureCache() { TextureSystem::destroy(sys(system_), /*teardown_imagecache=*/true); }
+TextureCache::~TextureCache() {
+  for (void* p : perthread_)
+    if (p) sys(system_)->destroy_thread_info(static_cast<TextureSystem::Perthread*>(p));
+  TextureSystem::destroy(sys(system_), /*teardown_imagecache=*/true);
+}
+
+void* TextureCache::perthread() const {
+  void*& p = perthread_.local();
+  if (!p) p = sys(system_)->create_thread_info();
+  return p;
+}
 
 void TextureCache::setMemoryBytes(uint64_t bytes) {
   memoryBytes_ = bytes;
@@ -140,11 +151,11 @@ std::shared_ptr<const TextureImage> TextureCache::open(const std::filesystem::pa
   image->system_ = ts;
   image->source_ = source.string();
   image->path_ = path;
-  image->handle_ = ts->get_texture_handle(name, ts->get_perthread_info());
+  image->handle_ = ts->get_texture_handle(name, threadOf(perthread()));
   int resolution[2] = {0, 0}, channels = 0;
-  if (!image->handle_ || !ts->get_texture_info(handleOf(image->handle_), ts->get_perthread_info(), 0, OIIO::ustring("resolution"),
+  if (!image->handle_ || !ts->get_texture_info(handleOf(image->handle_), threadOf(perthread()), 0, OIIO::ustring("resolution"),
                                                 OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), resolution) ||
-      !ts->get_texture_info(handleOf(image->handle_), ts->get_perthread_info(), 0, OIIO::ustring("channels"),
+      !ts->get_texture_info(handleOf(image->handle_), threadOf(perthread()), 0, OIIO::ustring("channels"),
                             OIIO::TypeDesc::INT, &channels))
     image->fail("cannot open texture '" + path + "'");
   image->width_ = resolution[0];

@@ -8,7 +8,10 @@
 // Ownership: the scene owns the cache (a shared_ptr, made only when the scene names an image);
 // every TextureImage shares ownership of it, so a texture outlives nothing it reads.
 // Thread safety: open() is serialised by a mutex; lookups and stats() are thread-safe and may run
-// on any thread (OIIO keeps per-thread state for each TBB worker: get_perthread_info).
+// on any thread. Each thread that looks up gets its own OIIO per-thread state (its micro-cache of
+// tiles), made on its first lookup and owned by the cache, which destroys them all before the
+// TextureSystem: OIIO's own per-thread state would outlive a cache destroyed while the TBB
+// workers live on, and touch it at their exit.
 // Determinism: a lookup is a pure function of the file and its arguments: the cache's size, the
 // order of lookups and the thread count change which tiles are resident, never a value.
 // Cost: a lookup touches at most a few tiles of two MIP levels (anisotropic: up to `kMaxAniso`
@@ -24,6 +27,7 @@
 #include <mutex>
 #include <string>
 #include <vector>
+#include <tbb/enumerable_thread_specific.h>
 #include "core/vec.h"
 
 namespace rayes {
@@ -112,8 +116,11 @@ class TextureCache : public std::enable_shared_from_this<TextureCache> {
   TextureCacheStats stats() const;
 
  private:
+  friend class TextureImage;
   explicit TextureCache(TextureCacheOptions options);
+  void* perthread() const;  // the calling thread's OIIO::TextureSystem::Perthread*
   void* system_ = nullptr;  // OIIO::TextureSystem*, made with shared = false
+  mutable tbb::enumerable_thread_specific<void*> perthread_{nullptr};
   uint64_t memoryBytes_ = 0;
   std::filesystem::path conversionDir_;
   std::function<void(const std::string&)> notice_;

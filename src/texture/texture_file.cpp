@@ -12,6 +12,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include "core/error.h"
+#include "core/text_file.h"
 
 namespace rayes {
 namespace {
@@ -80,13 +81,19 @@ PreparedTextureFile prepareTextureFile(const std::filesystem::path& source, cons
                                        const std::function<void(const std::string&)>& notice) {
   const std::string name = source.string();
   std::error_code ec;
-  if (!std::filesystem::exists(source, ec)) throw InputError(name, "", "cannot open image: no such file");
-  if (std::filesystem::is_directory(source, ec)) throw InputError(name, "", "cannot open image: it is a directory");
+  // Missing, a folder, a FIFO or a device: refused before any reader opens it (a FIFO would block).
+  const uint64_t fileBytes = checkInputFile(name, "image");
   auto in = OIIO::ImageInput::open(name);
   if (!in) throw InputError(name, "", "not an image OpenImageIO can read: " + OIIO::geterror());
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw InputError(name, "", "the image has no pixels");
+  // A PNG is deflated, which expands at most 1032:1: a header claiming more pixels than the file
+  // can hold is a lie, refused before the conversion allocates them.
+  const uint64_t rawBytes = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) * spec.format.size();
+  if (std::string(in->format_name()) == "png" && rawBytes > 1032 * fileBytes + 65536)
+    throw InputError(name, "", "the header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                                   " pixels, more than its " + std::to_string(fileBytes) + " bytes can hold");
   if (spec.depth > 1) throw InputError(name, "", "a volume image is not a surface texture");
   const bool tiled = spec.tile_width > 0;
   const bool mipmapped = in->seek_subimage(0, 1) || (spec.width == 1 && spec.height == 1);
