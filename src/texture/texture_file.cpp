@@ -6,6 +6,7 @@
 #include <fstream>
 #include <system_error>
 #include <vector>
+#include <fcntl.h>
 #include <unistd.h>
 #include <OpenImageIO/hash.h>
 #include <OpenImageIO/imagebuf.h>
@@ -52,6 +53,37 @@ bool srgbDecoded(const OIIO::ImageBuf& encoded, OIIO::ImageBuf& decoded) {
   return true;
 }
 
+// OIIO's error text on one line (the program prints one line per error).
+std::string oneLine(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ';';
+  while (!s.empty() && (s.back() == ';' || s.back() == ' ')) s.pop_back();
+  return s;
+}
+
+// While it lives, file descriptor 2 goes to /dev/null: libpng, under OIIO's PNG reader, prints
+// its errors on stderr itself before OIIO reports them; the program reports each problem once,
+// as an InputError. Only used while a file is read at scene load, when nothing else prints.
+class QuietStderr {
+ public:
+  QuietStderr() : saved_(::dup(2)) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietStderr() {
+    if (saved_ >= 0) {
+      ::dup2(saved_, 2);
+      ::close(saved_);
+    }
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_;
+};
+
 }  // namespace
 
 std::filesystem::path defaultTextureCacheDir() {
@@ -77,14 +109,15 @@ std::string fileContentHash(const std::filesystem::path& file, uint64_t seed) {
   return hex16(h);
 }
 
-PreparedTextureFile prepareTextureFile(const std::filesystem::path& source, const std::filesystem::path& cacheDir,
-                                       const std::function<void(const std::string&)>& notice) {
+namespace {
+
+PreparedTextureFile prepared(const std::filesystem::path& source, const std::filesystem::path& cacheDir) {
   const std::string name = source.string();
   std::error_code ec;
   // Missing, a folder, a FIFO or a device: refused before any reader opens it (a FIFO would block).
   const uint64_t fileBytes = checkInputFile(name, "image");
   auto in = OIIO::ImageInput::open(name);
-  if (!in) throw InputError(name, "", "not an image OpenImageIO can read: " + OIIO::geterror());
+  if (!in) throw InputError(name, "", "not an image OpenImageIO can read: " + oneLine(OIIO::geterror()));
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw InputError(name, "", "the image has no pixels");
@@ -143,15 +176,37 @@ PreparedTextureFile prepareTextureFile(const std::filesystem::path& source, cons
     std::filesystem::remove(temp, ec);
     if (why.empty()) why = OIIO::geterror();
     if (why.empty()) why = "conversion failed";
-    throw InputError(name, "", "cannot convert the image to a tiled MIP-mapped texture: " + why);
+    throw InputError(name, "", "cannot convert the image to a tiled MIP-mapped texture: " + oneLine(why));
   }
   std::filesystem::rename(temp, target, ec);
   if (ec) {
     std::filesystem::remove(temp, ec);
     throw InputError("--texture-cache-dir", "", "cannot write '" + target.string() + "': " + ec.message());
   }
-  if (notice) notice("converted texture '" + name + "' to a tiled MIP-mapped file '" + target.string() + "'");
   return {target, true, false};
+}
+
+}  // namespace
+
+PreparedTextureFile prepareTextureFile(const std::filesystem::path& source, const std::filesystem::path& cacheDir,
+                                       const std::function<void(const std::string&)>& notice) {
+  std::string failure;
+  try {
+    PreparedTextureFile result;
+    {
+      const QuietStderr quiet;
+      result = prepared(source, cacheDir);
+    }
+    if (result.converted && notice)
+      notice("converted texture '" + source.string() + "' to a tiled MIP-mapped file '" + result.path.string() + "'");
+    return result;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // A reader of a damaged file may throw (OIIO's GIF reader: a length error).
+    failure = e.what();
+  }
+  throw InputError(source.string(), "", "not an image OpenImageIO can read: " + oneLine(failure));
 }
 
 }  // namespace rayes
