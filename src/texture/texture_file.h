@@ -8,7 +8,9 @@
 // concurrent conversion never leaves a partial file under the final name.
 //
 // Colour: PNG and other 8/16-bit formats hold sRGB-encoded values and are decoded to linear
-// (half-float output); float formats (EXR, HDR) are linear and kept as they are. NaN texels
+// (half-float output); float formats (EXR, HDR) are linear and kept as they are. A file read in
+// place is taken as linear whatever its format (make such files from float images, or give the
+// renderer the PNG itself). NaN texels
 // become black. MIP levels are box-filtered (so a level's texels never leave the range of the
 // texels below them: the environment's sampling distribution and the height maps' bounds rely
 // on it).
