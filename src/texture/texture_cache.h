@@ -14,9 +14,9 @@
 // workers live on, and touch it at their exit.
 // Determinism: a lookup is a pure function of the file and its arguments: the cache's size, the
 // order of lookups and the thread count change which tiles are resident, never a value.
-// Cost: a lookup touches at most a few tiles of two MIP levels (anisotropic: up to `kMaxAniso`
-// probes along the footprint's long axis); a tile read from disk costs file I/O once until it
-// is evicted (least recently used out first, OIIO's clock).
+// Cost: a lookup touches at most a few tiles of two MIP levels (anisotropic: up to 32 probes,
+// OIIO's default, along the footprint's long axis); a tile read from disk costs file I/O once
+// until it is evicted (OIIO's clock: least recently used out first).
 #pragma once
 #include <algorithm>
 #include <cstdint>
