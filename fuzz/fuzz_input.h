@@ -15,7 +15,7 @@ inline std::string asText(const uint8_t* data, size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);
 }
 
-// Readers that only take a path (libpng, OpenEXR and the .bpt reader read files) get the input
+// Readers that only take a path (OpenImageIO and the .bpt reader read files) get the input
 // through one file per process, rewritten for every input; `extension` picks the reader.
 inline std::filesystem::path writeInputFile(const uint8_t* data, size_t size, const std::string& extension) {
   static const std::filesystem::path file = std::filesystem::temp_directory_path() /

@@ -1,4 +1,5 @@
 #include "app/batch_job.h"
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -131,6 +132,13 @@ Rule ruleFor(const std::string& path) {
     return Rule::Max;
   }
   if (starts("beams.")) return beamMax.count(path) ? Rule::Max : Rule::Sum;
+  if (starts("textures.")) {
+    // Every part opens the same files under the same bound; each is its own cache.
+    if (path == "textures.files" || path == "textures.image_bytes" || path == "textures.texture_memory_bytes")
+      return Rule::First;
+    if (path == "textures.peak_tiles" || path == "textures.cache_memory_bytes") return Rule::Max;
+    return Rule::Sum;
+  }
   return Rule::Sum;
 }
 
@@ -188,6 +196,11 @@ nlohmann::json combinedStats(const std::vector<nlohmann::json>& parts) {
     t["rays_per_dicing"] = diced > 0 ? rays / diced : 0.0;
     const double total = t.contains("time_s") ? t["time_s"].value("total", 0.0) : 0.0;
     t["mrays_per_s"] = total > 0 ? rays / total * 1e-6 : 0.0;
+  }
+  if (out.contains("textures")) {
+    nlohmann::json& x = out["textures"];
+    const double read = x.value("tiles_read", 0.0), lookups = x.value("tile_lookups", 0.0);
+    x["hit_rate"] = lookups > 0 ? 1.0 - std::min(read, lookups) / lookups : 1.0;
   }
   out["parts"] = parts.size();
   return out;

@@ -25,6 +25,13 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--grid-cache", a.gridCache,
                 "memory for diced grids kept across iterations and generations of a batch, e.g. 256M (default "
                 "512M; 0: off); a smaller cache means more dicings, never a different image");
+  c->add_option("--texture-memory", a.textureMemory,
+                "memory for the texture cache's tiles, e.g. 64M (default " +
+                    std::to_string(kDefaultTextureMemoryBytes >> 20) +
+                    "M; > 0); a smaller cache means more tile reads, never a different image");
+  c->add_option("--texture-cache-dir", a.textureCacheDir,
+                "folder for plain images converted to tiled MIP-mapped textures (default: "
+                "$XDG_CACHE_HOME/rayes/textures or ~/.cache/rayes/textures)");
   c->add_option("--candidates-per-ray", a.candidatesPerRay,
                 "candidate leaves a ray gets per iteration of the sorted pipeline, at most (1..1000, default " +
                     std::to_string(TraceSettings::kDefaultCandidatesPerRay) +

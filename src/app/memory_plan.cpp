@@ -27,13 +27,14 @@ RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& optio
     if (options.diceCacheEntries == 0) p.gridCache = options.gridCacheBytes;
   }
   p.beams = methodBudgetBytes(options.method);
+  if (scene.textures) p.textures = options.textureMemoryBytes;
   return p;
 }
 
 namespace {
 std::vector<std::pair<const char*, uint64_t>> byOption(const RenderMemoryPlan& p) {
   return {{"--res", p.film + p.outputs}, {"--ray-memory", p.rays}, {"--max-lod", p.diceBuffers},
-          {"--grid-cache", p.gridCache}, {"--beam-memory", p.beams}};
+          {"--grid-cache", p.gridCache}, {"--beam-memory", p.beams}, {"--texture-memory", p.textures}};
 }
 }  // namespace
 
@@ -54,6 +55,7 @@ std::string RenderMemoryPlan::parts() const {
                   readableBytes(rays) + " (--ray-memory), dice buffers " + readableBytes(diceBuffers) +
                   " (--max-lod, --threads), grid cache " + readableBytes(gridCache) + " (--grid-cache)";
   if (beams) s += ", beams " + readableBytes(beams) + " (--beam-memory)";
+  if (textures) s += ", texture cache " + readableBytes(textures) + " (--texture-memory)";
   return s;
 }
 

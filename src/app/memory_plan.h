@@ -25,7 +25,8 @@ struct RenderMemoryPlan {
   uint64_t diceBuffers = 0;        // --max-lod (and --threads): one dice buffer per thread
   uint64_t gridCache = 0;          // --grid-cache
   uint64_t beams = 0;              // --beam-memory (lbt)
-  uint64_t total() const { return film + outputs + rays + diceBuffers + gridCache + beams; }
+  uint64_t textures = 0;           // --texture-memory, when the scene reads an image
+  uint64_t total() const { return film + outputs + rays + diceBuffers + gridCache + beams + textures; }
   // The option whose part is largest, and the parts for a message.
   std::string largestOption() const;
   std::string parts() const;

@@ -55,11 +55,11 @@ void parseResolution(const std::string& text, int& width, int& height) {
 
 }  // namespace
 
-Scene loadSceneFromStdin() {
+Scene loadSceneFromStdin(const TextureCacheOptions& textures) {
   std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
   if (std::cin.bad()) throw InputError(kStdinSceneName, "", "cannot read the scene from standard input");
   // Named "<stdin>" in messages; its relative paths resolve against the current directory.
-  return parseScene(text, kStdinSceneName);
+  return parseScene(text, kStdinSceneName, textures);
 }
 
 // Checks every option that does not need the scene, so that a bad option costs no loading.
@@ -107,6 +107,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   // By default at most an eighth of the memory limit (a cache: same image at any size).
   else if (const uint64_t limit = processMemoryLimit().bytes; limit > 0)
     options.gridCacheBytes = std::min<size_t>(options.gridCacheBytes, size_t(limit / 8));
+  options.textureMemoryBytes = textureCacheOptions(a).memoryBytes;
   if (a.candidatesPerRay < 1 || a.candidatesPerRay > 1000)
     throw InputError("--candidates-per-ray", "", "must be a whole number in [1, 1000]");
   options.candidatesPerRay = a.candidatesPerRay;
@@ -135,11 +136,27 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   return options;
 }
 
+TextureCacheOptions textureCacheOptions(const RenderArgs& a) {
+  TextureCacheOptions t;
+  if (!a.textureMemory.empty()) {
+    // 0 is refused there: a tile cache cannot hold nothing.
+    t.memoryBytes = parseBytes(a.textureMemory, "--texture-memory");
+  }
+  // A cache larger than the memory that can be had is a resource limit, not a typo.
+  if (const uint64_t limit = processMemoryLimit().bytes; limit > 0 && t.memoryBytes > limit)
+    throw ResourceError("--texture-memory", "a texture cache of " + readableBytes(t.memoryBytes) +
+                                                " exceeds the memory limit of " + readableBytes(limit) +
+                                                " (docs/memory-limits.md); lower --texture-memory");
+  if (!a.textureCacheDir.empty()) t.conversionDir = a.textureCacheDir;
+  return t;
+}
+
 // The scene with the command line's resolution, samples and seed.
 Scene preparedScene(const RenderArgs& a) {
   int width = 0, height = 0;
   if (!a.res.empty()) parseResolution(a.res, width, height);
-  Scene scene = a.scene == kStdinScene ? loadSceneFromStdin() : loadScene(a.scene);
+  const TextureCacheOptions textures = textureCacheOptions(a);
+  Scene scene = a.scene == kStdinScene ? loadSceneFromStdin(textures) : loadScene(a.scene, textures);
   if (a.spp) scene.samplesPerPixel = *a.spp;
   if (!a.res.empty()) {
     scene.width = width;

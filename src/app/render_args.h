@@ -16,6 +16,7 @@ struct RenderArgs {
   std::string scene, out, stats, report, reference, res, rayMemory, lod = "per-ray", traceMode = "sorted",
               method = MethodOptions{}.name, causticPaths = "all";
   std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G", gridCache;
+  std::string textureMemory, textureCacheDir;  // --texture-memory, --texture-cache-dir
   int beamResolution = 128, beamDepth = 4, beamSplitDepth = 4, beamAreaSamples = 2;
   std::optional<int> spp;
   int64_t photons = 20000;
@@ -46,7 +47,10 @@ RenderOptions checkedOptions(const RenderArgs& a);
 // names resolve against the current directory.
 inline constexpr const char* kStdinScene = "-";
 inline constexpr const char* kStdinSceneName = "<stdin>";
-Scene loadSceneFromStdin();
+Scene loadSceneFromStdin(const TextureCacheOptions& textures = {});
+// How the scene's texture cache is made: --texture-memory, --texture-cache-dir (checked by
+// checkedOptions).
+TextureCacheOptions textureCacheOptions(const RenderArgs& a);
 // Loads the scene (kStdinScene: from standard input) and applies --res, --spp and --seed.
 Scene preparedScene(const RenderArgs& a);
 // --crop x0,y0,x1,y1 (x1, y1 excluded) inside a width x height image; throws InputError("--crop").

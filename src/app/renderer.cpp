@@ -26,6 +26,9 @@ size_t defaultRayMemoryBytes() {
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     : scene_(scene), options_(options), data_(scene) {
   const auto t0 = Clock::now();
+  // The tile cache's bound for this render (the cache is the scene's: its lookups give the same
+  // values at any size).
+  if (scene.textures) scene.textures->setMemoryBytes(options.textureMemoryBytes);
   integrator_ = makeMethod(options.method, scene, data_);
   // Some methods are defined by their passes (a photon map and a radius per pass).
   if (integrator_->traits().progressive) options_.progressive = true;
@@ -281,6 +284,7 @@ Film Renderer::render(const Progress& progress, const Control& control) {
   stats_.memory.diceBuffers = engine_->fixedBytes() - stats_.engine.cachePeakBytes - stats_.engine.borderBoundBytes;
   stats_.memory.film = film.bytes();
   stats_.splatSaturations = film.splatSaturations();
+  if (scene_.textures) stats_.textures = scene_.textures->stats();
   stats_.timeTotal = secondsSince(t0);
   return film;
 }

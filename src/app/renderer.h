@@ -42,6 +42,7 @@
 // the pixels it renders.
 // Not thread-safe; render() uses all threads allowed by the caller's ThreadLimit.
 #pragma once
+#include <optional>
 #include <functional>
 #include <memory>
 #include <span>
@@ -79,6 +80,9 @@ struct RenderOptions {
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;  // TraceSettings::maxCandidatesPerRay (--candidates-per-ray)
   size_t rayMemoryBytes = defaultRayMemoryBytes();
   size_t gridCacheBytes = size_t(512) << 20;  // TraceSettings::gridCacheBytes (--grid-cache); 0: off
+  // The texture cache's bound (--texture-memory), set on the scene's cache when it has one; any
+  // size gives the same image.
+  uint64_t textureMemoryBytes = kDefaultTextureMemoryBytes;
   bool sortByLeaf = true;
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   MethodOptions method;          // --method and the options of each method
@@ -143,6 +147,7 @@ struct RenderStats {
   std::vector<ErrorSample> errorCurve;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;
   MethodStats method;            // the method's own section (Integrator::methodStats)
+  std::optional<TextureCacheStats> textures;  // the texture cache's figures; none: the scene reads no image
 };
 
 class Renderer {

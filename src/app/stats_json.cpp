@@ -22,6 +22,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"candidates_per_ray", options.candidatesPerRay},
                    {"dice_cache_entries", options.diceCacheEntries},
                    {"grid_cache_bytes", options.gridCacheBytes},
+                   {"texture_memory_bytes", options.textureMemoryBytes},
                    {"progressive", s.progressive},
                    {"ray_memory_bytes", options.rayMemoryBytes},
                    {"vector_isa", vectorIsaName(vectorIsa())},
@@ -172,6 +173,22 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   if (s.method.section != "beams" && !skipped.contains("beams"))
     skipped["beams"] = "--method " + options.method.name + " traces no beams";
   skipped["volumes"] = "volumes are not built yet: OpenVDB not used";
+  if (s.textures) {
+    const TextureCacheStats& t = *s.textures;
+    j["textures"] = {{"files", t.files},
+                     {"conversions", t.conversions},
+                     {"image_bytes", t.imageBytes},
+                     {"tiles_read", t.tilesRead},
+                     {"bytes_read", t.bytesRead},
+                     {"tile_lookups", t.tileLookups},
+                     {"hit_rate", t.hitRate},
+                     {"peak_tiles", t.peakTiles},
+                     {"cache_memory_bytes", t.memoryBytes},
+                     {"texture_memory_bytes", t.memoryLimitBytes},
+                     {"io_time_s", t.ioSeconds}};
+  } else {
+    skipped["textures"] = "no image texture or environment map: no texture cache";
+  }
   j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {
     json curve = json::array();

@@ -142,14 +142,16 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       } else {
         const std::string f = r.string(light["file"], p + "/file");
         const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : dir / f;
-        std::shared_ptr<const Image> im;
+        const Rgb scale = light.contains("scale") ? r.color(light["scale"], p + "/scale", false) : Rgb{1, 1, 1};
         try {
-          im = readImageFile(fp);
+          // Opening reads the header (a plain image is converted first); the sampling
+          // distribution reads a coarse MIP level.
+          scene.moreLights.environment = std::make_shared<Environment>(scene.textureCache().open(fp), scale);
+        } catch (const ResourceError&) {
+          throw;
         } catch (const InputError& e) {
           r.fail(p + "/file", e.message());
         }
-        const Rgb scale = light.contains("scale") ? r.color(light["scale"], p + "/scale", false) : Rgb{1, 1, 1};
-        scene.moreLights.environment = std::make_shared<Environment>(im, scale);
       }
     } else {
       r.fail(p + "/type", "unknown light type '" + type +

@@ -38,7 +38,7 @@ MaterialIndex readMaterials(const JsonReader& r, const json& j, Scene& scene) {
     Material mat;
     mat.name = it.key();
     auto color = [&](const char* key, bool reflectance) {
-      return readColorParam(r, r.member(m, mp, key), mp + "/" + key, dir, reflectance);
+      return readColorParam(r, r.member(m, mp, key), mp + "/" + key, dir, reflectance, scene);
     };
     auto optColor = [&](const char* key, Rgb dflt, bool reflectance) {
       return m.contains(key) ? color(key, reflectance) : ColorParam(dflt);

@@ -12,6 +12,7 @@
 #include "shading/light.h"
 #include "shading/material.h"
 #include "shading/shading_scene.h"
+#include "texture/texture_cache.h"
 
 namespace rayes {
 
@@ -38,6 +39,15 @@ struct Scene {
   // What the loader noticed that is not an error (a light that lights nothing), one sentence
   // each naming the file and the place; the program prints them as warnings.
   std::vector<std::string> warnings;
+  // The render's texture cache (texture/texture_cache.h): made by the loader at the first image
+  // file the scene names, with textureOptions; null when the scene names none (it then pays
+  // nothing for textures). Every image texture, the environment map and height maps read it.
+  std::shared_ptr<TextureCache> textures;
+  TextureCacheOptions textureOptions;
+  TextureCache& textureCache() {
+    if (!textures) textures = TextureCache::make(textureOptions);
+    return *textures;
+  }
 };
 
 }  // namespace rayes

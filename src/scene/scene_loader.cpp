@@ -79,13 +79,14 @@ void readIntegrator(const JsonReader& r, const json& j, Scene& scene) {
 
 }  // namespace
 
-Scene parseScene(const std::string& fileText, const std::string& path) {
+Scene parseScene(const std::string& fileText, const std::string& path, const TextureCacheOptions& textures) {
   const std::string_view text = withoutByteOrderMark(fileText);
   const json doc = parseJsonDocument(text, path);
   JsonReader r(path, text);
   r.object(doc, "", {"camera", "film", "integrator", "materials", "lights", "shapes"});
   Scene scene;
   scene.path = path;
+  scene.textureOptions = textures;
   readCamera(r, r.member(doc, "", "camera"), scene);
   if (doc.contains("film")) readFilm(r, doc["film"], scene);
   if (doc.contains("integrator")) readIntegrator(r, doc["integrator"], scene);
@@ -105,6 +106,8 @@ Scene parseScene(const std::string& fileText, const std::string& path) {
   return scene;
 }
 
-Scene loadScene(const std::string& path) { return parseScene(readTextFile(path, "scene file"), path); }
+Scene loadScene(const std::string& path, const TextureCacheOptions& textures) {
+  return parseScene(readTextFile(path, "scene file"), path, textures);
+}
 
 }  // namespace rayes

@@ -8,8 +8,10 @@
 
 namespace rayes {
 
-Scene loadScene(const std::string& path);
+// `textures`: how the scene's texture cache is made if it names an image (its memory bound and
+// conversion folder, texture/texture_cache.h).
+Scene loadScene(const std::string& path, const TextureCacheOptions& textures = {});
 // The same from text in memory (tests); `path` names it in messages and anchors relative files.
-Scene parseScene(const std::string& text, const std::string& path);
+Scene parseScene(const std::string& text, const std::string& path, const TextureCacheOptions& textures = {});
 
 }  // namespace rayes

@@ -49,19 +49,35 @@ Rgb DistantLight::radiance() const {
   return irradiance * float(1.0 / (std::numbers::pi * sin2));
 }
 
-Environment::Environment(std::shared_ptr<const Image> map, Rgb scale) : map_(std::move(map)), scale_(scale) {
-  const int w = map_->width, h = map_->height;
+Environment::Environment(std::shared_ptr<const TextureImage> map, Rgb scale) : map_(std::move(map)), scale_(scale) {
+  // The finest level at most kEnvironmentCells wide: its texels are box-filtered means of the
+  // finest level's (texture/texture_file.h), so a cell is positive wherever a texel under it is.
+  while (level_ + 1 < map_->levels() && map_->levelWidth(level_) > kEnvironmentCells) ++level_;
+  const int w = map_->levelWidth(level_), h = map_->levelHeight(level_);
+  const std::vector<Rgb> texels = map_->levelRgb(level_);
   std::vector<float> f(size_t(w) * h);
-  double wsum = 0;
+  double wsum = 0, fsum = 0;
   Vec3 sum{};
   for (int y = 0; y < h; ++y) {
     const float sinT = std::sin(kPiF * (y + 0.5f) / h);
     for (int x = 0; x < w; ++x) {
-      const Rgb c = map_->at(x, y) * scale_;
+      const Rgb c = texels[size_t(y) * w + x] * scale_;
       f[size_t(y) * w + x] = std::max(0.0f, (c.x + c.y + c.z) / 3) * sinT;
+      fsum += f[size_t(y) * w + x];
       sum += c * sinT;
       wsum += sinT;
     }
+  }
+  // A coarse cell's mean may round to nothing over a bright texel of a finer level: a floor of
+  // 1e-4 of the mean keeps the density positive everywhere (unbiased), at a negligible cost in
+  // variance. A level-0 distribution needs none (its cells are the texels eval() returns).
+  if (level_ > 0 && fsum > 0) {
+    const float floor = float(1e-4 * fsum / double(f.size()));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float& v = f[size_t(y) * w + x];
+        v = std::max(v, floor * std::sin(kPiF * (y + 0.5f) / h));
+      }
   }
   average_ = wsum > 0 ? sum * float(1.0 / wsum) : Rgb{};
   dist_ = Distribution2D(f, size_t(w), size_t(h));
@@ -71,9 +87,9 @@ Rgb Environment::eval(Vec3 d) const {
   if (!map_) return constant_;
   float u, v, s;
   toLatLong(d, u, v, s);
-  const int x = std::min(map_->width - 1, int(u * map_->width));
-  const int y = std::min(map_->height - 1, int(v * map_->height));
-  return map_->at(x, y) * scale_;
+  // Texel centres at (x + 0.5) / width: the texel holding u is floor(u * width), as the
+  // distribution's cells.
+  return map_->closest(u, v) * scale_;
 }
 
 float Environment::pdf(Vec3 d) const {

@@ -7,10 +7,13 @@
 //   DistantLight: a direction with an irradiance; with an angular radius it is a uniform disk
 //     of that angular size (the sun), sampled uniformly in its cone, otherwise a delta.
 //   Environment: radiance from every direction at infinity: a constant, or a lat-long map
-//     (nearest texel: the map is piecewise constant, exactly what its importance sampling
-//     distribution assumes) sampled by a 2D piecewise-constant distribution over
-//     luminance x sin θ. Direction (x, y, z) maps to u = atan2(y, x) / 2π (wrapped to [0, 1)),
-//     v = θ / π with θ measured from +z: the map's top row is the +z sky.
+//     read through the texture cache (texture/texture_cache.h; nearest texel of the finest
+//     level: the map is piecewise constant) and sampled by a 2D piecewise-constant distribution
+//     over luminance x sin θ of a coarse MIP level (at most kEnvironmentCells texels wide, read
+//     once through the cache, not the whole image; each cell's value floored at a small
+//     fraction of the mean, so every direction with radiance has a positive density and the
+//     estimate stays unbiased whatever the map). Direction (x, y, z) maps to u = atan2(y, x) / 2π
+//     (wrapped to [0, 1)), v = θ / π with θ measured from +z: the map's top row is the +z sky.
 // LightSampler picks one light with probability proportional to its estimated power and
 // answers the densities multiple importance sampling needs. Immutable after construction;
 // every method const and thread-safe.
@@ -57,19 +60,22 @@ struct DistantLight {
 class Environment {
  public:
   explicit Environment(Rgb constant) : constant_(constant) {}
+  static constexpr int kEnvironmentCells = 1024;
   // A lat-long map (see the header comment), radiance = scale x texel.
-  Environment(std::shared_ptr<const Image> map, Rgb scale);
+  Environment(std::shared_ptr<const TextureImage> map, Rgb scale);
   Rgb eval(Vec3 dir) const;
   float pdf(Vec3 dir) const;  // solid angle
   // Returns false when the sample is degenerate (a pole).
   bool sample(float u1, float u2, Vec3& dir, float& pdf) const;
   Rgb averageRadiance() const { return average_; }
-  const Image* map() const { return map_.get(); }
+  const TextureImage* map() const { return map_.get(); }
+  int distributionLevel() const { return level_; }  // the MIP level the sampling distribution is built from
 
  private:
   Rgb constant_;
-  std::shared_ptr<const Image> map_;
+  std::shared_ptr<const TextureImage> map_;
   Rgb scale_{1, 1, 1};
+  int level_ = 0;
   Distribution2D dist_;
   Rgb average_;
 };

@@ -1,4 +1,6 @@
 #include "shading/path_tracer.h"
+#include <cstdlib>
+#include <string_view>
 #include "shading/roulette.h"
 #include <algorithm>
 #include <cmath>
@@ -335,6 +337,14 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
     if (!traced && !shadowed) continue;
     order_.push_back({traced && h.valid() ? shadeRank_[h.leaf] : kNoHitRank, k});
   }
+  // Bench only (bench/texture_cache.sh): RAYES_SHADING_SORT=off shades the paths in id order, to
+  // measure what the sort is worth to the texture cache. The image is the same either way:
+  // each path touches only its own ray slots.
+  static const bool sorted = [] {
+    const char* e = std::getenv("RAYES_SHADING_SORT");
+    return !(e && std::string_view(e) == "off");
+  }();
+  if (!sorted) return;
   tbb::parallel_sort(order_.begin(), order_.end(), [](const SortItem& a, const SortItem& b) {
     return a.key != b.key ? a.key < b.key : a.path < b.path;
   });

@@ -4,26 +4,6 @@
 namespace rayes {
 namespace {
 
-// Repeat wrap of a texel index.
-int wrap(int i, int n) {
-  const int r = i % n;
-  return r < 0 ? r + n : r;
-}
-
-Rgb bilinear(const Image& im, float u, float v) {
-  if (im.width <= 0 || im.height <= 0) return {};
-  // Texel centres at (x + 0.5) / w; image row 0 at the top (v = 1).
-  const float x = u * float(im.width) - 0.5f, y = (1.0f - v) * float(im.height) - 0.5f;
-  if (!std::isfinite(x) || !std::isfinite(y)) return {};
-  const float fx = std::floor(x), fy = std::floor(y);
-  const float ax = x - fx, ay = y - fy;
-  // Reduce before converting so huge (u, v) cannot overflow an int.
-  const int x0 = wrap(int(std::fmod(fx, float(im.width))), im.width), y0 = wrap(int(std::fmod(fy, float(im.height))), im.height);
-  const int x1 = wrap(x0 + 1, im.width), y1 = wrap(y0 + 1, im.height);
-  return (im.at(x0, y0) * (1 - ax) + im.at(x1, y0) * ax) * (1 - ay) +
-         (im.at(x0, y1) * (1 - ax) + im.at(x1, y1) * ax) * ay;
-}
-
 uint32_t hash2(int32_t x, int32_t y) {
   uint32_t h = uint32_t(x) * 0x8da6b343u ^ uint32_t(y) * 0xd8163841u;
   h ^= h >> 15; h *= 0x2c1b3c6du; h ^= h >> 12; h *= 0x297a2d39u; h ^= h >> 15;
@@ -59,8 +39,14 @@ Rgb Texture::eval(const TextureQuery& q) const {
   const TexturePoint& at = coordinates == Coordinates::Uv && q.hasUv ? q.uv : q.patch;
   const float u = at.x, v = at.y;
   switch (kind) {
-    case Kind::Image:
-      return image ? bilinear(*image, u * scale, v * scale) : Rgb{};
+    case Kind::Image: {
+      if (!image) return {};
+      // OIIO's t runs down the image (row 0 at t = 0), v up: t = 1 - v, and the axes' t parts
+      // change sign. Axis A is OIIO's d/dx, axis B its d/dy.
+      const Rgb c = image->filtered(u * scale, 1.0f - v * scale, at.dxA * scale, -at.dyA * scale, at.dxB * scale,
+                                    -at.dyB * scale, TextureWrap::Periodic);
+      return vmin(c, Rgb{maxValue, maxValue, maxValue});
+    }
     case Kind::Checker: {
       const float x = std::floor(u * scale), y = std::floor(v * scale);
       if (!std::isfinite(x) || !std::isfinite(y)) return color0;

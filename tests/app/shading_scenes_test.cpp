@@ -15,7 +15,7 @@
 #include "app/image_io.h"
 #include "support/render_fixtures.h"
 #include "support/temp_folder.h"
-#include "scene/texture_reader.h"
+#include "support/texture_test_files.h"
 
 namespace rayes {
 namespace {
@@ -97,16 +97,21 @@ TEST(ShadingTextures, ExrAndPngImagesReadBack) {
   }
   writeExr((dir / "t.exr").string(), film);
   writePngPreview((dir / "t.png").string(), film);
-  const auto exr = readImageFile(dir / "t.exr");
-  const auto png = readImageFile(dir / "t.png");
-  ASSERT_EQ(exr->width, 5);
-  ASSERT_EQ(png->height, 3);
+  // Through the texture cache, as a scene reads them (the EXR's other channels are AOVs).
+  const auto cache = testing::quietCache(dir / "cache");
+  const auto exr = cache->open(dir / "t.exr");
+  const auto png = cache->open(dir / "t.png");
+  ASSERT_EQ(exr->width(), 5);
+  ASSERT_EQ(png->height(), 3);
   for (uint32_t p = 0; p < 15; ++p) {
     const Rgb want{float(p) / 15, 0.5f, 1.0f - float(p) / 15};
-    EXPECT_EQ(exr->texels[p], want) << p;
+    const float s = (float(p % 5) + 0.5f) / 5, t = (float(p / 5) + 0.5f) / 3;
+    EXPECT_EQ(exr->closest(s, t), want) << p;
     // 8-bit sRGB: at most half a code value, 0.5/255, times the steepest slope of the decoding
-    // curve on [0, 1], d((s + 0.055) / 1.055)^2.4 / ds at s = 1: 2.4 / 1.055.
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(png->texels[p][c], want[c], 0.5 / 255 * 2.4 / 1.055) << p;
+    // curve on [0, 1], d((s + 0.055) / 1.055)^2.4 / ds at s = 1: 2.4 / 1.055; then stored as a
+    // half float (11 bits).
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(png->closest(s, t)[c], want[c], 0.5 / 255 * 2.4 / 1.055 + want[c] * 0x1p-11) << p;
   }
   fs::remove_all(dir);
 }
@@ -131,7 +136,7 @@ TEST(ShadingInput, BadMaterialsLightsAndTexturesAreExit2) {
       {R"("materials": {"m": {"type": "phong", "diffuse": 0.6, "specular": 0.6, "exponent": 10}})", "create energy"},
       {R"("materials": {"m": {"type": "glossy", "specular": 1, "sigma": -1}})", "must not be negative"},
       {R"("materials": {"m": {"type": "diffuse", "albedo": {"type": "image", "file": "missing.png"}}})", "cannot open image"},
-      {R"("materials": {"m": {"type": "diffuse", "albedo": {"type": "image", "file": "garbage.png"}}})", "cannot read PNG"},
+      {R"("materials": {"m": {"type": "diffuse", "albedo": {"type": "image", "file": "garbage.png"}}})", "garbage.png: not an image"},
       {R"("materials": {"m": {"type": "diffuse", "albedo": {"type": "marble"}}})", "unknown texture type"},
       {R"("materials": {"m": {"type": "diffuse", "albedo": 0.5}}, "lights": [{"type": "laser"}])", "unknown light type 'laser'"},
       {R"("materials": {"m": {"type": "diffuse", "albedo": 0.5}}, "lights": [{"type": "disk", "center": [0,0,1], "normal": [0,0,-1], "radius": -1, "radiance": 1}])", "radius must be positive"},

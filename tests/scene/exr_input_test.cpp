@@ -14,7 +14,6 @@
 #include <ImfPartType.h>
 #include "core/error.h"
 #include "scene/exr_input.h"
-#include "scene/texture_reader.h"
 
 namespace rayes {
 namespace {
@@ -80,30 +79,6 @@ TEST(ExrInput, MultiPartHeadersAreWalkedToTheirEnd) {
   std::filesystem::resize_file(path, 80);
   EXPECT_THAT(errorOf(path), HasSubstr(path));
   std::remove(path.c_str());
-}
-
-TEST(ExrInput, DataWindowAwayFromTheOriginReadsItsPixelsInOrder) {
-  // A window at negative and positive offsets: texel (x, y) of the image is pixel
-  // (min.x + x, min.y + y) of the file, and nothing is read outside the image's storage.
-  for (const Imath::V2i& origin : {Imath::V2i(-3, -2), Imath::V2i(5, 7)}) {
-    const std::string path = tempPath("window.exr");
-    const Imath::Box2i dw(origin, origin + Imath::V2i(2, 1));  // 3 x 2 pixels
-    Imf::Header header(Imath::Box2i(Imath::V2i(-10, -10), Imath::V2i(10, 10)), dw);
-    header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
-    const std::vector<float> y{0.0f, 0.1f, 0.2f, 0.3f, 0.4f, 0.5f};
-    {
-      Imf::OutputFile file(path.c_str(), header);
-      Imf::FrameBuffer fb;
-      fb.insert("Y", Imf::Slice::Make(Imf::FLOAT, y.data(), dw, sizeof(float), 3 * sizeof(float)));
-      file.setFrameBuffer(fb);
-      file.writePixels(2);
-    }
-    const auto image = readImageFile(path);
-    ASSERT_EQ(image->width, 3);
-    ASSERT_EQ(image->height, 2);
-    for (size_t p = 0; p < 6; ++p) EXPECT_EQ(image->texels[p].x, y[p]) << "texel " << p;
-    std::remove(path.c_str());
-  }
 }
 
 }  // namespace

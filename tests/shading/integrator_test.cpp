@@ -13,6 +13,8 @@
 #include "shading/fresnel.h"
 #include "shading/path_tracer.h"
 #include "shading/sampling.h"
+#include "support/temp_folder.h"
+#include "support/texture_test_files.h"
 
 namespace rayes {
 namespace {
@@ -264,19 +266,20 @@ TEST(IntegratorAnalytic, SunDiskOnLambertianFloor) {
 // radiance is (1/pi) Σ_texels L ∫_texel cos θ dω, with ∫ = Δφ (sin² θ1 - sin² θ0) / 2 for the
 // rows above the horizon. Exercises the map's importance sampling and its MIS weights.
 TEST(IntegratorAnalytic, EnvironmentMapIrradianceOnFloor) {
-  auto image = std::make_shared<Image>();
-  image->width = 8;
-  image->height = 6;
+  const testing::TempFolder temp;
+  std::vector<Rgb> texels;
   for (int y = 0; y < 6; ++y)
     for (int x = 0; x < 8; ++x) {
       const float v = float((x * 7 + y * 3) % 5) + (x == 2 && y == 1 ? 40.0f : 0.0f);
-      image->texels.push_back({v, v, v});
+      texels.push_back({v, v, v});
     }
+  testing::writeRgbExr(temp.path("sky.exr"), 8, 6, texels);
+  const auto image = testing::quietCache(temp.dir())->open(temp.path("sky.exr"));
   double irradiance = 0;
   for (int y = 0; y < 3; ++y)  // rows above the horizon (θ < π/2)
     for (int x = 0; x < 8; ++x) {
       const double t0 = std::numbers::pi * y / 6, t1 = std::numbers::pi * (y + 1) / 6;
-      irradiance += image->at(x, y).x * (2 * std::numbers::pi / 8) *
+      irradiance += texels[size_t(y) * 8 + x].x * (2 * std::numbers::pi / 8) *
                     (std::pow(std::sin(t1), 2) - std::pow(std::sin(t0), 2)) / 2;
     }
   for (bool constant : {false, true}) {
@@ -312,10 +315,9 @@ TEST(IntegratorAnalytic, SpotAndPointLightsAreExact) {
 // same on both faces). The renderer is unpolarised, so R is the unpolarised Fresnel
 // reflectance; at normal incidence this equals the polarised answer exactly.
 TEST(IntegratorAnalytic, GlassSlabTransmittanceIsTheFresnelSeries) {
-  auto sky = std::make_shared<Image>();
-  sky->width = 1;
-  sky->height = 2;
-  sky->texels = {{0, 0, 0}, {1, 1, 1}};
+  const testing::TempFolder temp;
+  testing::writeRgbExr(temp.path("sky.exr"), 1, 2, {{0, 0, 0}, {1, 1, 1}});
+  const auto sky = testing::quietCache(temp.dir())->open(temp.path("sky.exr"));
   for (float degrees : {0.0f, 45.0f, 75.0f}) {
     TestScene s;
     Material glass;
