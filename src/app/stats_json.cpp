@@ -143,6 +143,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"border_closure_leaves", f.borderClosureLeaves},
       {"border_region_hits", borderHits},
       {"environment_light", f.environment},
+      {"textured_materials", f.texturedMaterials},
       {"coarsest_relative_spacing", f.coarsestRelativeSpacing},
       {"low_precision_leaves", f.lowPrecisionLeaves},
   };
@@ -151,6 +152,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   else if (!f.shutterOpen) skipped["motion_blur"] = "the shutter has no interval: moving shapes seen at the opening time";
   if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
   if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";
+  if (f.texturedMaterials == 0)
+    skipped["texture_footprint"] = "no material reads a texture: no surface derivatives per ray, no footprint";
   if (!f.environment) skipped["environment"] = "no environment light: escaping rays gather nothing";
   // The method's own section (beams), or why it was not built; a method without beams says so.
   for (const auto& [section, why] : s.method.skipped) skipped[section] = why;
