@@ -65,9 +65,12 @@ float Texture::noise(float x, float y, int octaves, float width) {
   return std::clamp(sum / norm, 0.0f, 1.0f);
 }
 
-int Texture::checkerProbes(float longAxis, float shortAxis) {
-  if (!(longAxis > 0)) return 1;
-  const float ratio = longAxis / std::max(shortAxis, 1e-30f);
+int Texture::checkerProbes(float lx, float ly, float shortAxis) {
+  // The box around the whole parallelogram exceeds it by L's smaller coordinate (its slant);
+  // n boxes along L cut that excess to 1/n, so n = slant / |S| leaves it at most |S|.
+  const float slant = std::min(std::fabs(lx), std::fabs(ly));
+  if (!(slant > 0)) return 1;
+  const float ratio = slant / std::max(shortAxis, 1e-30f);
   return std::isfinite(ratio) ? int(std::clamp(std::ceil(ratio), 1.0f, float(kMaxCheckerProbes))) : kMaxCheckerProbes;
 }
 
@@ -76,7 +79,7 @@ float Texture::checkerFootprintWeight(float x, float y, float ax, float ay, floa
   const double la = std::hypot(double(ax), double(ay)), lb = std::hypot(double(bx), double(by));
   const bool aLong = la >= lb;
   const double Lx = aLong ? ax : bx, Ly = aLong ? ay : by, Sx = aLong ? bx : ax, Sy = aLong ? by : ay;
-  const int n = checkerProbes(float(std::max(la, lb)), float(std::min(la, lb)));
+  const int n = checkerProbes(float(Lx), float(Ly), float(std::min(la, lb)));
   const double hx = 0.5 * (std::fabs(Lx) / n + std::fabs(Sx)), hy = 0.5 * (std::fabs(Ly) / n + std::fabs(Sy));
   double sum = 0;
   for (int k = 0; k < n; ++k) {

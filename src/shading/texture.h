@@ -46,16 +46,17 @@ struct Texture {
   // The weight of color1 in the checkerboard's mean over the footprint parallelogram at (x, y)
   // with full-width axes (ax, ay), (bx, by), in checks. Over one box [x ± hx] x [y ± hy] the
   // mean is exact and closed form: (1 - m(x, hx) m(y, hy)) / 2, m the mean of the ±1 square
-  // wave (squareWaveMean). The parallelogram is covered by n = checkerProbes(|longer|,
-  // |shorter|) boxes along the longer axis L, centred at (x, y) + ((k + 1/2) / n - 1/2) L, each the box around its 1/n of the
+  // wave (squareWaveMean). The parallelogram is covered by n = checkerProbes(L, |S|) boxes
+  // along the longer axis L, centred at (x, y) + ((k + 1/2) / n - 1/2) L, each the box around its 1/n of the
   // parallelogram (half-widths (|L| / n + |S|) / 2 per coordinate), averaged -- so a slanted,
   // stretched footprint (a grazing ray off the image's centre column) is not widened to the
   // box around all of it, which blurs across the stretch. Axis-aligned footprints give the
   // single box exactly. In [0, 1]; finite for any input.
   static float checkerFootprintWeight(float x, float y, float ax, float ay, float bx, float by);
-  // ceil(long / short) in [1, kMaxCheckerProbes] (a zero short axis: the maximum).
+  // ceil(min(|lx|, |ly|) / short) in [1, kMaxCheckerProbes]: as many boxes as the long axis's
+  // slant off the coordinate axes needs (an axis-aligned footprint: one, the exact box).
   static constexpr int kMaxCheckerProbes = 16;
-  static int checkerProbes(float longAxis, float shortAxis);
+  static int checkerProbes(float lx, float ly, float shortAxis);
   // The mean of (-1)^floor(t) over [x - h, x + h]: (T(x + h) - T(x - h)) / 2h with T the
   // triangle wave; the point value when the interval lies in one cell. In [-1, 1]; finite for
   // any finite x and any h.

@@ -141,8 +141,7 @@ inline PixelEstimate renderPixel(const Ground& g, const Texture& tex, int i, int
       const double ax = q.patch.dxA * 2000, ay = q.patch.dyA * 2000, bx = q.patch.dxB * 2000, by = q.patch.dyB * 2000;
       const bool aLong = std::hypot(ax, ay) >= std::hypot(bx, by);
       const double Lx = aLong ? ax : bx, Ly = aLong ? ay : by, Sx = aLong ? bx : ax, Sy = aLong ? by : ay;
-      const int n = Texture::checkerProbes(float(std::max(std::hypot(ax, ay), std::hypot(bx, by))),
-                                           float(std::min(std::hypot(ax, ay), std::hypot(bx, by))));
+      const int n = Texture::checkerProbes(float(Lx), float(Ly), float(std::min(std::hypot(ax, ay), std::hypot(bx, by))));
       const double hx = 0.5 * (std::fabs(Lx) / n + std::fabs(Sx)), hy = 0.5 * (std::fabs(Ly) / n + std::fabs(Sy));
       const double sy = g.sy(py), dsy = 1e-3;
       const double dxdpx = g.xOf(px + 1, sy) - g.xOf(px, sy);
