@@ -25,6 +25,7 @@ SceneFeatures featuresOf(const Scene& scene, const std::vector<Box3>& leafBoxes,
   f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
   f.environment = scene.moreLights.environment != nullptr;
   f.distantLights = scene.moreLights.distants.size();
+  for (const Material& m : scene.materials) f.texturedMaterials += m.textured();
   return f;
 }
 

@@ -28,6 +28,9 @@ struct SceneFeatures {
   bool uvSetsDropped = false;        // Scene::uvSetsDropped
   bool environment = false;
   uint64_t distantLights = 0;
+  // Materials that read a texture: only then do the ray batches keep the surface derivatives
+  // at the hits that filtering takes (RayBatch::derivatives).
+  uint64_t texturedMaterials = 0;
   // Precision (docs/design.md): the coarsest float spacing over a leaf's size (the loader
   // refuses beyond 2^-8), and the leaves coarser than 2^-16, whose images may differ from the
   // same scene near the origin by more than rounding noise.

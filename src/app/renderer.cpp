@@ -47,7 +47,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                                    : caching ? CachingEngine::bytesPerRaySlot()
                                              : SortedEngine::bytesPerRaySlot();
   stats_.bytesPerPath =
-      integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay(raysTimed()) + engineBytesPerRay);
+      integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives()) + engineBytesPerRay);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
   uint64_t perBatch = options.rayMemoryBytes / stats_.bytesPerPath;
@@ -101,7 +101,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
 MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   MemoryByOwner m;
   const uint64_t slots = stats_.pathsPerBatch * raysPerPath;
-  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * RayBatch::bytesPerRay(raysTimed()));
+  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives()));
   m.candidatesAndSort = size_t(slots * engine_->bytesPerRay());
   m.topLevel = data_.top.bytes();
   m.leaves = scene_.leaves.size();
@@ -144,6 +144,7 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch, const Contro
   liveProgress().setPhase(Phase::TracingPhotons);
   RayBatch rays;
   rays.timed = raysTimed();
+  rays.derivatives = false;  // light paths read their textures as point samples (no footprint)
   for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
     checkStop(control);
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
@@ -196,6 +197,7 @@ Film Renderer::render(const Progress& progress, const Control& control) {
   interrupted_ = false;
   RayBatch rays;
   rays.timed = raysTimed();
+  rays.derivatives = raysKeepDerivatives();
   // Camera ids per sample: the window's pixels, or light tracing's paths over the whole image.
   const uint64_t pixels = lightIds ? uint64_t(scene_.width) * uint64_t(scene_.height) : window.pixels();
   const int spp = scene_.samplesPerPixel;

@@ -188,6 +188,8 @@ class Renderer {
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
   // Whether the ray batches keep a shutter time per ray: only when something moves.
   bool raysTimed() const { return stats_.features.movingLeaves > 0; }
+  // Whether they keep the surface derivatives at the hits: only when a material reads a texture.
+  bool raysKeepDerivatives() const { return stats_.features.texturedMaterials > 0; }
   void traceLightPass(int s0, int s1, int pass, int& batch, const Control& control);
   struct Stopped {};  // thrown by the stop check, caught by render()
   void checkStop(const Control& control) const {

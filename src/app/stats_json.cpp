@@ -146,6 +146,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"border_region_hits", borderHits},
       {"uv_leaves", f.uvLeaves},
       {"environment_light", f.environment},
+      {"textured_materials", f.texturedMaterials},
       {"coarsest_relative_spacing", f.coarsestRelativeSpacing},
       {"low_precision_leaves", f.lowPrecisionLeaves},
   };
@@ -154,6 +155,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   else if (!f.shutterOpen) skipped["motion_blur"] = "the shutter has no interval: moving shapes seen at the opening time";
   if (f.displacedLeaves == 0) skipped["displacement"] = "no displaced shapes: no interval evaluation";
   if (f.borderClosureLeaves == 0) skipped["border_closure"] = "every patch border is straight: no crack-closing regions";
+  if (f.texturedMaterials == 0)
+    skipped["texture_footprint"] = "no material reads a texture: no surface derivatives per ray, no footprint";
   if (!f.environment) skipped["environment"] = "no environment light: escaping rays gather nothing";
   if (f.uvSetsDropped) skipped["uv_sets"] = "no texture reads uv coordinates: the shapes' uv sets were left out at load";
   else if (f.uvLeaves == 0) skipped["uv_sets"] = "no shape has a uv set: textures read the patch parameters";

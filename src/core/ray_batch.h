@@ -1,5 +1,6 @@
-// The rays of one generation and their hits: three arrays (the Ray records, their shutter times
-// when anything moves, the RayHits), indexed by ray slot. Data only: shading
+// The rays of one generation and their hits: four arrays (the Ray records, their shutter times
+// when anything moves, the RayHits, the surface derivatives at the hits when a material reads a
+// texture), indexed by ray slot. Data only: shading
 // writes rays into a RayBatch and reads the hits back; src/rays traces it. Keeping the type
 // here lets both sides use it without knowing each other (docs/design.md, "The two seams": shading knows nothing of
 // how rays are sorted).
@@ -69,6 +70,14 @@ struct Ray {
 };
 static_assert(sizeof(Ray) == 48);
 
+// The surface's partial derivatives at a hit, world space per unit of the patch parameters: what
+// turns the ray's footprint into one in (u, v) for texture filtering (shading/footprint.h). The
+// engines take them from the micro-quad hit (the bilinear quad's partials times 2^level), so
+// they are the diced surface's, at the level the ray saw. Finite; zero where the quad collapses.
+struct HitDerivatives {
+  Vec3 dpdu, dpdv;
+};
+
 struct RayBatch {
   std::vector<Ray> ray;
   // Shutter time in [0, 1], per ray only when `timed`: a scene where nothing moves sees the same
@@ -77,6 +86,11 @@ struct RayBatch {
   bool timed = true;                  // set before resize()
   // What was found.
   std::vector<RayHit> hit;
+  // dP/du and dP/dv at each closest hit, only when `derivatives` (a scene with a textured
+  // material; set before resize()): a scene without one pays neither the bytes nor the work.
+  // Meaningful only where hit[i] is a closest hit; shadow rays get none.
+  std::vector<HitDerivatives> dpd;
+  bool derivatives = false;
   // Queries the engine runs per leaf during trace(), besides the rays (core/leaf_queries.h):
   // the poster's (not owned), or none.
   LeafQueries* queries = nullptr;
@@ -86,7 +100,10 @@ struct RayBatch {
     ray.resize(n);
     time.resize(timed ? n : 0);
     hit.resize(n);
+    dpd.resize(derivatives ? n : 0);
   }
+  // The derivatives at ray i's hit, or null when the batch keeps none.
+  const HitDerivatives* derivativesOf(size_t i) const { return derivatives ? &dpd[i] : nullptr; }
   float timeOf(size_t i) const { return timed ? time[i] : 0.0f; }
   // Every argument explicit: a defaulted shutter time or origin leaf let a stale call compile
   // and trace at time 0, or re-hit the surface it leaves.
@@ -95,13 +112,15 @@ struct RayBatch {
     ray[i] = Ray{o, d, t1, width, spread, ignore, fromLeaf, fromLevel, k};
     if (timed) time[i] = shutterTime;
     hit[i] = RayHit{};
+    if (derivatives) dpd[i] = HitDerivatives{};
   }
   // A ray that leaves no surface and ignores no leaf, at shutter time 0 (tests, benchmarks).
   void setFromNowhere(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread) {
     set(i, k, o, d, t1, width, spread, kNoLeaf, kNoLeaf, 0, 0.0f);
   }
-  static constexpr size_t bytesPerRay(bool timed) {
-    return sizeof(Ray) + (timed ? sizeof(float) : 0) + sizeof(RayHit);
+  static constexpr size_t bytesPerRay(bool timed, bool derivatives = false) {
+    return sizeof(Ray) + (timed ? sizeof(float) : 0) + sizeof(RayHit) +
+           (derivatives ? sizeof(HitDerivatives) : 0);
   }
 };
 

@@ -58,6 +58,8 @@ struct GridHit {
                         // for a zero-area triangle the watertight test still claims (rounding
                         // gives it a sliver), the other triangle's, else the blended vertex normal
   Vec3 ns;              // shading normal: bilinear blend of the quad's vertex normals (unit)
+  Vec3 dpdu, dpdv;      // the quad's bilinear partials at the hit per unit (u, v) (quadPartials;
+                        // a border hit: its border micro-quad's, at the blended time)
   bool border = false;  // the hit is on a border box (crack closure), not on a micro-triangle
 };
 

@@ -377,6 +377,17 @@ borders:
   const size_t i00 = size_t(best.y) * stride * res + size_t(best.x) * stride;
   const Vec3 ns = quadNormal<Moving>(normals_, normalsB, i00, stride, res, w0, w1, best.s, best.r);
   g.ns = ns == Vec3{0, 0, 0} ? best.ng : ns;
+  {
+    // The hit quad's corners at the ray's time (as the micro-quad test saw them).
+    const size_t c[4] = {i00, i00 + stride, i00 + stride * res, i00 + stride * res + stride};
+    Vec3 p[4];
+    for (int j = 0; j < 4; ++j) {
+      if constexpr (Moving) p[j] = lerpPoint(positions_[c[j]], posB[c[j]], w0, w1);
+      else p[j] = positions_[c[j]];
+    }
+    quadPartials(p[0], p[1], p[2], p[3], std::clamp(best.s, 0.0f, 1.0f), std::clamp(best.r, 0.0f, 1.0f),
+                 float(1u << k), g.dpdu, g.dpdv);
+  }
   return true;
 }
 

@@ -90,6 +90,18 @@ inline Vec3 blendNormals(Vec3 n00, Vec3 n10, Vec3 n01, Vec3 n11, float s, float 
   return detail::unitOrZero(blend);
 }
 
+// The partial derivatives of the bilinear micro-quad (p00, p10, p01, p11) at local (s, r), per
+// unit of the patch parameters: d/ds and d/dr times `cellsPerUnit` (2^level, the quads per unit
+// of u and of v). The bilinear partials rather than the hit triangle's edges: they vary
+// continuously across the quad's diagonal, and over a quad they are the patch's own partials
+// to within the dicing error. Every engine computes them this way (HitDerivatives).
+// Finite for finite corners; zero along a collapsed edge (a pole).
+inline void quadPartials(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11, float s, float r, float cellsPerUnit, Vec3& dpdu,
+                         Vec3& dpdv) {
+  dpdu = ((p10 - p00) * (1.0f - r) + (p11 - p01) * r) * cellsPerUnit;
+  dpdv = ((p01 - p00) * (1.0f - s) + (p11 - p10) * s) * cellsPerUnit;
+}
+
 // Nearest hit with t in (tmin, tmax) on the two triangles of the micro-quad; on a tie in t the
 // first triangle (p00, p10, p11) wins. ng is the unit normal of the triangle hit. A zero-area
 // triangle whose vertices are distinct but collinear can still be claimed: rounding in the

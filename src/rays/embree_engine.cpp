@@ -225,7 +225,7 @@ void EmbreeEngine::build() {
 // local (s, r) in patch parameters (rows are mirrored in u), the vertices at the ray's time, and
 // the normals as the micro-quad test and DiceBuffer compute them.
 void EmbreeEngine::closestHit(const RayBatch& b, uint32_t i, uint32_t leafId, float t, float eu, float ev,
-                              RayHit& hit) const {
+                              RayHit& hit, HitDerivatives* dpd) const {
   const Leaf& leaf = leaves_[leafId];
   const int k = leaf.level;
   const uint32_t cells = 1u << k;
@@ -268,6 +268,7 @@ void EmbreeEngine::closestHit(const RayBatch& b, uint32_t i, uint32_t leafId, fl
   hit.quad = (y << k) | x;
   hit.level = uint8_t(k);
   hit.setNormals(ng, ns);
+  if (dpd) quadPartials(p00, p10, p01, p11, s, r, float(cells), dpd->dpdu, dpd->dpdv);
 }
 
 void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
@@ -285,6 +286,7 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     for (size_t i = range.begin(); i != range.end(); ++i) {
       if (b.ray[i].kind == RayKind::Inactive) continue;
       b.hit[i] = RayHit{};
+      if (b.derivatives) b.dpd[i] = HitDerivatives{};
       ++counted;
       const bool isShadow = b.ray[i].kind == RayKind::Shadow;
       countedShadow += isShadow;
@@ -310,7 +312,8 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     for (unsigned k = 0; k < nc; ++k) {
       const RTCRayHit& rh = closest[k];
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-      closestHit(b, rh.ray.id, rh.hit.geomID, rh.ray.tfar, rh.hit.u, rh.hit.v, b.hit[rh.ray.id]);
+      closestHit(b, rh.ray.id, rh.hit.geomID, rh.ray.tfar, rh.hit.u, rh.hit.v, b.hit[rh.ray.id],
+                 b.derivatives ? &b.dpd[rh.ray.id] : nullptr);
     }
     for (unsigned k = 0; k < ns; ++k) {
       if (occl[k].tfar != -kInf) continue;

@@ -97,7 +97,9 @@ class EmbreeEngine : public RayEngine {
   struct Device;
   void tessellate(const LeafSource& leaves);
   void build();
-  void closestHit(const RayBatch& b, uint32_t i, uint32_t leaf, float t, float eu, float ev, RayHit& hit) const;
+  // With dpd, also the hit quad's partials (quadPartials, as DiceBuffer gives them).
+  void closestHit(const RayBatch& b, uint32_t i, uint32_t leaf, float t, float eu, float ev, RayHit& hit,
+                  HitDerivatives* dpd) const;
 
   std::vector<Leaf> leaves_;
   std::vector<Vec3> positions_;  // per leaf, per step, rows mirrored in u; one Vec3 of padding

@@ -42,4 +42,8 @@ inline RayHit hitRecord(const GridHit& h, uint32_t leaf, int level, float entry)
   return r;
 }
 
+// The surface derivatives the batch keeps with that hit (RayBatch::dpd, when it keeps any): the
+// grid hit's, unchanged, so both walks store the same bits.
+inline HitDerivatives keptDerivatives(const GridHit& h) { return {h.dpdu, h.dpdv}; }
+
 }  // namespace rayes

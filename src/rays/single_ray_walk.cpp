@@ -70,8 +70,10 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
       }
       GridHit h;
       if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query) &&
-          nearerHit(keptDistance(h.t, entry), leaf, h.quad, best))
+          nearerHit(keptDistance(h.t, entry), leaf, h.quad, best)) {
         best = hitRecord(h, leaf, level, entry);
+        if (b.derivatives) b.dpd[i] = keptDerivatives(h);
+      }
     }
     if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }
     const bool exhausted = !(next < kInf);

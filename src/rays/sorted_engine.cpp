@@ -142,20 +142,22 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
     if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
       RayHit occluder;
       occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
-      offerHit(b, i, occluder);
+      offerHit(b, i, occluder, nullptr);
     }
     return;
   }
   GridHit h;
-  if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query))
-    offerHit(b, i, hitRecord(h, leaf, level, entry));
+  if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query)) {
+    const HitDerivatives d = keptDerivatives(h);
+    offerHit(b, i, hitRecord(h, leaf, level, entry), &d);
+  }
 }
 
 // 4, reduction: the ray keeps the nearest hit under the total order, whichever leaf's task
 // offers first. The lock is per ray and held for a compare and a copy, so a waiter spins:
 // atomic_flag::wait/notify_one cost a locked add on a waiter-pool word every thread shares on
 // every offer (46 % of offerHit's samples on subdiv-creature; bench/RESULTS.md).
-void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
+void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h, const HitDerivatives* d) {
   std::atomic_flag& lock = hitLock_[i];
   while (lock.test_and_set(std::memory_order_acquire))
     while (lock.test(std::memory_order_relaxed)) spinPause();
@@ -164,6 +166,7 @@ void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h) {
     RayHit& dst = b.hit[i];
     dst.u = h.u; dst.v = h.v; dst.quad = h.quad; dst.ngCode = h.ngCode; dst.nsCode = h.nsCode; dst.level = h.level;
     dst.border = h.border;
+    if (b.derivatives) b.dpd[i] = d ? *d : HitDerivatives{};
     std::atomic_ref<float>(dst.t).store(h.t, std::memory_order_relaxed);
     std::atomic_ref<uint32_t>(dst.leaf).store(h.leaf, std::memory_order_relaxed);
   }
@@ -434,6 +437,7 @@ void SortedEngine::activeRays(RayBatch& batch, GenerationStats& stats, std::vect
   for (uint32_t i = 0; i < batch.size(); ++i) {
     if (batch.ray[i].kind == RayKind::Inactive) continue;
     batch.hit[i] = RayHit{};
+    if (batch.derivatives) batch.dpd[i] = HitDerivatives{};
     active.push_back(i);
     ++stats.rays;
     if (batch.ray[i].kind == RayKind::Shadow) ++stats.shadowRays;

@@ -158,7 +158,7 @@ class SortedEngine : public RayEngine {
   // runLevel wrote them, or null (then computed here).
   void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                     const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times, DicingCounters& counters);
-  void offerHit(RayBatch& b, uint32_t ray, const RayHit& h);                             // 4
+  void offerHit(RayBatch& b, uint32_t ray, const RayHit& h, const HitDerivatives* d);  // 4
   uint64_t keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);           // 5
   // The ray a candidate slot of this iteration belongs to (slots are N per active ray).
   uint32_t rayOfSlot(uint32_t slot) const { return active_[slot / slotsPerRay_]; }

@@ -11,6 +11,7 @@
 #include "core/box.h"
 #include "core/rng.h"
 #include "shading/bsdf.h"
+#include "shading/footprint.h"
 #include "shading/ray_spawning.h"
 #include "shading/sampling.h"
 #include "shading/surface_hit.h"
@@ -236,7 +237,11 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
 
   // 3. The material at the hit becomes one BSDF.
   v.reflects = !v.mat->reflectsNothing();
-  if (v.reflects) v.bsdf = v.mat->bsdfAt(textureQueryAt(scene_, h));
+  if (v.reflects) {
+    // The camera ray's cone is a whole pixel, which the pixel's samples already average over.
+    const float widthScale = bounce == 0 ? cameraFootprintScale(scene_.samplesPerPixel) : 1.0f;
+    v.bsdf = v.mat->bsdfAt(textureQueryAt(scene_, rays.ray[cs], h, rays.derivativesOf(cs), widthScale));
+  }
   if (bounce == 0) recordFirstHit(v, paths);
   if (int(bounce) >= scene_.integrator.maxDepth || !v.reflects) {
     paths.alive[k] = 0;

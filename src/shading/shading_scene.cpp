@@ -1,5 +1,6 @@
 #include "shading/shading_scene.h"
 #include <algorithm>
+#include "shading/footprint.h"
 
 namespace rayes {
 
@@ -13,6 +14,16 @@ std::vector<uint32_t> shadeRanks(const std::vector<uint32_t>& leafMaterial) {
   std::vector<uint32_t> rank(leafMaterial.size());
   for (size_t l = 0; l < leafMaterial.size(); ++l) rank[l] = start[leafMaterial[l]]++;
   return rank;
+}
+
+TextureQuery textureQueryAt(const ShadingScene& scene, const Ray& ray, const RayHit& h, const HitDerivatives* dpd,
+                            float widthScale) {
+  TexCoordSample st;
+  const bool hasUv = scene.texCoords && scene.texCoords->has(h.leaf);
+  if (hasUv) st = scene.texCoords->at(h.leaf, h.u, h.v);
+  // The cone may narrow toward a focus (negative spread): its width is never below zero.
+  const float width = std::max(0.0f, ray.coneWidth + h.t * ray.coneSpread) * widthScale;
+  return footprintQuery(h.u, h.v, ray.dir, h.ng(), width, dpd, hasUv ? &st : nullptr);
 }
 
 TextureQuery textureQueryAt(const ShadingScene& scene, const RayHit& h) {

@@ -31,7 +31,15 @@ struct ShadingScene {
 };
 
 // Where a hit's material reads its textures: the patch parameters, the leaf's uv set when it
-// has one, and the footprint (a point sample for now). Every method's shading asks this.
+// has one, and the footprint of `ray`'s cone there (shading/footprint.h) -- its width at the hit
+// times `widthScale` (a camera ray's: cameraFootprintScale(spp); others 1), solved against the
+// surface derivatives `dpd` (RayBatch::derivativesOf; null: a point sample). Every method's
+// shading asks this (or the point sample below).
+TextureQuery textureQueryAt(const ShadingScene& scene, const Ray& ray, const RayHit& h, const HitDerivatives* dpd,
+                            float widthScale);
+// The same as a point sample, no footprint: the light-side hits of lt, pm and ppm's photons and
+// lbt's beam corners, whose cones stand for no pixel (their estimates are averaged over a pixel
+// by the film, or over a gather's kernel, not by a texture filter).
 TextureQuery textureQueryAt(const ShadingScene& scene, const RayHit& h);
 
 // Per leaf, its place in (material, leaf) order: the key that groups a generation's hits by

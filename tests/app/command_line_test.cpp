@@ -57,6 +57,9 @@ TEST_F(CommandLine, RenderWritesExrPngAndStats) {
   EXPECT_EQ(t["micropolygons_potential"].get<uint64_t>(), 39ull << 20);  // 39 leaves at 4^10
   EXPECT_LT(t["micropolygons_created"].get<uint64_t>(), t["micropolygons_potential"].get<uint64_t>());
   EXPECT_TRUE(j["skipped"].contains("volumes"));
+  // The teapot reads no texture: its rays keep no surface derivatives.
+  EXPECT_TRUE(j["skipped"].contains("texture_footprint"));
+  EXPECT_EQ(j["features"]["textured_materials"].get<int>(), 0);
   // Which row kernels ran (core/vector_isa.h): the image does not depend on it, the time does.
   EXPECT_EQ(j["settings"]["vector_isa"].get<std::string>(), vectorIsaName(vectorIsa()));
 }
