@@ -19,7 +19,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
     const MappedFileStats m = scene.compiled->stats();
     j["scene"]["compiled"] = {{"bytes_mapped", m.bytesMapped},     {"resident_peak_bytes", m.residentPeak},
                               {"bytes_read", m.bytesRead},         {"blocks_verified", m.blocksVerified},
-                              {"blocks_released", m.blocksReleased}, {"scene_memory_bytes", m.budget}};
+                              {"blocks_released", m.blocksReleased}, {"scene_memory_bytes", m.budget},
+                              {"resident_at_end_bytes", m.residentAtEnd}};
   }
   j["settings"] = {{"threads", run.threads}, {"method", options.method.name}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},

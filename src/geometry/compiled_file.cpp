@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <sstream>
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -297,7 +299,24 @@ MappedFileStats MappedFile::stats() const {
   s.blocksVerified = blocksVerified_.load();
   s.blocksReleased = blocksReleased_.load();
   s.budget = budget_;
+  s.residentAtEnd = measuredResident();
   return s;
+}
+
+uint64_t MappedFile::measuredResident() const {
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    // A mapping's first line: "start-end perms offset dev inode path".
+    const size_t dash = line.find('-');
+    if (dash != std::string::npos && dash > 0 && line.find(' ') > dash && std::isxdigit(static_cast<unsigned char>(line[0]))) {
+      inside = std::stoull(line.substr(0, dash), nullptr, 16) == reinterpret_cast<uintptr_t>(base_);
+      continue;
+    }
+    if (inside && line.rfind("Rss:", 0) == 0) return std::stoull(line.substr(4)) * 1024;
+  }
+  return 0;
 }
 
 }  // namespace rayes

@@ -123,6 +123,7 @@ struct MappedFileStats {
   uint64_t bytesRead = 0;     // blocks made resident, counted again after each release
   uint64_t blocksVerified = 0, blocksReleased = 0;
   uint64_t budget = 0;        // 0: none
+  uint64_t residentAtEnd = 0; // measured (MappedFile::measuredResident) when the stats were read
 };
 
 class MappedFile {
@@ -144,6 +145,9 @@ class MappedFile {
   const uint8_t* touch(compiled::SectionKind kind, uint64_t at, uint64_t n, const char* what = "",
                        uint64_t whatIndex = 0) const;
   MappedFileStats stats() const;
+  // The mapping's resident bytes as the kernel counts them now (Rss of its /proc/self/smaps
+  // entry; 0 where that cannot be read): what the budget bounds, measured.
+  uint64_t measuredResident() const;
 
  private:
   const compiled::SectionEntry& section(compiled::SectionKind kind) const;
