@@ -78,10 +78,16 @@ void CompiledFileWriter::raw(const void* data, size_t bytes) {
   at_ += bytes;
 }
 
+// Sections start on block boundaries (so blocks are whole windows of the mapping; see the header).
 void CompiledFileWriter::padToPage() {
   static const uint8_t zeros[kPageBytes] = {};
-  const uint64_t pad = (kPageBytes - at_ % kPageBytes) % kPageBytes;
-  raw(zeros, pad == 0 && at_ == 0 ? kPageBytes : pad);
+  uint64_t pad = (kBlockBytes - at_ % kBlockBytes) % kBlockBytes;
+  if (at_ == 0) pad = kBlockBytes;  // the header's block
+  while (pad > 0) {
+    const uint64_t n = std::min<uint64_t>(pad, kPageBytes);
+    raw(zeros, n);
+    pad -= n;
+  }
 }
 
 void CompiledFileWriter::beginSection(SectionKind kind) {
@@ -155,14 +161,32 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
   }
   size_ = uint64_t(st.st_size);
   if (size_ > 0) {
-    void* m = ::mmap(nullptr, size_, PROT_READ, MAP_SHARED, fd, 0);
-    if (m == MAP_FAILED) {
+    // A block-aligned address: reserve a block more than the file, map the file over the
+    // aligned part of the reservation, return the rest.
+    const auto fail = [&] {
       const int e = errno;
       ::close(fd);
       bad("", std::string("cannot map the compiled scene: ") + std::strerror(e));
+    };
+    void* r = ::mmap(nullptr, size_ + kBlockBytes, PROT_NONE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (r == MAP_FAILED) fail();
+    const uintptr_t start = reinterpret_cast<uintptr_t>(r);
+    const uintptr_t aligned = (start + kBlockBytes - 1) / kBlockBytes * kBlockBytes;
+    void* m = ::mmap(reinterpret_cast<void*>(aligned), size_, PROT_READ, MAP_SHARED | MAP_FIXED, fd, 0);
+    if (m == MAP_FAILED) {
+      ::munmap(r, size_ + kBlockBytes);
+      fail();
     }
+    if (aligned > start) ::munmap(r, aligned - start);
+    const uintptr_t mapEnd = (aligned + size_ + kPageBytes - 1) / kPageBytes * kPageBytes;
+    if (start + size_ + kBlockBytes > mapEnd) ::munmap(reinterpret_cast<void*>(mapEnd), start + size_ + kBlockBytes - mapEnd);
     base_ = static_cast<const uint8_t*>(m);
   }
+  // Pages of the file already cached (by the compile that wrote it, or another reader's
+  // read-ahead) may sit in large folios, which a fault maps whole, past the block touched and
+  // outside what the budget counts; dropped from the cache (clean pages: nothing is lost), they
+  // come back page by page, a block at a time (read()).
+  ::posix_fadvise(fd, 0, 0, POSIX_FADV_DONTNEED);
   ::close(fd);
   if (size_ < sizeof kMagic || std::memcmp(base_, kMagic, sizeof kMagic) != 0)
     bad("", "not a compiled Rayes scene (no RAYESSCN magic at its start; make one with rayes compile SCENE.json -o SCENE.rayes)");
@@ -181,11 +205,11 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
   if (header_.blockBytes != kBlockBytes || header_.sectionCount < 1 || header_.sectionCount > uint32_t(kMaxSections))
     bad("header", "an impossible block size or section count");
   // The section table: in order, page-aligned, inside the file; the last one the checksums.
-  uint64_t blocks = 0, end = kPageBytes;
+  uint64_t blocks = 0, end = kBlockBytes;
   for (uint32_t k = 0; k < header_.sectionCount; ++k) {
     const SectionEntry& s = header_.sections[k];
     const std::string place = "section " + std::to_string(k);
-    if (s.offset % kPageBytes != 0 || s.offset < end || s.bytes > size_ || s.offset > size_ - s.bytes)
+    if (s.offset % kBlockBytes != 0 || s.offset < end || s.bytes > size_ || s.offset > size_ - s.bytes)
       bad(place, "lies outside the file or out of order");
     end = s.offset + s.bytes;
     if (k + 1 < header_.sectionCount) {
@@ -204,6 +228,7 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
   verified_.reset(new std::atomic<uint8_t>[blocks]());
   resident_.reset(new std::atomic<uint8_t>[blocks]());
   referenced_.reset(new std::atomic<uint8_t>[blocks]());
+  pinned_.reset(new std::atomic<uint32_t>[blocks]());
   blockStart_.resize(blocks);
   blockLength_.resize(blocks);
   for (uint32_t k = 0; k + 1 < header_.sectionCount; ++k) {
@@ -216,9 +241,17 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
   // Pages are read when a block is touched, not ahead of it (a render touches leaves in the
   // order of its rays, not of the file); what was read for the header goes back.
   ::madvise(const_cast<uint8_t*>(base_), size_, MADV_RANDOM);
-  ::madvise(const_cast<uint8_t*>(base_), kPageBytes, MADV_DONTNEED);
+  ::madvise(const_cast<uint8_t*>(base_), kBlockBytes, MADV_DONTNEED);
   const uint64_t sumsPage = sums.offset / kPageBytes * kPageBytes;
   ::madvise(const_cast<uint8_t*>(base_) + sumsPage, size_ - sumsPage, MADV_DONTNEED);
+}
+
+// A block's window of the mapping: the block and, after a section's last (partial) block, the
+// padding to the next section, which the kernel's fault-around maps with it. Counted and
+// released whole.
+uint64_t MappedFile::windowBytes(uint64_t g) const {
+  const uint64_t mapped = (size_ + kPageBytes - 1) / kPageBytes * kPageBytes;
+  return std::min<uint64_t>(kBlockBytes, mapped - blockStart_[g]);
 }
 
 MappedFile::~MappedFile() {
@@ -250,42 +283,67 @@ void MappedFile::verify(const SectionEntry& s, uint64_t block, const char* what,
   if (verified_[g].compare_exchange_strong(expected, 1)) blocksVerified_.fetch_add(1, std::memory_order_relaxed);
 }
 
-const uint8_t* MappedFile::touch(SectionKind kind, uint64_t at, uint64_t n, const char* what, uint64_t whatIndex) const {
+void MappedFile::read(SectionKind kind, uint64_t at, uint64_t n, void* out, const char* what, uint64_t whatIndex) const {
   const SectionEntry& s = section(kind);
-  if (n == 0 || at > s.bytes || n > s.bytes - at) {
+  if (n == 0) return;
+  if (at > s.bytes || n > s.bytes - at) {
     std::string place = std::string("section ") + sectionName(kind);
     if (*what) place += " (" + std::string(what) + " " + std::to_string(whatIndex) + ")";
     throw InputError(path_, place, "bytes [" + std::to_string(at) + ", " + std::to_string(at + n) +
                                        ") lie outside the section: the leaf table is corrupt");
   }
-  for (uint64_t b = at / kBlockBytes; b <= (at + n - 1) / kBlockBytes; ++b) {
-    if (!verified_[s.firstBlock + b].load(std::memory_order_acquire)) verify(s, b, what, whatIndex);
-    use(s.firstBlock + b);
+  const uint64_t b0 = at / kBlockBytes, b1 = (at + n - 1) / kBlockBytes;
+  const auto unpin = [&](uint64_t last) {
+    for (uint64_t b = b0; b <= last; ++b) pinned_[s.firstBlock + b].fetch_sub(1, std::memory_order_seq_cst);
+  };
+  for (uint64_t b = b0; b <= b1; ++b) {
+    const uint64_t g = s.firstBlock + b;
+    pinned_[g].fetch_add(1, std::memory_order_seq_cst);
+    try {
+      if (!resident_[g].load(std::memory_order_relaxed))  // one read of the block, not a fault per page
+        ::madvise(const_cast<uint8_t*>(base_) + blockStart_[g], windowBytes(g), MADV_WILLNEED);
+      if (!verified_[g].load(std::memory_order_acquire)) verify(s, b, what, whatIndex);
+    } catch (...) {
+      unpin(b);
+      throw;
+    }
+    use(g);
   }
-  return base_ + s.offset + at;
+  std::memcpy(out, base_ + s.offset + at, n);
+  unpin(b1);
 }
 
+// Called with g pinned. A release (below) clears `resident` before it looks at the pins, and a
+// reader pins before it looks at `resident` (both sequentially consistent): so either the
+// reader sees the block released and counts it again under the lock, or the release sees the
+// pin and keeps the block.
 void MappedFile::use(uint64_t g) const {
-  if (resident_[g].load(std::memory_order_relaxed)) {
+  if (resident_[g].load(std::memory_order_seq_cst)) {
     referenced_[g].store(1, std::memory_order_relaxed);
     return;
   }
   std::lock_guard lock(residency_);
-  if (resident_[g].load(std::memory_order_relaxed)) return;
-  resident_[g].store(1, std::memory_order_relaxed);
   referenced_[g].store(1, std::memory_order_relaxed);
-  residentBytes_ += blockLength_[g];
-  bytesRead_.fetch_add(blockLength_[g], std::memory_order_relaxed);
+  if (resident_[g].load(std::memory_order_seq_cst)) return;
+  resident_[g].store(1, std::memory_order_seq_cst);
+  residentBytes_ += windowBytes(g);
+  bytesRead_.fetch_add(windowBytes(g), std::memory_order_relaxed);
   // The clock: a block touched since the hand last passed gets a second chance; the first
-  // one not touched is released. Two sweeps find one unless every block is in use.
+  // one not touched (nor being read) is released. Two sweeps find one unless every block is
+  // in use.
   const uint64_t blocks = crcs_.size();
   for (uint64_t step = 0; budget_ > 0 && residentBytes_ > budget_ && step < 2 * blocks; ++step) {
     hand_ = hand_ + 1 < blocks ? hand_ + 1 : 0;
-    if (hand_ == g || !resident_[hand_].load(std::memory_order_relaxed)) continue;
-    if (referenced_[hand_].exchange(0, std::memory_order_relaxed)) continue;
-    ::madvise(const_cast<uint8_t*>(base_) + blockStart_[hand_], blockLength_[hand_], MADV_DONTNEED);
-    resident_[hand_].store(0, std::memory_order_relaxed);
-    residentBytes_ -= blockLength_[hand_];
+    const uint64_t h = hand_;
+    if (h == g || !resident_[h].load(std::memory_order_relaxed)) continue;
+    if (referenced_[h].exchange(0, std::memory_order_relaxed)) continue;
+    resident_[h].store(0, std::memory_order_seq_cst);
+    if (pinned_[h].load(std::memory_order_seq_cst) > 0) {
+      resident_[h].store(1, std::memory_order_seq_cst);
+      continue;
+    }
+    ::madvise(const_cast<uint8_t*>(base_) + blockStart_[h], windowBytes(h), MADV_DONTNEED);
+    residentBytes_ -= windowBytes(h);
     blocksReleased_.fetch_add(1, std::memory_order_relaxed);
   }
   if (residentBytes_ > residentPeak_.load(std::memory_order_relaxed)) residentPeak_.store(residentBytes_, std::memory_order_relaxed);

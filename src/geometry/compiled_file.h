@@ -4,20 +4,23 @@
 //
 // Layout (little-endian): page 0 is the FileHeader (magic, format version, the program version
 // that wrote it, the file's size, the block size, the section table, and a CRC-32 of the header
-// and one of the checksum section). Every section starts on a page; it is cut into blocks of
-// kBlockBytes, and the checksum section (the file's last) holds one CRC-32 per block of every
+// and one of the checksum section). Every section starts on a block boundary (kBlockBytes, a
+// multiple of the page); it is cut into blocks of kBlockBytes, and the checksum section (the file's last) holds one CRC-32 per block of every
 // other section. Opening reads the header and the checksum section only (4 bytes per 64 KiB of
 // data), so it costs O(file size / 16 Ki), never a read of the whole file; every other block is
 // verified on its first touch.
 //
-// MappedFile: ownership: it owns the mapping (munmap on destruction); the pointers touch()
-// returns stay valid while it lives. Thread-safe: any thread may touch any range at once.
-// Residency (`--scene-memory`): touch() marks the blocks it covers used; when the blocks
+// MappedFile: it owns the mapping (munmap on destruction) and hands out copies of ranges.
+// Thread-safe: any thread may read any range at once.
+// Residency (`--scene-memory`): read() marks the blocks it covers used; when the blocks
 // counted resident exceed the budget, the least recently used ones (a clock: second chance)
 // are released with madvise(MADV_DONTNEED) — their pages are dropped from the process and read
 // again from the file on the next touch, so the data, and the render, never change. The budget
-// bounds what the mapping keeps between touches; blocks being read at that moment by other
-// threads (one record each) may exceed it briefly.
+// bounds what the mapping keeps; blocks being read at that moment (pinned: one record per
+// thread) are not released, and may exceed it by a block or two per thread. The mapping is placed at an address aligned
+// to a block, so that the kernel's fault-around (which maps the cached pages of the 64 KiB
+// window around a fault) maps pages of the touched block only, never strays of its neighbours
+// that the budget would not count.
 #pragma once
 #include <atomic>
 #include <cstddef>
@@ -140,11 +143,14 @@ class MappedFile {
   const compiled::FileHeader& header() const { return header_; }
   bool has(compiled::SectionKind kind) const;
   uint64_t sectionBytes(compiled::SectionKind kind) const;
-  // Bytes [at, at + n) of a section, verified (a corrupt block: InputError naming the file,
-  // the section, the block and `what`, e.g. "leaf 12") and marked used.
-  const uint8_t* touch(compiled::SectionKind kind, uint64_t at, uint64_t n, const char* what = "",
-                       uint64_t whatIndex = 0) const;
+  // Copies bytes [at, at + n) of a section to `out`, verified (a corrupt block: InputError
+  // naming the file, the section, the block and `what`, e.g. "leaf 12") and marked used. The
+  // blocks are pinned while they are read, so no other thread releases them meanwhile: what
+  // the kernel maps is always what the budget counts.
+  void read(compiled::SectionKind kind, uint64_t at, uint64_t n, void* out, const char* what = "",
+            uint64_t whatIndex = 0) const;
   MappedFileStats stats() const;
+  uint64_t residentPeak() const { return residentPeak_.load(std::memory_order_relaxed); }
   // The mapping's resident bytes as the kernel counts them now (Rss of its /proc/self/smaps
   // entry; 0 where that cannot be read): what the budget bounds, measured.
   uint64_t measuredResident() const;
@@ -152,6 +158,7 @@ class MappedFile {
  private:
   const compiled::SectionEntry& section(compiled::SectionKind kind) const;
   void use(uint64_t block) const;  // residency bookkeeping
+  uint64_t windowBytes(uint64_t block) const;
   void verify(const compiled::SectionEntry& s, uint64_t block, const char* what, uint64_t whatIndex) const;
 
   std::string path_;
@@ -163,6 +170,7 @@ class MappedFile {
   // Per block (global index, as in the checksum section): verified once; resident and
   // referenced for the clock.
   std::unique_ptr<std::atomic<uint8_t>[]> verified_, resident_, referenced_;
+  std::unique_ptr<std::atomic<uint32_t>[]> pinned_;  // readers in the block now
   std::vector<uint64_t> blockStart_;  // file offset of each block, and its length
   std::vector<uint32_t> blockLength_;
   mutable std::mutex residency_;

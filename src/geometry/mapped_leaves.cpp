@@ -19,7 +19,7 @@ MappedLeaves::MappedLeaves(std::shared_ptr<const MappedFile> file, std::vector<s
 
 LeafEntry MappedLeaves::entry(size_t i) const {
   LeafEntry e;
-  std::memcpy(&e, file_->touch(SectionKind::Leaves, uint64_t(i) * sizeof(LeafEntry), sizeof(LeafEntry), "leaf", i), sizeof e);
+  file_->read(SectionKind::Leaves, uint64_t(i) * sizeof(LeafEntry), sizeof(LeafEntry), &e, "leaf", i);
   if (e.kind >= kinds_.size())
     throw InputError(file_->path(), "section leaves (leaf " + std::to_string(i) + ")", "an unknown kind index");
   return e;
@@ -48,9 +48,12 @@ LeafFacts MappedLeaves::facts(size_t i) const {
 
 PatchPtr MappedLeaves::patch(size_t i) const {
   const LeafEntry e = entry(i);
-  const uint8_t* record = file_->touch(SectionKind::Records, e.recordOffset, e.recordBytes, "leaf", i);
+  // Records are small (a Bézier patch 193 bytes): copied out, decoded from the copy.
+  thread_local std::vector<uint8_t> record;
+  record.resize(e.recordBytes);
+  file_->read(SectionKind::Records, e.recordOffset, e.recordBytes, record.data(), "leaf", i);
   try {
-    return decodePatch(record, e.recordBytes);
+    return decodePatch(record.data(), e.recordBytes);
   } catch (const std::invalid_argument& x) {
     throw InputError(file_->path(), "section records (leaf " + std::to_string(i) + ")",
                      std::string("the patch record does not decode: ") + x.what());
@@ -58,7 +61,7 @@ PatchPtr MappedLeaves::patch(size_t i) const {
 }
 
 size_t MappedLeaves::descriptionBytes() const {
-  size_t bytes = size_t(file_->stats().residentPeak);
+  size_t bytes = size_t(file_->residentPeak());
   for (const std::string& k : kinds_) bytes += k.capacity();
   return bytes;
 }

@@ -121,12 +121,13 @@ Scene loadCompiledScene(const std::string& path, uint64_t residentBudget) {
   for (SectionKind k : {SectionKind::Scene, SectionKind::Materials, SectionKind::Leaves, SectionKind::Records})
     if (!file->has(k)) throw InputError(path, "header", std::string("no ") + compiled::sectionName(k) + " section");
   const uint64_t sceneBytes = file->sectionBytes(SectionKind::Scene);
-  const auto* sceneText = reinterpret_cast<const char*>(file->touch(SectionKind::Scene, 0, sceneBytes));
+  std::string sceneText(sceneBytes, '\0');
+  file->read(SectionKind::Scene, 0, sceneBytes, sceneText.data());
   nlohmann::json section;
   std::string text, source;
   std::vector<std::string> kinds;
   try {
-    section = nlohmann::json::parse(sceneText, sceneText + sceneBytes);
+    section = nlohmann::json::parse(sceneText);
     text = section.at("text").get<std::string>();
     source = section.at("source").get<std::string>();
     kinds = section.at("kinds").get<std::vector<std::string>>();
@@ -138,10 +139,9 @@ Scene loadCompiledScene(const std::string& path, uint64_t residentBudget) {
   if (file->sectionBytes(SectionKind::Materials) != n * sizeof(uint32_t))
     throw InputError(path, "section materials", "not one material per leaf of the leaf table");
   std::vector<uint32_t> material(n);
-  for (uint64_t at = 0; at < n * sizeof(uint32_t); at += compiled::kBlockBytes) {
-    const uint64_t bytes = std::min<uint64_t>(compiled::kBlockBytes, n * sizeof(uint32_t) - at);
-    std::memcpy(reinterpret_cast<uint8_t*>(material.data()) + at, file->touch(SectionKind::Materials, at, bytes), bytes);
-  }
+  for (uint64_t at = 0; at < n * sizeof(uint32_t); at += compiled::kBlockBytes)
+    file->read(SectionKind::Materials, at, std::min<uint64_t>(compiled::kBlockBytes, n * sizeof(uint32_t) - at),
+               reinterpret_cast<uint8_t*>(material.data()) + at);
   // The text is parsed as its source was (relative file names resolve against the source's
   // folder); messages then name the .rayes.
   Scene scene = parseSceneWithShapes(text, source, std::move(leaves), std::move(material));

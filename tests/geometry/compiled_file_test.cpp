@@ -1,6 +1,6 @@
 // The .rayes container (geometry/compiled_file.h): what is written is read back; a file that
 // is not one, of another version, truncated or corrupt anywhere is refused naming the file and
-// the place (the header at opening, a block at its first touch); a resident budget keeps the
+// the place (the header at opening, a block at its first read); a resident budget keeps the
 // mapping's blocks within it, measured by the kernel, without changing a byte read.
 #include <cstring>
 #include <fstream>
@@ -46,21 +46,29 @@ std::string openError(const std::string& path) {
   return "";
 }
 
-TEST(CompiledFile, ReadsBackWhatWasWrittenSectionsOnPages) {
+TEST(CompiledFile, ReadsBackWhatWasWrittenSectionsOnBlocks) {
   testing::TempFolder t;
   MappedFile f(writeSample(t), 0);
   EXPECT_EQ(f.sectionBytes(SectionKind::Scene), 2u);
   EXPECT_EQ(f.sectionBytes(SectionKind::Records), kWords * 4);
   EXPECT_FALSE(f.has(SectionKind::Leaves));
-  for (uint32_t k = 0; k < f.header().sectionCount; ++k) EXPECT_EQ(f.header().sections[k].offset % compiled::kPageBytes, 0u);
-  EXPECT_EQ(std::memcmp(f.touch(SectionKind::Scene, 0, 2), "{}", 2), 0);
+  for (uint32_t k = 0; k < f.header().sectionCount; ++k) EXPECT_EQ(f.header().sections[k].offset % compiled::kBlockBytes, 0u);
+  char scene[2];
+  f.read(SectionKind::Scene, 0, 2, scene);
+  EXPECT_EQ(std::memcmp(scene, "{}", 2), 0);
   for (uint64_t w : {uint64_t(0), uint64_t(16383), uint64_t(16384), kWords - 1}) {
     uint32_t v;
-    std::memcpy(&v, f.touch(SectionKind::Records, w * 4, 4), 4);
+    f.read(SectionKind::Records, w * 4, 4, &v);
     EXPECT_EQ(v, w);
   }
+  // A range across two blocks.
+  uint32_t pair[2];
+  f.read(SectionKind::Records, 16383 * 4, 8, pair);
+  EXPECT_EQ(pair[0], 16383u);
+  EXPECT_EQ(pair[1], 16384u);
   // A range outside the section is refused, not read.
-  EXPECT_THROW(f.touch(SectionKind::Records, kWords * 4 - 2, 4), InputError);
+  uint32_t v;
+  EXPECT_THROW(f.read(SectionKind::Records, kWords * 4 - 2, 4, &v), InputError);
 }
 
 TEST(CompiledFile, OpeningReadsNoDataBlock) {
@@ -68,7 +76,8 @@ TEST(CompiledFile, OpeningReadsNoDataBlock) {
   MappedFile f(writeSample(t), 0);
   EXPECT_EQ(f.stats().blocksVerified, 0u);
   EXPECT_EQ(f.stats().bytesRead, 0u);
-  f.touch(SectionKind::Records, 60000 * 4, 8);  // inside block 3
+  uint64_t v;
+  f.read(SectionKind::Records, 60000 * 4, 8, &v);  // inside block 3
   EXPECT_EQ(f.stats().blocksVerified, 1u);
   EXPECT_EQ(f.stats().bytesRead, compiled::kBlockBytes);
 }
@@ -117,10 +126,11 @@ TEST(CompiledFile, FindsACorruptBlockOnItsFirstTouchNamingIt) {
   const uint64_t records = probe.header().sections[1].offset;
   patch(path, records + 2 * compiled::kBlockBytes + 5, 'X');  // block 2
   MappedFile f(path, 0);  // opening reads no data block: it opens
-  EXPECT_NO_THROW(f.touch(SectionKind::Records, 0, 4));
-  EXPECT_NO_THROW(f.touch(SectionKind::Records, 3 * compiled::kBlockBytes, 4));
+  uint32_t v;
+  EXPECT_NO_THROW(f.read(SectionKind::Records, 0, 4, &v));
+  EXPECT_NO_THROW(f.read(SectionKind::Records, 3 * compiled::kBlockBytes, 4, &v));
   try {
-    f.touch(SectionKind::Records, 2 * compiled::kBlockBytes + 100, 4, "leaf", 17);
+    f.read(SectionKind::Records, 2 * compiled::kBlockBytes + 100, 4, &v, "leaf", 17);
     FAIL() << "the corrupt block was read";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), path);
@@ -145,7 +155,9 @@ TEST(CompiledFile, ABudgetKeepsTheMappingWithinItMeasured) {
   uint64_t measuredPeak = 0, sum = 0;
   for (int pass = 0; pass < 3; ++pass)
     for (uint64_t b = 0; b < 64; ++b) {
-      sum += *f.touch(SectionKind::Records, b * compiled::kBlockBytes + 1000, 1);
+      uint8_t byte;
+      f.read(SectionKind::Records, b * compiled::kBlockBytes + 1000, 1, &byte);
+      sum += byte;
       measuredPeak = std::max(measuredPeak, f.measuredResident());
     }
   EXPECT_EQ(sum, 3u * 64 * 7);  // the data never changes
@@ -158,7 +170,10 @@ TEST(CompiledFile, ABudgetKeepsTheMappingWithinItMeasured) {
   EXPECT_LE(measuredPeak, budget + compiled::kBlockBytes);
   // Without a budget nothing is released.
   MappedFile all(path, 0);
-  for (uint64_t b = 0; b < 64; ++b) all.touch(SectionKind::Records, b * compiled::kBlockBytes, 1);
+  for (uint64_t b = 0; b < 64; ++b) {
+    uint8_t byte;
+    all.read(SectionKind::Records, b * compiled::kBlockBytes, 1, &byte);
+  }
   EXPECT_EQ(all.stats().blocksReleased, 0u);
   EXPECT_EQ(all.stats().residentPeak, 64 * compiled::kBlockBytes);
 }
