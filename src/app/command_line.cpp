@@ -128,9 +128,10 @@ std::string leftOverMessage(const CLI::App* app) {
 }  // namespace
 
 CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
-  CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md)");
-  r->add_option("scene", a.scene, "the scene file; - reads it from standard input (its relative file names "
-                                  "then resolve against the current directory)")->required();
+  CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md, or a compiled .rayes)");
+  r->add_option("scene", a.scene, "the scene file (JSON, or a .rayes from rayes compile, memory-mapped); - reads "
+                                  "JSON from standard input (its relative file names then resolve against the "
+                                  "current directory)")->required();
   r->add_option("-o,--output", a.out, "output OpenEXR (beauty RGBA, depth, normal, lod); a PNG preview is written "
                                       "beside it (default: out/<scene>.exr). A name ending in .png writes the "
                                       "preview alone, no EXR. Outputs are all or nothing: on any failure none "
