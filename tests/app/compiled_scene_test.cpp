@@ -97,6 +97,23 @@ TEST_F(CompiledScene, RendersWithinSceneMemoryAndEqualsTheJson) {
   }
 }
 
+// Batch jobs take a compiled scene too: its films' fingerprint names it by its header block
+// (whose CRC covers every block's), so parts merge to the whole render's bits.
+TEST_F(CompiledScene, PartsOfACompiledRenderMergeToTheWholeRender) {
+  const std::string compiled = compile(sceneFile("teapot.json"), "teapot");
+  const std::vector<std::string> opts = {"--res", "24x18", "--spp", "1"};
+  const std::string whole = render(compiled, "whole", opts);
+  for (const char* part : {"1/2", "2/2"}) {
+    std::vector<std::string> args = {"render", compiled, "--part", part, "-o", temp_.path(std::string("p") + part[0] + ".film"), "-q"};
+    args.insert(args.end(), opts.begin(), opts.end());
+    const RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  const RunResult m = run({"merge", temp_.path("p1.film"), temp_.path("p2.film"), "-o", temp_.path("merged.exr"), "-q"});
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_TRUE(temp_.read("merged.exr") == whole);
+}
+
 TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   const std::string good = compile(sceneFile("cornell-box.json"), "good");
   const std::string bytes = temp_.read("good.rayes");
