@@ -1,5 +1,6 @@
 #include "app/batch_job.h"
 #include <algorithm>
+#include "scene/compiled_scene.h"
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -53,7 +54,16 @@ nlohmann::json imageSettings(const Scene& scene, const RenderOptions& options) {
 std::string fingerprintOf(const std::string& scenePath, const nlohmann::json& settings) {
   std::ifstream in(scenePath, std::ios::binary);
   if (!in) throw InputError(scenePath, "", "cannot read the scene file");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A compiled scene is named by its header block: its CRC covers the section table and the
+  // CRC of every block's CRC, so it stands for the whole file without reading gigabytes.
+  std::string bytes;
+  if (isCompiledSceneName(scenePath)) {
+    bytes.resize(compiled::kBlockBytes);
+    in.read(bytes.data(), std::streamsize(bytes.size()));
+    bytes.resize(size_t(in.gcount()));
+  } else {
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
   const std::string text = settings.dump() + '\0' + bytes;
   const uint32_t crc = uint32_t(crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(text.data()), uInt(text.size())));
   char hex[32];

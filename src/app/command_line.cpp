@@ -102,6 +102,10 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--lod-bias", a.lodBias, "shift every ray's dicing level by B levels, -12..12 (default 0; negative: "
                                          "coarser and faster, positive: finer)");
   c->add_option("--seed", a.seed, "random seed, 0..2^62 (default: the scene's, else 0)");
+  c->add_option("--scene-memory", a.sceneMemory, "a compiled scene (.rayes): bound the pages of its mapping kept "
+                                                 "resident, e.g. 256M (at least 1M; default: no bound); the least "
+                                                 "recently used are released and read again when touched, never "
+                                                 "a different image");
   c->add_flag("-q,--quiet", a.quiet, "no progress output");
 }
 
@@ -131,9 +135,10 @@ std::string leftOverMessage(const CLI::App* app) {
 }  // namespace
 
 CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
-  CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md)");
-  r->add_option("scene", a.scene, "the scene file; - reads it from standard input (its relative file names "
-                                  "then resolve against the current directory)")->required();
+  CLI::App* r = app.add_subcommand("render", "render a scene file (JSON, docs/scene-format.md, or a compiled .rayes)");
+  r->add_option("scene", a.scene, "the scene file (JSON, or a .rayes from rayes compile, memory-mapped); - reads "
+                                  "JSON from standard input (its relative file names then resolve against the "
+                                  "current directory)")->required();
   r->add_option("-o,--output", a.out, "output OpenEXR (beauty RGBA, depth, normal, lod); a PNG preview is written "
                                       "beside it (default: out/<scene>.exr). A name ending in .png writes the "
                                       "preview alone, no EXR. Outputs are all or nothing: on any failure none "
@@ -188,6 +193,14 @@ int runCommandLine(int argc, char** argv) {
       ->allow_extra_args(false);  // one name per -o, so parts may follow it
   m->add_option("--stats", ma.stats, "the parts' statistics combined as JSON (docs/stats.md, \"Merged parts\")");
   m->add_flag("-q,--quiet", ma.quiet, "no message when done");
+
+  CompileArgs pa;
+  CLI::App* p = app.add_subcommand("compile", "compile a scene (JSON) into a .rayes file that rayes render "
+                                              "memory-maps, reading a leaf's patch only when it is diced; the "
+                                              "same image bits as the JSON (docs/scene-format.md, \"Compiled scenes\")");
+  p->add_option("scene", pa.scene, "the scene file (JSON)")->required();
+  p->add_option("-o,--output", pa.out, "the compiled scene, NAME.rayes (default: the scene's name with .rayes)");
+  p->add_flag("-q,--quiet", pa.quiet, "no message when done");
 
   RenderArgs ca;
   CLI::App* c = app.add_subcommand("converge", "error against run time: render at doubling effort (spp 1, 2, 4, ...; "
@@ -247,8 +260,8 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // A mistyped subcommand: name the nearest.
-    const std::vector<std::string> commands = {"render", "converge", "merge", "farm"};
-    if (!r->parsed() && !c->parsed() && !m->parsed() && !f->parsed() && argc > 1 && argv[1][0] != '-' &&
+    const std::vector<std::string> commands = {"render", "compile", "converge", "merge", "farm"};
+    if (!r->parsed() && !c->parsed() && !m->parsed() && !f->parsed() && !p->parsed() && argc > 1 && argv[1][0] != '-' &&
         std::find(commands.begin(), commands.end(), argv[1]) == commands.end()) {
       const std::string near = closestName(argv[1], commands);
       std::cerr << "rayes: " << argv[1] << ": unknown command" << (near.empty() ? "" : "; did you mean " + near + "?")
@@ -262,6 +275,7 @@ int runCommandLine(int argc, char** argv) {
                         : r->parsed() ? "render "
                         : m->parsed() ? "merge "
                         : f->parsed() ? "farm submit "
+                        : p->parsed() ? "compile "
                                       : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
@@ -271,6 +285,7 @@ int runCommandLine(int argc, char** argv) {
     if (r->parsed()) return runRender(a);
     if (c->parsed()) return runConverge(ca);
     if (m->parsed()) return runMerge(ma);
+    if (p->parsed()) return runCompile(pa);
     if (f->parsed()) return runFarmSubmit(fa, f->remaining());
   } catch (const ResourceError& e) {
     std::cerr << "rayes: " << e.message() << "\n";

@@ -14,7 +14,14 @@ struct MergeArgs {
   bool quiet = false;
 };
 
+// `rayes compile`'s arguments.
+struct CompileArgs {
+  std::string scene, out;
+  bool quiet = false;
+};
+
 int runRender(const RenderArgs& a);    // render_command.cpp
+int runCompile(const CompileArgs& a);  // compile_command.cpp
 int runConverge(const RenderArgs& a);  // converge_command.cpp
 int runMerge(const MergeArgs& a);      // merge_command.cpp
 

@@ -7,6 +7,7 @@
 #include "app/image_io.h"
 #include "core/error.h"
 #include "core/memory.h"
+#include "scene/compiled_scene.h"
 #include "scene/scene_loader.h"
 
 namespace rayes {
@@ -131,6 +132,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   options.lodBias = a.lodBias;
   // The default limit keeps a fifth of the memory limit that applies (core/memory.h) for
   // everything else; a larger one given still cannot exceed what is available (EmbreeEngine).
+  sceneMemoryBytes(a);  // checked before the scene is loaded
   options.memoryLimitBytes = a.memoryLimit.empty() ? size_t(processMemoryLimit().bytes / 5 * 4)
                                                    : parseBytes(a.memoryLimit, "--memory-limit");
   return options;
@@ -152,11 +154,27 @@ TextureCacheOptions textureCacheOptions(const RenderArgs& a) {
 }
 
 // The scene with the command line's resolution, samples and seed.
+uint64_t sceneMemoryBytes(const RenderArgs& a) {
+  if (a.sceneMemory.empty()) return 0;
+  const uint64_t bytes = parseBytes(a.sceneMemory, "--scene-memory");
+  if (!isCompiledSceneName(a.scene))
+    throw InputError("--scene-memory", "", "bounds a compiled scene's mapping: give a .rayes scene (rayes compile)");
+  // Below a few blocks every leaf's touch would release another's.
+  constexpr uint64_t kMin = 16 * compiled::kBlockBytes;
+  if (bytes < kMin) throw InputError("--scene-memory", "", "must be at least 1M (16 blocks of 64 KiB)");
+  if (const MemoryLimit& limit = processMemoryLimit(); limit.bytes > 0 && bytes > limit.bytes)
+    throw ResourceError("--scene-memory", "'" + a.sceneMemory + "' is more than the memory available (" +
+                                              limit.describe() + "); give less, or leave it out for no bound");
+  return bytes;
+}
+
 Scene preparedScene(const RenderArgs& a) {
   int width = 0, height = 0;
   if (!a.res.empty()) parseResolution(a.res, width, height);
   const TextureCacheOptions textures = textureCacheOptions(a);
-  Scene scene = a.scene == kStdinScene ? loadSceneFromStdin(textures) : loadScene(a.scene, textures);
+  Scene scene = a.scene == kStdinScene          ? loadSceneFromStdin(textures)
+                : isCompiledSceneName(a.scene) ? loadCompiledScene(a.scene, sceneMemoryBytes(a), textures)
+                                               : loadScene(a.scene, textures);
   if (a.spp) scene.samplesPerPixel = *a.spp;
   if (!a.res.empty()) {
     scene.width = width;

@@ -17,6 +17,7 @@ struct RenderArgs {
               method = MethodOptions{}.name, causticPaths = "all";
   std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G", gridCache;
   std::string textureMemory, textureCacheDir;  // --texture-memory, --texture-cache-dir
+  std::string sceneMemory;  // --scene-memory: a compiled scene's resident budget (empty: none)
   int beamResolution = 128, beamDepth = 4, beamSplitDepth = 4, beamAreaSamples = 2;
   std::optional<int> spp;
   int64_t photons = 20000;
@@ -51,7 +52,11 @@ Scene loadSceneFromStdin(const TextureCacheOptions& textures = {});
 // How the scene's texture cache is made: --texture-memory, --texture-cache-dir (checked by
 // checkedOptions).
 TextureCacheOptions textureCacheOptions(const RenderArgs& a);
-// Loads the scene (kStdinScene: from standard input) and applies --res, --spp and --seed.
+// --scene-memory in bytes (0: not given); InputError for a bad value, or given with a JSON
+// scene; ResourceError beyond the memory available.
+uint64_t sceneMemoryBytes(const RenderArgs& a);
+// Loads the scene (kStdinScene: from standard input; a .rayes: the compiled scene, mapped,
+// within --scene-memory) and applies --res, --spp and --seed.
 Scene preparedScene(const RenderArgs& a);
 // --crop x0,y0,x1,y1 (x1, y1 excluded) inside a width x height image; throws InputError("--crop").
 PixelWindow parseCrop(const std::string& text, int width, int height);

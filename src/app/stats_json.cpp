@@ -15,6 +15,13 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   json kinds = json::object();
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
   j["scene"]["leaf_kinds"] = kinds;
+  if (scene.compiled) {
+    const MappedFileStats m = scene.compiled->stats();
+    j["scene"]["compiled"] = {{"bytes_mapped", m.bytesMapped},     {"resident_peak_bytes", m.residentPeak},
+                              {"bytes_read", m.bytesRead},         {"blocks_verified", m.blocksVerified},
+                              {"blocks_released", m.blocksReleased}, {"scene_memory_bytes", m.budget},
+                              {"resident_at_end_bytes", m.residentAtEnd}};
+  }
   j["settings"] = {{"threads", run.threads}, {"method", options.method.name}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},

@@ -6,6 +6,7 @@
 // bit-identical border vertices at the same level. The default Patch::dice() is used: it calls
 // evaluate(), which already routes borders through the canonical segment.
 #pragma once
+#include <array>
 #include "geometry/patch.h"
 #include "geometry/patch_math.h"
 
@@ -30,6 +31,8 @@ class BilinearPatch final : public Patch {
     return d;
   }
   const char* kind() const override { return "bilinear"; }
+  // The corners as given to the constructor (a compiled scene stores them: geometry/patch_record.h).
+  std::array<Vec3, 4> corners() const { return {p00_, p10_, p01_, p11_}; }
   // Each micro-quad is itself bilinear with twist h^2 w, w = p00 - p10 - p01 + p11; its two
   // triangles deviate from it by at most |h^2 w| / 4 (at the centre). Exactly zero when the
   // corners are coplanar up to the rounding of their coordinates: the micro-triangles

@@ -66,6 +66,8 @@ class DisplacedPatch final : public Patch {
 
   const Patch& base() const { return *base_; }
   const Displacement& displacement() const { return *displacement_; }
+  // The reference given to the constructor, or null when it was none (the base itself).
+  const Patch* givenReference() const { return reference_ == base_ ? nullptr : reference_.get(); }
   // Per component, a conservative range of the base's unit normal (as evaluate() computes it)
   // over the parameter rectangle, as a box in [-1, 1]^3 (widened for rounding).
   Box3 normalRangeOver(float u0, float u1, float v0, float v1) const;

@@ -7,6 +7,7 @@
 #pragma once
 #include <string>
 #include <vector>
+#include "geometry/compiled_file.h"
 #include "geometry/leaf_source.h"
 #include "scene/leaf_uv_table.h"
 #include "shading/light.h"
@@ -31,6 +32,9 @@ struct Scene {
   IntegratorSettings integrator;
   std::vector<Material> materials;
   LeafList leaves;                        // leaf id = index
+  size_t shapeLeaves = 0;                 // leaves [0, shapeLeaves) are the "shapes" section's; lights' follow
+  // A compiled scene's mapping (scene/compiled_scene.h), for its stats; null for a JSON scene.
+  std::shared_ptr<const MappedFile> compiled;
   std::vector<uint32_t> leafMaterial;     // per leaf
   std::shared_ptr<LeafUvTable> uvs;       // the leaves' uv sets; null when no leaf has one or none is read
   bool uvSetsDropped = false;             // shapes had uv sets, but no texture reads uv coordinates

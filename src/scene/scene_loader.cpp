@@ -79,7 +79,11 @@ void readIntegrator(const JsonReader& r, const json& j, Scene& scene) {
 
 }  // namespace
 
-Scene parseScene(const std::string& fileText, const std::string& path, const TextureCacheOptions& textures) {
+namespace {
+
+// parseScene's body; `shapes` null: the "/shapes" section is read, else it becomes the shapes.
+Scene parseSceneText(const std::string& fileText, const std::string& path, LeafSourcePtr shapes,
+                     std::vector<uint32_t> shapeMaterial, const TextureCacheOptions& textures) {
   const std::string_view text = withoutByteOrderMark(fileText);
   const json doc = parseJsonDocument(text, path);
   JsonReader r(path, text);
@@ -92,7 +96,16 @@ Scene parseScene(const std::string& fileText, const std::string& path, const Tex
   if (doc.contains("integrator")) readIntegrator(r, doc["integrator"], scene);
   const auto materials = readMaterials(r, r.member(doc, "", "materials"), scene);
   const auto dir = std::filesystem::path(path).parent_path();
-  readShapes(r, r.member(doc, "", "shapes"), scene, materials, dir);
+  if (shapes) {
+    if (shapeMaterial.size() != shapes->size()) throw std::logic_error("one material per shape leaf");
+    for (uint32_t m : shapeMaterial)
+      if (m >= scene.materials.size()) r.fail("/materials", "a compiled leaf names material " + std::to_string(m) + " of " + std::to_string(scene.materials.size()));
+    scene.leaves.add(std::move(shapes));
+    scene.leafMaterial = std::move(shapeMaterial);
+  } else {
+    readShapes(r, r.member(doc, "", "shapes"), scene, materials, dir);
+  }
+  scene.shapeLeaves = scene.leaves.size();
   if (doc.contains("lights")) readLights(r, doc["lights"], scene);
   if (scene.leaves.empty()) r.fail("/shapes", "the scene has no shapes");
   // Uv sets no texture reads cost memory and nothing else: leave them out.
@@ -104,6 +117,17 @@ Scene parseScene(const std::string& fileText, const std::string& path, const Tex
     scene.uvSetsDropped = true;
   }
   return scene;
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& fileText, const std::string& path, const TextureCacheOptions& textures) {
+  return parseSceneText(fileText, path, nullptr, {}, textures);
+}
+
+Scene parseSceneWithShapes(const std::string& text, const std::string& path, LeafSourcePtr shapes,
+                           std::vector<uint32_t> shapeMaterial, const TextureCacheOptions& textures) {
+  return parseSceneText(text, path, std::move(shapes), std::move(shapeMaterial), textures);
 }
 
 Scene loadScene(const std::string& path, const TextureCacheOptions& textures) {

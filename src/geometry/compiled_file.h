@@ -1,0 +1,182 @@
+// START HERE for compiled scenes. The .rayes file (docs/scene-format.md, "Compiled scenes"):
+// a versioned container of page-aligned sections, written once by `rayes compile` and
+// memory-mapped read-only by the render.
+//
+// Layout (little-endian): page 0 is the FileHeader (magic, format version, the program version
+// that wrote it, the file's size, the block size, the section table, and a CRC-32 of the header
+// and one of the checksum section). Every section starts on a block boundary (kBlockBytes, a
+// multiple of the page); it is cut into blocks of kBlockBytes, and the checksum section (the file's last) holds one CRC-32 per block of every
+// other section. Opening reads the header and the checksum section only (4 bytes per 64 KiB of
+// data), so it costs O(file size / 16 Ki), never a read of the whole file; every other block is
+// verified on its first touch.
+//
+// MappedFile: it owns the mapping (munmap on destruction) and hands out copies of ranges.
+// Thread-safe: any thread may read any range at once.
+// Residency (`--scene-memory`): read() marks the blocks it covers used; when the blocks
+// counted resident exceed the budget, the least recently used ones (a clock: second chance)
+// are released with madvise(MADV_DONTNEED) — their pages are dropped from the process and read
+// again from the file on the next touch, so the data, and the render, never change. The budget
+// bounds what the mapping keeps; blocks being read at that moment (pinned: one record per
+// thread) are not released, and may exceed it by a block or two per thread. The mapping is placed at an address aligned
+// to a block, so that the kernel's fault-around (which maps the cached pages of the 64 KiB
+// window around a fault) maps pages of the touched block only, never strays of its neighbours
+// that the budget would not count.
+#pragma once
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace rayes {
+
+namespace compiled {
+
+constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
+// Version 1: sections Scene, Materials, Leaves, Records, Checksums. A new section kind (a
+// leaf's uv set: UvSets) or a changed record is a new version; readers refuse others.
+constexpr uint32_t kFormatVersion = 1;
+constexpr uint64_t kPageBytes = 4096;
+constexpr uint64_t kBlockBytes = 64 * 1024;  // a multiple of the page: released whole
+constexpr int kMaxSections = 16;
+
+enum class SectionKind : uint32_t {
+  Scene = 1,      // JSON: the scene's text (camera, film, materials, lights), its source path, the leaf kinds' names
+  Materials = 2,  // uint32 per leaf: its material
+  Leaves = 3,     // LeafEntry per leaf
+  Records = 4,    // patch records (geometry/patch_record.h), at the LeafEntry's offsets
+  Checksums = 5,  // uint32 CRC-32 per block of every other section, in section order
+};
+const char* sectionName(SectionKind kind);
+
+struct SectionEntry {
+  uint32_t kind = 0, reserved = 0;
+  uint64_t offset = 0, bytes = 0;
+  uint64_t firstBlock = 0;  // index of its first block's CRC in the checksum section
+};
+
+struct FileHeader {
+  char magic[8];
+  uint32_t formatVersion;
+  uint32_t headerBytes;  // sizeof(FileHeader)
+  char program[64];      // the writing program's version, NUL-terminated
+  uint64_t fileBytes;
+  uint64_t blockBytes;
+  uint32_t sectionCount;
+  uint32_t checksumsCrc;  // of the checksum section
+  uint32_t headerCrc;     // of this header with headerCrc = 0
+  uint32_t reserved;
+  SectionEntry sections[kMaxSections];
+};
+static_assert(sizeof(FileHeader) <= kPageBytes);
+
+// One leaf of the table: everything a render asks before dicing (LeafSource::bounds, facts)
+// and where the leaf's patch record lies in the Records section.
+struct LeafEntry {
+  float lo[3], hi[3];  // Box3
+  float sizeBound, dicingError;
+  uint64_t recordOffset;
+  uint32_t recordBytes;
+  uint16_t timeSamples;
+  uint8_t kind;   // index into the Scene section's "kinds"
+  uint8_t flags;  // kDisplaced | kSubdivision | kBorderClosure
+  static constexpr uint8_t kDisplaced = 1, kSubdivision = 2, kBorderClosure = 4;
+};
+static_assert(sizeof(LeafEntry) == 48);
+
+}  // namespace compiled
+
+// Writes a .rayes file section by section, in one pass (CRCs computed as the bytes go by).
+// Failures throw InputError naming the file (ResourceError "-o" when the disk is full).
+class CompiledFileWriter {
+ public:
+  CompiledFileWriter(const std::string& path, const std::string& programVersion);
+  ~CompiledFileWriter();
+  CompiledFileWriter(const CompiledFileWriter&) = delete;
+  CompiledFileWriter& operator=(const CompiledFileWriter&) = delete;
+  void beginSection(compiled::SectionKind kind);
+  void write(const void* data, size_t bytes);
+  uint64_t sectionBytes() const { return at_ - sectionStart_; }
+  // Writes the checksum section and the header, and closes the file.
+  void finish();
+
+ private:
+  void raw(const void* data, size_t bytes);
+  void padToPage();
+  void endSection();
+  void fail(const char* doing);
+
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  compiled::FileHeader header_{};
+  std::vector<uint32_t> crcs_;
+  uint64_t at_ = 0, sectionStart_ = 0;
+  bool inSection_ = false;
+  uint32_t blockCrc_ = 0;
+  uint64_t blockFill_ = 0;
+};
+
+// What the mapping did, for the stats ("scene.compiled", docs/stats.md).
+struct MappedFileStats {
+  uint64_t bytesMapped = 0;
+  uint64_t residentPeak = 0;  // the largest resident estimate (blocks touched and not released)
+  uint64_t bytesRead = 0;     // blocks made resident, counted again after each release
+  uint64_t blocksVerified = 0, blocksReleased = 0;
+  uint64_t budget = 0;        // 0: none
+  uint64_t residentAtEnd = 0; // measured (MappedFile::measuredResident) when the stats were read
+};
+
+class MappedFile {
+ public:
+  // Maps `path` and checks the header, the section table and the checksum section; throws
+  // InputError(path, place, why) for a file that is not a .rayes, of another version,
+  // truncated or corrupt. residentBudget 0: no budget (nothing is released).
+  MappedFile(const std::string& path, uint64_t residentBudget);
+  ~MappedFile();
+  MappedFile(const MappedFile&) = delete;
+  MappedFile& operator=(const MappedFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  const compiled::FileHeader& header() const { return header_; }
+  bool has(compiled::SectionKind kind) const;
+  uint64_t sectionBytes(compiled::SectionKind kind) const;
+  // Copies bytes [at, at + n) of a section to `out`, verified (a corrupt block: InputError
+  // naming the file, the section, the block and `what`, e.g. "leaf 12") and marked used. The
+  // blocks are pinned while they are read, so no other thread releases them meanwhile: what
+  // the kernel maps is always what the budget counts.
+  void read(compiled::SectionKind kind, uint64_t at, uint64_t n, void* out, const char* what = "",
+            uint64_t whatIndex = 0) const;
+  MappedFileStats stats() const;
+  uint64_t residentPeak() const { return residentPeak_.load(std::memory_order_relaxed); }
+  // The mapping's resident bytes as the kernel counts them now (Rss of its /proc/self/smaps
+  // entry; 0 where that cannot be read): what the budget bounds, measured.
+  uint64_t measuredResident() const;
+
+ private:
+  const compiled::SectionEntry& section(compiled::SectionKind kind) const;
+  void use(uint64_t block) const;  // residency bookkeeping
+  uint64_t windowBytes(uint64_t block) const;
+  void verify(const compiled::SectionEntry& s, uint64_t block, const char* what, uint64_t whatIndex) const;
+
+  std::string path_;
+  const uint8_t* base_ = nullptr;
+  uint64_t size_ = 0;
+  compiled::FileHeader header_{};
+  std::vector<uint32_t> crcs_;
+  uint64_t budget_ = 0;
+  // Per block (global index, as in the checksum section): verified once; resident and
+  // referenced for the clock.
+  std::unique_ptr<std::atomic<uint8_t>[]> verified_, resident_, referenced_;
+  std::unique_ptr<std::atomic<uint32_t>[]> pinned_;  // readers in the block now
+  std::vector<uint64_t> blockStart_;  // file offset of each block, and its length
+  std::vector<uint32_t> blockLength_;
+  mutable std::mutex residency_;
+  mutable uint64_t hand_ = 0;
+  mutable uint64_t residentBytes_ = 0;
+  mutable std::atomic<uint64_t> residentPeak_{0}, bytesRead_{0}, blocksVerified_{0}, blocksReleased_{0};
+};
+
+}  // namespace rayes

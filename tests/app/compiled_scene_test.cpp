@@ -1,0 +1,187 @@
+// `rayes compile` and the render of a compiled scene (docs/scene-format.md, "Compiled scenes"):
+// the same image bits as the JSON render for every kind of leaf a .rayes holds; a scene several
+// times --scene-memory renders within it; bad input, found at opening or mid-render, is one
+// message naming the file and place, exit code 2 (3 for a resource limit), nothing written.
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include "app/command_line.h"
+#include "core/memory.h"
+#include "geometry/compiled_file.h"
+#include "support/render_fixtures.h"
+#include "support/temp_folder.h"
+
+namespace rayes {
+namespace {
+namespace fs = std::filesystem;
+using testing::RunResult;
+
+RunResult run(std::vector<std::string> args) { return testing::runRayes(std::move(args)); }
+std::string sceneFile(const std::string& name) { return std::string(RAYES_SOURCE_DIR) + "/scenes/" + name; }
+
+void patchByte(const std::string& path, uint64_t at, char byte) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(std::streamoff(at));
+  f.put(byte);
+}
+
+class CompiledScene : public ::testing::Test {
+ protected:
+  // Compiles `json` into the temp folder; returns the .rayes path.
+  std::string compile(const std::string& json, const std::string& name) {
+    const std::string out = temp_.path(name + ".rayes");
+    const RunResult r = run({"compile", json, "-o", out, "-q"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    return out;
+  }
+  // Renders `scene` to NAME.exr with `extra` options; returns the EXR's bytes.
+  std::string render(const std::string& scene, const std::string& name, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args = {"render", scene, "-o", temp_.path(name + ".exr"), "-q"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = run(args);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return temp_.read(name + ".exr");
+  }
+  testing::TempFolder temp_;
+};
+
+// Bézier (teapot), noise-displaced Bézier (displaced teapot), a forest (displaced Bézier bark,
+// displaced bilinear terrain, bilinear foliage), moving bilinear patches, a bilinear box with a
+// rectangle light (a light leaf after the compiled ones), depth of field over Bézier patches.
+TEST_F(CompiledScene, RendersTheSameBitsAsTheJson) {
+  for (const char* name : {"teapot", "displaced-teapot", "forest-1", "motion-cubes", "cornell-box", "dof"}) {
+    SCOPED_TRACE(name);
+    const std::string json = sceneFile(std::string(name) + ".json");
+    const std::string compiled = compile(json, name);
+    const std::vector<std::string> opts = {"--res", "40x30", "--spp", "2"};
+    const std::string a = render(json, std::string(name) + "-json", opts);
+    const std::string b = render(compiled, std::string(name) + "-rayes", opts);
+    ASSERT_FALSE(a.empty());
+    EXPECT_TRUE(a == b) << "the compiled render differs from the JSON render";
+  }
+}
+
+// A forest of 48 trees: a .rayes of several MiB rendered under --scene-memory 1M, with the
+// stats' estimate and the kernel's count of the mapping's pages within it, and the image of
+// the JSON route at any thread count.
+TEST_F(CompiledScene, RendersWithinSceneMemoryAndEqualsTheJson) {
+  const std::string json = temp_.write("forest.json", R"({
+    "camera": {"position": [0, 6, 30], "look_at": [0, 3, 0], "fov": 50},
+    "film": {"resolution": [48, 36], "spp": 1},
+    "integrator": {"max_depth": 2},
+    "materials": {"m": {"type": "diffuse", "albedo": [0.5, 0.4, 0.3]}},
+    "shapes": [{"type": "forest", "trees": 48, "seed": 5, "detail": 3, "area": 24, "terrain_tiles": 8,
+                "materials": {"terrain": "m", "bark": "m", "foliage": "m"}}],
+    "lights": [{"type": "distant", "direction": [0.4, 0.8, 0.45], "irradiance": [3, 3, 3]}]})");
+  const std::string compiled = compile(json, "forest");
+  const uint64_t budget = uint64_t(1) << 20;
+  ASSERT_GE(fs::file_size(compiled), 4 * budget) << "the scene must be several times the budget";
+  const std::string reference = render(json, "json");
+  for (const char* threads : {"1", "2"}) {
+    SCOPED_TRACE(threads);
+    const std::string stats = temp_.path(std::string("s") + threads + ".json");
+    EXPECT_TRUE(render(compiled, std::string("c") + threads, {"--scene-memory", "1M", "--threads", threads, "--stats", stats}) ==
+                reference);
+    std::ifstream in(stats);
+    const auto c = nlohmann::json::parse(in)["scene"]["compiled"];
+    EXPECT_EQ(c["scene_memory_bytes"].get<uint64_t>(), budget);
+    EXPECT_EQ(c["bytes_mapped"].get<uint64_t>(), fs::file_size(compiled));
+    EXPECT_LE(c["resident_peak_bytes"].get<uint64_t>(), budget);
+    EXPECT_GT(c["blocks_released"].get<uint64_t>(), 0u);
+    // Everything touched is read at least once; released blocks are read again.
+    EXPECT_GT(c["bytes_read"].get<uint64_t>(), c["resident_peak_bytes"].get<uint64_t>());
+    // The kernel's count when the stats were taken: the budget (blocks being read by other
+    // threads are not in flight then).
+    EXPECT_LE(c["resident_at_end_bytes"].get<uint64_t>(), budget);
+  }
+}
+
+// Batch jobs take a compiled scene too: its films' fingerprint names it by its header block
+// (whose CRC covers every block's), so parts merge to the whole render's bits.
+TEST_F(CompiledScene, PartsOfACompiledRenderMergeToTheWholeRender) {
+  const std::string compiled = compile(sceneFile("teapot.json"), "teapot");
+  const std::vector<std::string> opts = {"--res", "24x18", "--spp", "1"};
+  const std::string whole = render(compiled, "whole", opts);
+  for (const char* part : {"1/2", "2/2"}) {
+    std::vector<std::string> args = {"render", compiled, "--part", part, "-o", temp_.path(std::string("p") + part[0] + ".film"), "-q"};
+    args.insert(args.end(), opts.begin(), opts.end());
+    const RunResult r = run(args);
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  const RunResult m = run({"merge", temp_.path("p1.film"), temp_.path("p2.film"), "-o", temp_.path("merged.exr"), "-q"});
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_TRUE(temp_.read("merged.exr") == whole);
+}
+
+TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
+  const std::string good = compile(sceneFile("cornell-box.json"), "good");
+  const std::string bytes = temp_.read("good.rayes");
+  MappedFile probe(good, 0);
+  uint64_t records = 0;
+  for (uint32_t k = 0; k < probe.header().sectionCount; ++k)
+    if (probe.header().sections[k].kind == uint32_t(compiled::SectionKind::Records)) records = probe.header().sections[k].offset;
+  struct Case {
+    const char* name;
+    std::string content;
+    std::string place;  // what the message must hold
+  };
+  std::vector<Case> cases = {
+      {"truncated", bytes.substr(0, bytes.size() / 2), "header: truncated"},
+      {"not-one", "{\"camera\": {}}", "not a compiled Rayes scene"},
+      {"version", bytes, "header: format version 7"},
+      {"header", bytes, "header: checksum mismatch"},
+      // A record block: the bilinear leaves are read first when diced, mid-render.
+      {"block", bytes, "section records, block 0 (leaf "},
+  };
+  cases[2].content[8] = 7;
+  cases[3].content[90] ^= 1;
+  cases[4].content[records + 3] ^= 1;
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    testing::TempFolder t;
+    const std::string scene = t.write(std::string(c.name) + ".rayes", c.content);
+    const RunResult r = run({"render", scene, "--res", "16x12", "--spp", "1", "-o", t.path("out/x.exr"), "--stats",
+                             t.path("out/s.json"), "-q"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(scene + ":"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.place), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_EQ(t.entries(), std::vector<std::string>{std::string(c.name) + ".rayes"}) << "something was written";
+  }
+}
+
+TEST_F(CompiledScene, SceneMemoryOptionIsChecked) {
+  const std::string compiled = compile(sceneFile("teapot.json"), "teapot");
+  const auto code = [&](std::vector<std::string> extra, const std::string& scene) {
+    std::vector<std::string> args = {"render", scene, "--res", "8x6", "--spp", "1", "-o", temp_.path("x.exr"), "-q"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = run(args);
+    EXPECT_NE(r.err.find("--scene-memory"), std::string::npos) << r.err;
+    return r.code;
+  };
+  EXPECT_EQ(code({"--scene-memory", "0"}, compiled), 2);
+  EXPECT_EQ(code({"--scene-memory", "64K"}, compiled), 2);                   // below 16 blocks
+  EXPECT_EQ(code({"--scene-memory", "1G"}, sceneFile("teapot.json")), 2);    // a JSON scene maps nothing
+  if (processMemoryLimit().bytes > 0 && processMemoryLimit().bytes < (uint64_t(1) << 50))
+    EXPECT_EQ(code({"--scene-memory", "900000G"}, compiled), 3);  // beyond memory: a resource limit
+  EXPECT_FALSE(fs::exists(temp_.path("x.exr")));
+}
+
+TEST_F(CompiledScene, CompileFailsLikeRenderAndWritesNothing) {
+  const std::string bad = temp_.write("bad.json", "{\"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0]},\n \"shapes\": [}");
+  RunResult r = run({"compile", bad, "-o", temp_.path("bad.rayes"), "-q"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(bad + ":2:"), std::string::npos) << r.err;
+  // Subdivision faces are not compiled (yet): the leaf is named, nothing is left.
+  r = run({"compile", sceneFile("subdiv-creature.json"), "-o", temp_.path("s.rayes"), "-q"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("leaf 0: cannot be compiled: a patch of kind 'subdiv'"), std::string::npos) << r.err;
+  r = run({"compile", sceneFile("teapot.json"), "-o", temp_.path("t.exr"), "-q"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("ends in .rayes"), std::string::npos) << r.err;
+  EXPECT_EQ(temp_.entries(), std::vector<std::string>{"bad.json"});
+}
+
+}  // namespace
+}  // namespace rayes
