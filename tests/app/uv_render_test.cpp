@@ -53,7 +53,12 @@ Vec3 onPlane(const PerspectiveCamera& cam, float px, float py) {
 
 // The checker of the uv set (scale 2 of (x, y) / 2: unit squares in (x, y)) against the albedo of
 // every pixel whose piece of the plane lies inside one square of the interior faces' [-2, 2]^2,
-// by more than the rounding of a hit's position and uv (1e-3 of a square is far above it).
+// by more than the texture footprint's reach past the pixel and the rounding of a hit's position
+// and uv (1e-3 of a square is far above it). A camera ray's footprint is its pixel's width times
+// max(1/8, 1/sqrt(spp)) (shading/footprint.h; 1/2 at 4 spp), centred on the ray's hit; the cone
+// is a little wider than the pixel's piece of the plane off the axis (the ray's length over the
+// distance along the axis, at most 1.1 here, and the ellipse's stretch 1 / cos θ, at most 1.1),
+// so the filtered checker reads less than half a pixel's width past the pixel.
 // Returns the pixels checked.
 int expectCheckerOfTheUvSet(const Scene& scene) {
   Renderer r(scene, RenderOptions{});
@@ -61,13 +66,13 @@ int expectCheckerOfTheUvSet(const Scene& scene) {
   const std::vector<float> albedo = film.albedo();
   const PerspectiveCamera cam(scene.camera.position, scene.camera.lookAt, scene.camera.up, scene.camera.fovYDegrees,
                               scene.width, scene.height);
-  const float margin = 1e-3f;
   int checked = 0;
   for (int py = 0; py < scene.height; ++py)
     for (int px = 0; px < scene.width; ++px) {
       const Vec3 a = onPlane(cam, float(px), float(py)), b = onPlane(cam, float(px + 1), float(py + 1));
       const float x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x), y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
       if (x0 < -2 || x1 > 2 || y0 < -2 || y1 > 2) continue;
+      const float margin = 1e-3f + 0.5f * std::max(x1 - x0, y1 - y0);
       const float cx = std::floor(x0 - margin), cy = std::floor(y0 - margin);
       if (cx != std::floor(x1 + margin) || cy != std::floor(y1 + margin)) continue;
       const bool odd = std::fmod(std::fabs(cx + cy), 2.0f) >= 1.0f;
