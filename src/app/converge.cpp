@@ -62,6 +62,7 @@ ConvergeRun converge(const Scene& base, const RenderOptions& options, const Conv
     const double cpuSeconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
     if (renderer.interrupted()) {  // an image of part of the samples: no row
       run.stoppedSpp = spp;
+      run.stoppedStart = start;
       run.stoppedSeconds = seconds;
       break;
     }
@@ -104,6 +105,7 @@ std::string convergeCsv(const std::vector<ConvergeRow>& rows, bool clampedColumn
   }
   return out;
 }
+
 // Log-log axes over the rows' ranges (decades), one polyline with a dot per render.
 std::string convergeSvg(const std::vector<ConvergeRow>& rows, const std::string& title) {
   constexpr double W = 640, H = 420, L = 70, R = 20, T = 40, B = 50;

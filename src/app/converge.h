@@ -88,6 +88,7 @@ struct ConvergeSettings {
 struct ConvergeRun {
   std::vector<ConvergeRow> rows;
   int stoppedSpp = 0;         // > 0: the render of this many spp reached the budget, stopped, no row
+  double stoppedStart = 0;    // when it started (ConvergeSettings::now)
   double stoppedSeconds = 0;  // how long it had run
 };
 

@@ -127,8 +127,9 @@ int runConverge(const RenderArgs& a) {
     }
   });
   if (run.stoppedSpp > 0 && !a.quiet)
-    std::fprintf(stderr, "rayes converge: the %d spp render reached the budget of %g s after %.2f s and was stopped: "
-                 "no row for it\n", run.stoppedSpp, a.budget, run.stoppedSeconds);
+    std::fprintf(stderr, "rayes converge: the %d spp render, started at %.2f s, reached the budget of %g s and was "
+                 "stopped at %.2f s: no row for it\n", run.stoppedSpp, run.stoppedStart, a.budget,
+                 run.stoppedStart + run.stoppedSeconds);
   outputs.writeText(csv, convergeCsv(run.rows, a.clampedRmse.has_value()));
   outputs.writeText(svg, convergeSvg(run.rows, std::filesystem::path(a.scene).filename().string() + ", --method " + a.method));
   outputs.commit();

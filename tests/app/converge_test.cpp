@@ -291,6 +291,7 @@ TEST_F(ConvergeClock, StopsARenderThatReachesTheBudget) {
   ASSERT_EQ(run.rows.size(), 1u);
   EXPECT_EQ(run.rows[0].spp, 1);
   EXPECT_EQ(run.stoppedSpp, 2);
+  EXPECT_EQ(run.stoppedStart, 1.0);
   EXPECT_EQ(run.stoppedSeconds, 3.0);
 }
 
