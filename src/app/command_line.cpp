@@ -216,15 +216,19 @@ int runCommandLine(int argc, char** argv) {
   c->add_option("--beam-growth", ca.beamGrowth, "lbt: factor of the beam resolution per doubling of spp, from "
                                                 "--beam-resolution at 1 spp, in [1, 4] (default sqrt 2: twice the "
                                                 "beams per step; 1: fixed beams)");
-  c->add_option("--budget", ca.budget, "seconds to spend in all (the next doubling is skipped when it would not fit)")
+  c->add_option("--budget", ca.budget, "seconds for the whole run, loading included: a render starts only when its "
+                                       "predicted time fits, and one that reaches the budget is stopped without a row "
+                                       "(the first render always completes)")
       ->required();
+  c->add_option("--clamped-rmse", ca.clampedRmse, "QUANTILE in (0, 1), e.g. 0.999: adds the column clamped_rmse, the "
+                                                  "RMSE with each pixel's squared error clamped at this quantile of them");
   c->add_option("--region", ca.region, "x0,y0,x1,y1: the pixel box (x1, y1 excluded) whose mean signed error is the "
                                        "bias column (default: the whole image)");
   c->add_option("--mask", ca.mask, "instead of --region: an OpenEXR of the render's size; pixels with non-zero red "
                                    "are the region");
   c->add_option("-o,--output", ca.out, "the CSV (default out/<scene>-<method>-converge.csv): seconds, cpu_seconds, "
-                                       "spp, photons, beam_resolution, beam_segments, rmse, rel_mse, region_bias; "
-                                       "the SVG chart goes beside it");
+                                       "spp, photons, beam_resolution, beam_segments, rmse, rel_mse, region_bias "
+                                       "(and clamped_rmse); the SVG chart goes beside it");
   c->add_option("--svg", ca.svg, "the chart's file (default: the CSV's name with .svg)");
   addSharedOptions(c, ca);
   c->allow_extras();

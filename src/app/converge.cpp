@@ -29,53 +29,79 @@ double regionBias(const std::vector<float>& rgba, const std::vector<float>& ref,
 }
 }  // namespace
 
-std::vector<ConvergeRow> converge(const Scene& base, const RenderOptions& options, const std::vector<float>& reference,
-                                  const PixelRegion& errorPixels, const PixelRegion& region, double budgetSeconds,
-                                  const ConvergeSchedule& schedule,
-                                  const std::function<void(const ConvergeRow&)>& report) {
-  std::vector<ConvergeRow> rows;
-  double spent = 0;
+double ConvergeBudget::predictedNext(const std::vector<double>& t) {
+  if (t.empty()) return 0;
+  const double last = t.back();
+  const double growth = t.size() >= 2 && t[t.size() - 2] > 0 ? last / t[t.size() - 2] : 0;
+  return last * std::max(2.0, growth);
+}
+
+bool heldByFewPixels(const LargestErrors& largest) {
+  return largest.counted >= kOutlierMinPixels && largest.share > kOutlierShare;
+}
+
+ConvergeRun converge(const Scene& base, const RenderOptions& options, const ConvergeSettings& s,
+                     const std::function<void(const ConvergeRow&)>& report) {
+  ConvergeRun run;
+  std::vector<double> renderSeconds;
   RenderOptions o = options;
   o.reference.clear();
   for (int step = 0, spp = 1; spp <= (1 << 20); ++step, spp *= 2) {
+    const double start = s.now();
+    if (!s.budget.mayStart(start, renderSeconds)) break;
     Scene scene = base;
     scene.samplesPerPixel = spp;
     // Beams grow with the samples (a method without beams ignores the option).
-    o.method.beams.resolution = schedule.beamResolution(options.method.beams.resolution, step);
-    const auto t0 = Clock::now();
+    o.method.beams.resolution = s.schedule.beamResolution(options.method.beams.resolution, step);
     const std::clock_t c0 = std::clock();
     Renderer renderer(scene, o);
-    const Film film = renderer.render();
-    const double seconds = secondsSince(t0);
+    Renderer::Control control;
+    if (!renderSeconds.empty()) control.stop = [&] { return s.budget.mustStop(s.now()); };
+    const Film film = renderer.render({}, control);
+    const double seconds = s.now() - start;
     const double cpuSeconds = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    if (renderer.interrupted()) {  // an image of part of the samples: no row
+      run.stoppedSpp = spp;
+      run.stoppedStart = start;
+      run.stoppedSeconds = seconds;
+      break;
+    }
     const std::vector<float> rgba = film.beautyRgba();
-    const ImageError error = errorAgainst(rgba, reference, errorPixels, scene.width, scene.height);
-    const ConvergeRow row{seconds,
-                          cpuSeconds,
-                          spp,
-                          renderer.stats().shade.photonsTraced.load(),
-                          int(renderer.stats().method.number("resolution")),  // the glossy rule's, if coarser
-                          uint64_t(renderer.stats().method.number("segments")),
-                          error.rmse,
-                          error.relMse,
-                          regionBias(rgba, reference, region, errorPixels, scene.width, scene.height)};
-    rows.push_back(row);
-    if (report) report(row);
-    spent += seconds;
-    // The next render costs about twice this one (beams, where the method has them, double too).
-    if (spent + 2 * seconds > budgetSeconds) break;
+    const ImageError error = errorAgainst(rgba, s.reference, s.errorPixels, scene.width, scene.height);
+    ConvergeRow row{};
+    row.seconds = seconds;
+    row.cpuSeconds = cpuSeconds;
+    row.spp = spp;
+    row.photons = renderer.stats().shade.photonsTraced.load();
+    row.beamResolution = int(renderer.stats().method.number("resolution"));  // the glossy rule's, if coarser
+    row.beamSegments = uint64_t(renderer.stats().method.number("segments"));
+    row.rmse = error.rmse;
+    row.relMse = error.relMse;
+    row.regionBias = regionBias(rgba, s.reference, s.region, s.errorPixels, scene.width, scene.height);
+    if (s.clampQuantile > 0)
+      row.clampedRmse = clampedRmse(rgba, s.reference, s.errorPixels, scene.width, scene.height, s.clampQuantile);
+    row.largest = largestErrors(rgba, s.reference, s.errorPixels, scene.width, scene.height, kOutlierPixels);
+    run.rows.push_back(row);
+    renderSeconds.push_back(seconds);
+    if (report) report(run.rows.back());
   }
-  return rows;
+  return run;
 }
 
-std::string convergeCsv(const std::vector<ConvergeRow>& rows) {
-  std::string out = "seconds,cpu_seconds,spp,photons,beam_resolution,beam_segments,rmse,rel_mse,region_bias\n";
+std::string convergeCsv(const std::vector<ConvergeRow>& rows, bool clampedColumn) {
+  std::string out = "seconds,cpu_seconds,spp,photons,beam_resolution,beam_segments,rmse,rel_mse,region_bias";
+  out += clampedColumn ? ",clamped_rmse\n" : "\n";
   char line[256];
   for (const ConvergeRow& r : rows) {
-    std::snprintf(line, sizeof line, "%.4f,%.4f,%d,%llu,%d,%llu,%.6g,%.6g,%.6g\n", r.seconds, r.cpuSeconds, r.spp,
+    std::snprintf(line, sizeof line, "%.4f,%.4f,%d,%llu,%d,%llu,%.6g,%.6g,%.6g", r.seconds, r.cpuSeconds, r.spp,
                   static_cast<unsigned long long>(r.photons), r.beamResolution,
                   static_cast<unsigned long long>(r.beamSegments), r.rmse, r.relMse, r.regionBias);
     out += line;
+    if (clampedColumn) {
+      std::snprintf(line, sizeof line, ",%.6g", r.clampedRmse);
+      out += line;
+    }
+    out += "\n";
   }
   return out;
 }

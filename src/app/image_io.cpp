@@ -109,31 +109,72 @@ void writePngPreview(const std::string& path, const Film& film) {
   if (!ok) throw std::runtime_error(std::string("PNG: ") + (error.message[0] ? error.message : "libpng failed"));
 }
 
-std::vector<float> readExrRgb(const std::string& path, int& width, int& height) {
-  const auto in = openExrInput(path, "reference image");
+namespace {
+
+// The header's data window, as a size.
+void dataWindowSize(const Imf::InputFile& file, int& width, int& height) {
+  const Imath::Box2i dw = file.header().dataWindow();
+  width = dw.max.x - dw.min.x + 1;
+  height = dw.max.y - dw.min.y + 1;
+}
+
+void checkRgbChannels(const Imf::InputFile& file, const std::string& path, const std::string& what) {
+  for (const char* name : {"R", "G", "B"})
+    if (!file.header().channels().findChannel(name)) throw InputError(path, "", what + " has no channel " + name);
+}
+
+// R, G and B of an opened file whose header has them (openExrInput has bounded its data window).
+std::vector<float> readRgb(Imf::InputFile& file, const std::string& path) {
   try {
-    Imf::InputFile& file = *in;
     const Imath::Box2i dw = file.header().dataWindow();
-    width = dw.max.x - dw.min.x + 1;
-    height = dw.max.y - dw.min.y + 1;
+    int width = 0, height = 0;
+    dataWindowSize(file, width, height);
     std::vector<float> rgb(size_t(width) * height * 3, 0.0f);
     Imf::FrameBuffer fb;
     const size_t f = sizeof(float);
     char* base = (char*)(rgb.data()) - (size_t(dw.min.x) + size_t(dw.min.y) * width) * 3 * f;
-    for (int c = 0; c < 3; ++c) {
-      const char* name = c == 0 ? "R" : (c == 1 ? "G" : "B");
-      if (!file.header().channels().findChannel(name))
-        throw InputError(path, "", std::string("reference image has no channel ") + name);
-      fb.insert(name, Imf::Slice(Imf::FLOAT, base + c * f, 3 * f, 3 * f * size_t(width)));
-    }
+    for (int c = 0; c < 3; ++c)
+      fb.insert(c == 0 ? "R" : (c == 1 ? "G" : "B"), Imf::Slice(Imf::FLOAT, base + c * f, 3 * f, 3 * f * size_t(width)));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     return rgb;
-  } catch (const InputError&) {
-    throw;
   } catch (const std::exception& e) {
     throw InputError(path, "", std::string("cannot read EXR: ") + e.what());
   }
+}
+
+}  // namespace
+
+std::vector<float> readExrRgb(const std::string& path, int& width, int& height) {
+  const auto in = openExrInput(path, "reference image");
+  dataWindowSize(*in, width, height);
+  checkRgbChannels(*in, path, "reference image");
+  return readRgb(*in, path);
+}
+
+std::vector<float> readExrRgbOfSize(const std::string& path, const std::string& what, int width, int height) {
+  const auto in = openExrInput(path, what);
+  checkRgbChannels(*in, path, what);
+  int w = 0, h = 0;
+  dataWindowSize(*in, w, h);
+  if (w != width || h != height)
+    throw InputError(path, "", what + " is " + std::to_string(w) + "x" + std::to_string(h) + ", the render " +
+                                   std::to_string(width) + "x" + std::to_string(height));
+  std::vector<float> rgb = readRgb(*in, path);
+  // A NaN or an infinity would make every error NaN (or infinite), and a mask's NaN counts as
+  // non-zero: refused rather than measured against.
+  size_t bad = 0, first = 0;
+  for (size_t i = 0; i < rgb.size(); ++i)
+    if (!std::isfinite(rgb[i]) && bad++ == 0) first = i;
+  if (bad > 0) {
+    const size_t pixel = first / 3;
+    const char* kind = std::isnan(rgb[first]) ? "NaN" : "infinite";
+    throw InputError(path, "", what + " has " + std::to_string(bad) + (bad == 1 ? " value that is" : " values that are") +
+                                   " NaN or infinite, the first at pixel (" + std::to_string(pixel % size_t(w)) +
+                                   ", " + std::to_string(pixel / size_t(w)) + ") channel " + "RGB"[first % 3] + " (" +
+                                   kind + ")");
+  }
+  return rgb;
 }
 
 }  // namespace rayes

@@ -16,7 +16,14 @@ namespace rayes {
 void writeExr(const std::string& path, const Film& film);
 // 8-bit sRGB preview of the beauty pass (clamped, no tone curve beyond the sRGB transfer).
 void writePngPreview(const std::string& path, const Film& film);
-// Reads the RGB of an EXR (a reference image). Throws InputError on failure.
+// Reads the RGB of an EXR of any size (the bench tools' images). Throws InputError on failure.
 std::vector<float> readExrRgb(const std::string& path, int& width, int& height);
+// Reads the RGB of an EXR to measure against, `what` in messages ("reference", "error mask"):
+// its data window must be width x height and it must have R, G and B, both checked from the
+// header before a pixel is read or its memory allocated; and every value must be finite.
+// Throws InputError naming the file: both sizes; the missing channel; or the first value that
+// is NaN or infinite in scan order (pixel x, y from the data window's top left, and channel)
+// and how many there are.
+std::vector<float> readExrRgbOfSize(const std::string& path, const std::string& what, int width, int height);
 
 }  // namespace rayes

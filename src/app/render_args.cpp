@@ -219,12 +219,7 @@ void parsePart(const std::string& text, int& part, int& parts) {
 }
 
 std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what) {
-  int w = 0, h = 0;
-  std::vector<float> rgb = readExrRgb(path, w, h);
-  if (w != scene.width || h != scene.height)
-    throw InputError(path, "", std::string(what) + " is " + std::to_string(w) + "x" + std::to_string(h) +
-                                   ", the render " + std::to_string(scene.width) + "x" + std::to_string(scene.height));
-  return rgb;
+  return readExrRgbOfSize(path, what, scene.width, scene.height);
 }
 
 }  // namespace rayes

@@ -38,6 +38,7 @@ struct RenderArgs {
   // converge
   double beamLobeCells = 2;
   double budget = 0, beamGrowth = 1.4142135623730951;
+  std::optional<double> clampedRmse;  // --clamped-rmse QUANTILE
   std::string region, mask, errorMask, svg;
   std::vector<std::string> references;
 };
@@ -64,7 +65,8 @@ PixelWindow parseCrop(const std::string& text, int width, int height);
 inline constexpr int kMaxParts = 65536;
 void parsePart(const std::string& text, int& part, int& parts);
 
-// An RGB image of the scene's size from `path`, for `what` (a reference, a mask).
+// An RGB image of the scene's size from `path`, for `what` (a reference, a mask): its size checked
+// from the header before its pixels are read, every value finite (readExrRgbOfSize).
 std::vector<float> imageOfSceneSize(const std::string& path, const Scene& scene, const char* what);
 
 }  // namespace rayes

@@ -94,7 +94,7 @@ int runRender(const RenderArgs& a) {
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "rayes: warning: %s\n", w.c_str());
   if (!a.crop.empty()) options.crop = parseCrop(a.crop, scene.width, scene.height);
   if (!a.reference.empty()) {
-    options.reference = imageOfSceneSize(a.reference, scene, "reference");
+    options.reference = imageOfSceneSize(a.reference, scene, "reference image");
     options.progressive = true;  // the error curve has one point per pass
   }
   auto outputs = std::make_unique<OutputSet>();

@@ -6,6 +6,7 @@
 // "$D" in arguments and expected text stands for the row's temporary folder.
 #include <sys/stat.h>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <string>
@@ -107,6 +108,18 @@ std::string referenceBytes() {
   const testing::TempFolder scratch;
   writeExr(scratch.path("ref.exr"), Film(8, 6));
   return scratch.read("ref.exr");
+}
+// An RGB EXR of w x h pixels, every value `v`.
+std::string rgbExrBytes(int w, int h, float v) {
+  const testing::TempFolder scratch;
+  testing::writeRgbExr(scratch.path("x.exr"), w, h, std::vector<float>(size_t(w) * size_t(h) * 3, v));
+  return scratch.read("x.exr");
+}
+std::vector<std::string> convergeWith(std::vector<std::string> extra) {
+  std::vector<std::string> args = {"converge", "$D/s.json", "--reference", "$D/ref.exr", "--budget", "1",
+                                   "-o", "$D/out/c.csv", "-q"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
 }
 // The same EXR with its data window widened to 60000x60000 (the file still holds 16x16).
 std::string exrLyingAboutItsSize(std::string exr) {
@@ -485,6 +498,24 @@ std::vector<HostileCase> catalogue() {
        "$D/ref.exr", "reference image has no channel G"},
       {"ReferenceTruncated", {validScene(), {"ref.exr", halfOf(exrBytes("R"))}},
        renderWith({"--reference", "$D/ref.exr"}), "$D/ref.exr", "reference image"},
+      {"ReferenceOfAnotherSize", {validScene(), {"ref.exr", rgbExrBytes(16, 16, 0)}},
+       renderWith({"--reference", "$D/ref.exr"}), "$D/ref.exr", "reference image is 16x16, the render 8x6"},
+      {"ReferenceAllNaN", {validScene(), {"ref.exr", rgbExrBytes(8, 6, NAN)}}, renderWith({"--reference", "$D/ref.exr"}),
+       "$D/ref.exr", "reference image has 144 values that are NaN or infinite, the first at pixel (0, 0) channel R (NaN)"},
+      {"ReferenceInfinite", {validScene(), {"ref.exr", rgbExrBytes(8, 6, INFINITY)}},
+       convergeWith({}), "$D/ref.exr", "the first at pixel (0, 0) channel R (infinite)"},
+      {"ConvergeErrorMaskAllZero", {validScene(), {"ref.exr", referenceBytes()}, {"m.exr", rgbExrBytes(8, 6, 0)}},
+       convergeWith({"--error-mask", "$D/m.exr"}), "$D/m.exr", "error mask has no pixel with non-zero red"},
+      {"ConvergeMaskAllZero", {validScene(), {"ref.exr", referenceBytes()}, {"m.exr", rgbExrBytes(8, 6, 0)}},
+       convergeWith({"--mask", "$D/m.exr"}), "$D/m.exr", "mask has no pixel with non-zero red"},
+      {"ConvergeErrorMaskNaN", {validScene(), {"ref.exr", referenceBytes()}, {"m.exr", rgbExrBytes(8, 6, NAN)}},
+       convergeWith({"--error-mask", "$D/m.exr"}), "$D/m.exr", "error mask has 144 values that are NaN or infinite"},
+      {"ConvergeErrorMaskOfAnotherSize", {validScene(), {"ref.exr", referenceBytes()}, {"m.exr", rgbExrBytes(9, 6, 1)}},
+       convergeWith({"--error-mask", "$D/m.exr"}), "$D/m.exr", "error mask is 9x6, the render 8x6"},
+      {"ConvergeClampedRmseOne", {validScene(), {"ref.exr", referenceBytes()}}, convergeWith({"--clamped-rmse", "1"}),
+       "--clamped-rmse", "must lie in (0, 1)"},
+      {"ConvergeClampedRmseText", {validScene(), {"ref.exr", referenceBytes()}}, convergeWith({"--clamped-rmse", "most"}),
+       "--clamped-rmse", ""},
       // --- outputs that cannot be written: nothing at all is left
       {"OutputIsAFolder", {validScene(), folder("out/o.exr")}, {}, "$D/out/o.exr", "is a directory"},
       {"PreviewPathIsAFolder", {validScene(), folder("out/o.png")}, {}, "$D/out/o.png", "is a directory"},
