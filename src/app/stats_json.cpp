@@ -197,7 +197,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                      {"texture_memory_bytes", t.memoryLimitBytes},
                      {"io_time_s", t.ioSeconds}};
   } else {
-    skipped["textures"] = "no image texture or environment map: no texture cache";
+    skipped["textures"] = "no image texture, environment map or height map: no texture cache";
   }
   j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {

@@ -7,8 +7,9 @@
 //  - NoiseDisplacement: fractal value noise of the base surface's POSITION (3D, world space).
 //    A function of position is continuous across patch borders even where (u, v) are not, so
 //    neighbouring patches agree on h at their shared border vertices bit for bit.
-//  - HeightMapDisplacement: a bilinearly filtered image indexed by the patch's (u, v), bounded
-//    by a min-max MIP pyramid. Each patch maps the whole image over its own unit square.
+//  - HeightMapDisplacement: a bilinearly filtered image indexed by the patch's (u, v), read
+//    through the texture cache and bounded by a min-max pyramid built from one streaming pass
+//    over the image. Each patch maps the whole image over its own unit square.
 //
 // Contract of range(): it contains sample(...).h as computed in float, for every float point p
 // inside pBox and every (u, v) inside [u0,u1] x [v0,v1], whatever the other arguments. The
@@ -16,6 +17,7 @@
 // float evaluation's own rounding; tests/geometry/displace_*_test.cpp check it by sampling.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,6 +27,8 @@
 #include "core/vector_isa.h"
 
 namespace rayes {
+
+class TextureImage;  // texture/texture_cache.h
 
 // A height and its derivatives along the base surface's parameters.
 struct HeightSample {
@@ -127,29 +131,50 @@ class NoiseDisplacement final : public Displacement {
   float meanSlope_ = 0;
 };
 
-// A single-channel float image (row-major, row 0 at v = 0) with bilinear filtering (texel
-// centres at ((i + 0.5) / width, (j + 0.5) / height), clamped at the edges), and its min-max
-// MIP pyramid: level L holds, per node, the min and max of the 2^L x 2^L texels it covers.
+// Reads texels [x0, x1) x [y0, y1) of a height map's image, row-major, into out. Thread-safe
+// and a pure function of its arguments (the texture cache: whatever its size or thread count).
+using HeightTexelReader = std::function<void(int x0, int x1, int y0, int y1, float* out)>;
+
+// A single-channel float image (row 0 at v = 0) with bilinear filtering (texel centres at
+// ((i + 0.5) / width, (j + 0.5) / height), clamped at the edges), and a min-max pyramid over
+// cells of kCell x kCell texels: pyramid level L holds, per node, the min and max of the texels
+// of the 2^L x 2^L cells it covers.
+//
+// Memory: the texels are not held. They are read through a HeightTexelReader -- for a scene,
+// the texture cache (texture/texture_cache.h), bounded by --texture-memory -- once at
+// construction, row band by row band, to build the pyramid (about width * height / 24 bytes),
+// and again by sample() and by range() over a few texels.
 // A bilinear sample lies between the min and max of its 4 texels, so the range over a (u, v)
-// rectangle is the min/max over the texels its samples can touch, read from at most 4 nodes.
+// rectangle is the min/max over the texels its samples can touch: read directly when they
+// are few, else from at most 2 x 2 pyramid nodes.
+// Thread safety: const methods are thread-safe if the reader is.
 class HeightMap {
  public:
-  // std::invalid_argument for non-positive sizes, a texel count that does not match, or a
-  // non-finite texel.
+  static constexpr int kCell = 8;  // texels per pyramid cell side
+  // std::invalid_argument for non-positive sizes or a non-finite texel (read at construction).
+  HeightMap(int width, int height, HeightTexelReader read);
+  // An image in memory (tests, benchmarks); also std::invalid_argument if the count does not match.
   HeightMap(int width, int height, std::vector<float> texels);
+  // Channel `channel` of the finest level of a texture-cache image (the scene's height maps).
+  HeightMap(std::shared_ptr<const TextureImage> image, int channel);
   float sample(float u, float v, float* dhdu = nullptr, float* dhdv = nullptr) const;
   Interval range(float u0, float u1, float v0, float v1) const;
-  // Min and max over texels [i0, i1] x [j0, j1] (inclusive, clamped), from the pyramid.
+  // Min and max over texels [i0, i1] x [j0, j1] (inclusive, clamped): exact for at most
+  // kDirectTexels texels, else from the pyramid (containing the exact range).
   Interval texelRange(int i0, int i1, int j0, int j1) const;
   int width() const { return width_; }
   int height() const { return height_; }
-  int levels() const { return int(mins_.size()); }
-  float texel(int i, int j) const { return mins_[0][size_t(j) * width_ + i]; }
+  int levels() const { return int(mins_.size()); }  // pyramid levels
+  size_t pyramidBytes() const;
+  float texel(int i, int j) const;
   float meanNeighbourDifference() const { return meanDiff_; }
 
  private:
+  static constexpr int kDirectTexels = 256;
+  void build();
+  HeightTexelReader read_;
   int width_, height_;
-  std::vector<std::vector<float>> mins_, maxs_;  // per level, row-major, levelWidth(L) wide
+  std::vector<std::vector<float>> mins_, maxs_;  // per pyramid level, row-major, levelWidth(L) wide
   std::vector<int> levelWidth_, levelHeight_;
   float roundingMargin_ = 0;
   float meanDiff_ = 0;

@@ -1,8 +1,12 @@
-// Height maps with a min-max MIP pyramid (see geometry/displacement.h).
+// Height maps read through a texel reader (the texture cache), with a min-max pyramid built
+// in one streaming pass (see geometry/displacement.h).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <string>
 #include "geometry/displacement.h"
+#include "texture/texture_cache.h"
 
 namespace rayes {
 
@@ -11,46 +15,88 @@ inline float clampUnit(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f
 inline float lerp1(float a, float b, float s) { return a + (b - a) * s; }
 }  // namespace
 
+HeightMap::HeightMap(int width, int height, HeightTexelReader read)
+    : read_(std::move(read)), width_(width), height_(height) {
+  build();
+}
+
 HeightMap::HeightMap(int width, int height, std::vector<float> texels) : width_(width), height_(height) {
-  if (width <= 0 || height <= 0 || width > (1 << 16) || height > (1 << 16))
+  if (width > 0 && height > 0 && texels.size() != size_t(width) * size_t(height))
+    throw std::invalid_argument("height map texel count does not match its size");
+  auto image = std::make_shared<const std::vector<float>>(std::move(texels));
+  read_ = [image, width](int x0, int x1, int y0, int y1, float* out) {
+    for (int y = y0; y < y1; ++y, out += x1 - x0)
+      std::copy(image->begin() + (ptrdiff_t(y) * width + x0), image->begin() + (ptrdiff_t(y) * width + x1), out);
+  };
+  build();
+}
+
+HeightMap::HeightMap(std::shared_ptr<const TextureImage> image, int channel)
+    : width_(image ? image->width() : 0), height_(image ? image->height() : 0) {
+  if (!image) throw std::invalid_argument("height map needs an image");
+  read_ = [image, channel](int x0, int x1, int y0, int y1, float* out) { image->texels(0, x0, x1, y0, y1, channel, out); };
+  build();
+}
+
+void HeightMap::build() {
+  if (width_ <= 0 || height_ <= 0 || width_ > (1 << 16) || height_ > (1 << 16))
     throw std::invalid_argument("height map size must be in 1..65536 per side");
-  if (texels.size() != size_t(width) * size_t(height)) throw std::invalid_argument("height map texel count does not match its size");
+  const int w = width_, h = height_;
+  const int cw = (w + kCell - 1) / kCell, ch = (h + kCell - 1) / kCell;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> cellLo(size_t(cw) * ch, inf), cellHi(size_t(cw) * ch, -inf);
+  // One pass over the image, a band of kCell rows (plus the next row, for the differences
+  // between neighbours) at a time: memory is a band, not the image. The differences are summed
+  // in the same order as over the whole image, so the mean (an LOD input) does not depend on
+  // the band height.
+  std::vector<float> band(size_t(kCell + 1) * size_t(w));
   float mag = 0;
-  for (float t : texels) {
-    if (!std::isfinite(t)) throw std::invalid_argument("height map has a non-finite texel");
-    mag = std::max(mag, std::fabs(t));
+  double diff = 0;
+  size_t count = 0;
+  for (int y0 = 0; y0 < h; y0 += kCell) {
+    const int y1 = std::min(h, y0 + kCell), yEnd = std::min(h, y1 + 1);
+    read_(0, w, y0, yEnd, band.data());
+    for (int j = y0; j < yEnd; ++j)
+      for (int i = 0; i < w; ++i)
+        if (!std::isfinite(band[size_t(j - y0) * w + i]))
+          throw std::invalid_argument("height map has a non-finite texel at (" + std::to_string(i) + ", " + std::to_string(j) + ")");
+    for (int j = y0; j < y1; ++j) {
+      const float* row = band.data() + size_t(j - y0) * w;
+      float* lo = cellLo.data() + size_t(j / kCell) * cw;
+      float* hi = cellHi.data() + size_t(j / kCell) * cw;
+      for (int i = 0; i < w; ++i) {
+        const float t = row[i];
+        mag = std::max(mag, std::fabs(t));
+        lo[i / kCell] = std::min(lo[i / kCell], t);
+        hi[i / kCell] = std::max(hi[i / kCell], t);
+        if (i + 1 < w) { diff += std::fabs(row[i + 1] - t); ++count; }
+        if (j + 1 < h) { diff += std::fabs(row[size_t(w) + i] - t); ++count; }
+      }
+    }
   }
   // Three float lerps of values of magnitude <= mag with weights in [0, 1] stay within a few
   // ulps of the exact bilinear blend, which lies between the 4 texels' min and max.
   roundingMargin_ = 2e-6f * mag;
-  double diff = 0;
-  size_t count = 0;
-  for (int j = 0; j < height; ++j)
-    for (int i = 0; i < width; ++i) {
-      const float t = texels[size_t(j) * width + i];
-      if (i + 1 < width) { diff += std::fabs(texels[size_t(j) * width + i + 1] - t); ++count; }
-      if (j + 1 < height) { diff += std::fabs(texels[size_t(j + 1) * width + i] - t); ++count; }
-    }
   meanDiff_ = count ? float(diff / double(count)) : 0.0f;
 
-  mins_.push_back(texels);
-  maxs_.push_back(std::move(texels));
-  levelWidth_.push_back(width);
-  levelHeight_.push_back(height);
+  mins_.push_back(std::move(cellLo));
+  maxs_.push_back(std::move(cellHi));
+  levelWidth_.push_back(cw);
+  levelHeight_.push_back(ch);
   while (levelWidth_.back() > 1 || levelHeight_.back() > 1) {
-    const int w = levelWidth_.back(), h = levelHeight_.back();
-    const int nw = (w + 1) / 2, nh = (h + 1) / 2;  // ceil: level L is ceil(width / 2^L) wide
+    const int lw = levelWidth_.back(), lh = levelHeight_.back();
+    const int nw = (lw + 1) / 2, nh = (lh + 1) / 2;  // ceil: level L is ceil(cells / 2^L) wide
     const std::vector<float>& lo = mins_.back();
     const std::vector<float>& hi = maxs_.back();
     std::vector<float> nlo(size_t(nw) * nh), nhi(size_t(nw) * nh);
     for (int j = 0; j < nh; ++j)
       for (int i = 0; i < nw; ++i) {
-        float a = std::numeric_limits<float>::infinity(), b = -a;
+        float a = inf, b = -inf;
         for (int dj = 0; dj < 2; ++dj)
           for (int di = 0; di < 2; ++di) {
-            const int ci = std::min(2 * i + di, w - 1), cj = std::min(2 * j + dj, h - 1);
-            a = std::min(a, lo[size_t(cj) * w + ci]);
-            b = std::max(b, hi[size_t(cj) * w + ci]);
+            const int ci = std::min(2 * i + di, lw - 1), cj = std::min(2 * j + dj, lh - 1);
+            a = std::min(a, lo[size_t(cj) * lw + ci]);
+            b = std::max(b, hi[size_t(cj) * lw + ci]);
           }
         nlo[size_t(j) * nw + i] = a;
         nhi[size_t(j) * nw + i] = b;
@@ -62,6 +108,19 @@ HeightMap::HeightMap(int width, int height, std::vector<float> texels) : width_(
   }
 }
 
+size_t HeightMap::pyramidBytes() const {
+  size_t n = 0;
+  for (const auto& l : mins_) n += 2 * l.size() * sizeof(float);
+  return n;
+}
+
+float HeightMap::texel(int i, int j) const {
+  float t = 0;
+  read_(std::clamp(i, 0, width_ - 1), std::clamp(i, 0, width_ - 1) + 1, std::clamp(j, 0, height_ - 1),
+        std::clamp(j, 0, height_ - 1) + 1, &t);
+  return t;
+}
+
 float HeightMap::sample(float u, float v, float* dhdu, float* dhdv) const {
   const float x = clampUnit(u) * float(width_) - 0.5f, y = clampUnit(v) * float(height_) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
@@ -69,9 +128,11 @@ float HeightMap::sample(float u, float v, float* dhdu, float* dhdv) const {
   const int ix = int(fx), iy = int(fy);
   const int i0 = std::clamp(ix, 0, width_ - 1), i1 = std::clamp(ix + 1, 0, width_ - 1);
   const int j0 = std::clamp(iy, 0, height_ - 1), j1 = std::clamp(iy + 1, 0, height_ - 1);
-  const std::vector<float>& t = mins_[0];
-  const float t00 = t[size_t(j0) * width_ + i0], t10 = t[size_t(j0) * width_ + i1];
-  const float t01 = t[size_t(j1) * width_ + i0], t11 = t[size_t(j1) * width_ + i1];
+  float t[4];  // the (i1 - i0 + 1) x (j1 - j0 + 1) texels, row-major
+  read_(i0, i1 + 1, j0, j1 + 1, t);
+  const int di = i1 - i0, dj = (j1 - j0) * (di + 1);
+  const float t00 = t[0], t10 = t[di];
+  const float t01 = t[dj], t11 = t[dj + di];
   const float b0 = lerp1(t00, t10, tx), b1 = lerp1(t01, t11, tx);
   if (dhdu) *dhdu = i0 == i1 ? 0.0f : (lerp1(t10, t11, ty) - lerp1(t00, t01, ty)) * float(width_);
   if (dhdv) *dhdv = j0 == j1 ? 0.0f : (b1 - b0) * float(height_);
@@ -83,11 +144,22 @@ Interval HeightMap::texelRange(int i0, int i1, int j0, int j1) const {
   i1 = std::clamp(i1, i0, width_ - 1);
   j0 = std::clamp(j0, 0, height_ - 1);
   j1 = std::clamp(j1, j0, height_ - 1);
+  Interval r{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+  const int n = (i1 - i0 + 1) * (j1 - j0 + 1);
+  if (n <= kDirectTexels) {
+    float t[kDirectTexels];
+    read_(i0, i1 + 1, j0, j1 + 1, t);
+    for (int k = 0; k < n; ++k) {
+      r.lo = std::min(r.lo, t[k]);
+      r.hi = std::max(r.hi, t[k]);
+    }
+    return r;
+  }
+  i0 /= kCell, i1 /= kCell, j0 /= kCell, j1 /= kCell;
   // The finest level at which the range spans at most 2 x 2 nodes.
   int L = 0;
   while ((i1 >> L) - (i0 >> L) > 1 || (j1 >> L) - (j0 >> L) > 1) ++L;
   const int w = levelWidth_[size_t(L)];
-  Interval r{std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
   for (int j = j0 >> L; j <= j1 >> L; ++j)
     for (int i = i0 >> L; i <= i1 >> L; ++i) {
       r.lo = std::min(r.lo, mins_[size_t(L)][size_t(j) * w + i]);
@@ -107,14 +179,20 @@ Interval HeightMap::range(float u0, float u1, float v0, float v1) const {
     // Few cells: per cell, the bilinear blend over a rectangle of weights takes its extremes
     // at the rectangle's corners (it is linear along each edge and has no interior extremum
     // but a saddle). The weights t = x - floor(x) are those sample() computes, monotone in x.
+    // The texels of all the cells, read at once: at most 17 x 2 (16 cells in a row).
+    const int bi0 = std::clamp(int(fx0), 0, width_ - 1), bi1 = std::clamp(int(fx1) + 1, 0, width_ - 1);
+    const int bj0 = std::clamp(int(fy0), 0, height_ - 1), bj1 = std::clamp(int(fy1) + 1, 0, height_ - 1);
+    const int bw = bi1 - bi0 + 1;
+    float block[34];
+    read_(bi0, bi1 + 1, bj0, bj1 + 1, block);
+    auto at = [&](int i, int j) { return double(block[size_t(j - bj0) * bw + (i - bi0)]); };
     double lo = 1e300, hi = -1e300;
     for (int iy = int(fy0); iy <= int(fy1); ++iy)
       for (int ix = int(fx0); ix <= int(fx1); ++ix) {
         const int i0 = std::clamp(ix, 0, width_ - 1), i1 = std::clamp(ix + 1, 0, width_ - 1);
         const int j0 = std::clamp(iy, 0, height_ - 1), j1 = std::clamp(iy + 1, 0, height_ - 1);
-        const std::vector<float>& t = mins_[0];
-        const double t00 = t[size_t(j0) * width_ + i0], t10 = t[size_t(j0) * width_ + i1];
-        const double t01 = t[size_t(j1) * width_ + i0], t11 = t[size_t(j1) * width_ + i1];
+        const double t00 = at(i0, j0), t10 = at(i1, j0);
+        const double t01 = at(i0, j1), t11 = at(i1, j1);
         const float ax = ix == int(fx0) ? x0 - fx0 : 0.0f, bx = ix == int(fx1) ? x1 - fx1 : 1.0f;
         const float ay = iy == int(fy0) ? y0 - fy0 : 0.0f, by = iy == int(fy1) ? y1 - fy1 : 1.0f;
         for (double wx : {double(ax), double(bx)})

@@ -2,15 +2,15 @@
 //   {"type": "noise", "amplitude": a, "frequency": f, "octaves": n, "gain": g, "lacunarity": l,
 //    "seed": s, "ridged": b, "offset": o}
 //   {"type": "image", "file": "h.exr", "amplitude": a, "offset": o, "channel": "Y"}
-// Height maps are read here with OpenEXR (dicing must not depend on it) and handed to dicing
-// as a plain float array. Every error names the scene file, line:column and JSON pointer; an
-// unreadable image also names the image file.
+// A height map's header is checked here with OpenEXR (the channel named or found); its texels
+// are read through the scene's texture cache (geometry/displacement.h, HeightMap). Every error
+// names the scene file, line:column and JSON pointer; an unreadable image also names the image.
 #include <filesystem>
 #include <ImfChannelList.h>
-#include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <cstring>
+#include "core/error.h"
 #include "geometry/displaced_patch.h"
 #include "geometry/displacement.h"
 #include "scene/exr_input.h"
@@ -21,54 +21,55 @@ namespace rayes {
 namespace {
 
 std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::string& ptr,
-                                                const std::filesystem::path& path, const std::string& wanted) {
-  int width = 0, height = 0;
-  std::vector<float> texels;
+                                                const std::filesystem::path& path, const std::string& wanted,
+                                                Scene& scene) {
+  // The header is read with OpenEXR first: its checks (a truncated file, a lying size) and the
+  // choice of channel come before the texture cache converts anything.
+  std::string name = wanted, failure;
   std::unique_ptr<Imf::InputFile> in;
   try {
     in = openExrInput(path, "height map");
   } catch (const InputError& e) {
     r.fail(ptr + "/file", e.message());
   }
-  try {
-    Imf::InputFile& file = *in;
-    const Imf::ChannelList& channels = file.header().channels();
-    std::string name = wanted;
-    if (name.empty()) {
-      for (const char* c : {"Y", "R"})
-        if (channels.findChannel(c)) { name = c; break; }
-      if (name.empty() && channels.begin() != channels.end() && ++channels.begin() == channels.end())
-        name = channels.begin().name();
-      if (name.empty()) r.fail(ptr + "/file", "height map '" + path.string() + "' has no channel Y or R (name one with 'channel')");
-    } else if (!channels.findChannel(name.c_str())) {
-      r.fail(ptr + "/channel", "height map '" + path.string() + "' has no channel '" + name + "'");
-    }
-    const Imath::Box2i dw = file.header().dataWindow();
-    width = dw.max.x - dw.min.x + 1;
-    height = dw.max.y - dw.min.y + 1;
-    texels.assign(size_t(width) * size_t(height), 0.0f);
-    Imf::FrameBuffer fb;
-    // Slice::Make places the data window's origin at texels[0] (OpenEXR does the pointer
-    // arithmetic; a pointer moved outside the vector here would be undefined behaviour).
-    fb.insert(name.c_str(), Imf::Slice::Make(Imf::FLOAT, texels.data(), dw, sizeof(float), sizeof(float) * size_t(width)));
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    r.fail(ptr + "/file", "cannot read height map '" + path.string() + "': " + e.what());
+  const Imf::ChannelList& channels = in->header().channels();
+  if (name.empty()) {
+    for (const char* c : {"Y", "R"})
+      if (channels.findChannel(c)) { name = c; break; }
+    if (name.empty() && channels.begin() != channels.end() && ++channels.begin() == channels.end())
+      name = channels.begin().name();
+    if (name.empty()) r.fail(ptr + "/file", "height map '" + path.string() + "' has no channel Y or R (name one with 'channel')");
+  } else if (!channels.findChannel(name.c_str())) {
+    r.fail(ptr + "/channel", "height map '" + path.string() + "' has no channel '" + name + "'");
   }
-  // EXR rows run top to bottom; v = 0 is the first row (docs/scene-format.md).
-  for (size_t k = 0; k < texels.size(); ++k)
-    if (!std::isfinite(texels[k]))
-      r.fail(ptr + "/file", "height map '" + path.string() + "' has a non-finite texel at (" +
-                                std::to_string(k % size_t(width)) + ", " + std::to_string(k / size_t(width)) + ")");
-  return std::make_shared<HeightMap>(width, height, std::move(texels));
+  in.reset();
+  // The texels are paged through the scene's texture cache (a plain EXR is converted once to a
+  // tiled MIP-mapped file, keeping its float or half texels); EXR rows run top to bottom and
+  // v = 0 is the first row (docs/scene-format.md), as in the cache's t.
+  std::shared_ptr<const TextureImage> image;
+  try {
+    image = scene.textureCache().open(path);
+  } catch (const ResourceError&) {
+    throw;
+  } catch (const InputError& e) {
+    if (e.file().rfind("--", 0) == 0) throw;  // the conversion folder, an option's fault
+    r.fail(ptr + "/file", "cannot read height map '" + path.string() + "': " + e.message());
+  }
+  const int channel = image->channelIndex(name);
+  if (channel < 0) r.fail(ptr + "/channel", "height map '" + path.string() + "' has no channel '" + name + "'");
+  try {
+    return std::make_shared<HeightMap>(image, channel);
+  } catch (const InputError& e) {
+    failure = e.message();
+  } catch (const std::invalid_argument& e) {
+    failure = e.what();
+  }
+  r.fail(ptr + "/file", "cannot read height map '" + path.string() + "': " + failure);
 }
 
 }  // namespace
 
-DisplacementPtr readDisplacement(const ShapeContext& ctx) {
+DisplacementPtr readDisplacement(const ShapeContext& ctx, Scene& scene) {
   const JsonReader& r = ctx.reader;
   const std::string p = ctx.ptr + "/displacement";
   const json& d = ctx.shape.at("displacement");
@@ -109,7 +110,7 @@ DisplacementPtr readDisplacement(const ShapeContext& ctx) {
     if (!std::filesystem::exists(fp)) r.fail(p + "/file", "cannot open height map '" + fp.string() + "'");
     if (std::filesystem::is_directory(fp)) r.fail(p + "/file", "height map '" + fp.string() + "' is a directory");
     const std::string channel = d.contains("channel") ? r.string(d["channel"], p + "/channel") : "";
-    auto map = readHeightMap(r, p, fp, channel);
+    auto map = readHeightMap(r, p, fp, channel, scene);
     return std::make_shared<HeightMapDisplacement>(std::move(map), float(amplitude), float(offset));
   }
   r.fail(p + "/type", "unknown displacement type '" + type + "' (expected image, noise)");

@@ -12,6 +12,7 @@
 #include "geometry/patch.h"
 #include "scene/leaf_uv_table.h"
 #include "scene/json_reader.h"
+#include "scene/scene.h"
 
 namespace rayes {
 
@@ -56,7 +57,8 @@ std::vector<PatchPtr> movingPatches(const Motion& m, const Transform& xf,
                                     const std::function<std::vector<PatchPtr>(const Transform&)>& build);
 
 // The "displacement" modifier of ctx.shape (displacement_reader.cpp; the shape must have it).
-DisplacementPtr readDisplacement(const ShapeContext& ctx);
+// A height map is opened in scene.textureCache().
+DisplacementPtr readDisplacement(const ShapeContext& ctx, Scene& scene);
 // `patches` = source.build(xf), each wrapped in a DisplacedPatch when `d` is not null. The
 // displacement is a function of the object-space surface (source.build of the identity), so
 // the pattern moves with the shape's transform and is the same at every time sample.

@@ -95,7 +95,7 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     r.objectKeys(shape, p, allowed);
     const uint32_t mat = materialRef(r, shape, p, materials);
     const Transform xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : Transform{};
-    const DisplacementPtr disp = shape.contains("displacement") ? readDisplacement(ctx) : nullptr;
+    const DisplacementPtr disp = shape.contains("displacement") ? readDisplacement(ctx, scene) : nullptr;
     const auto build = [&](const Transform& t) { return displacePatches(disp, source, t, source.build(t)); };
     // With "motion": one set of patches per time sample, each patch a MovingPatch of its versions.
     std::vector<PatchPtr> patches = shape.contains("motion") ? movingPatches(readMotion(ctx), xf, build) : build(xf);

@@ -83,6 +83,11 @@ void TextureImage::texels(int level, int x0, int x1, int y0, int y1, int channel
     fail("cannot read texels of MIP level " + std::to_string(level));
 }
 
+int TextureImage::channelIndex(const std::string& name) const {
+  const auto it = std::find(channelNames_.begin(), channelNames_.end(), name);
+  return it == channelNames_.end() ? -1 : int(it - channelNames_.begin());
+}
+
 std::vector<Rgb> TextureImage::levelRgb(int level) const {
   const int w = levelWidth(level), h = levelHeight(level);
   std::vector<Rgb> out(size_t(w) * size_t(h));
@@ -163,6 +168,7 @@ std::shared_ptr<const TextureImage> TextureCache::open(const std::filesystem::pa
   image->channels_ = channels;
   if (image->width_ <= 0 || image->height_ <= 0 || channels <= 0) throw InputError(source.string(), "", "the image has no pixels");
   OIIO::ImageSpec spec;
+  if (ts->imagecache()->get_imagespec(name, spec, 0, 0)) image->channelNames_ = spec.channelnames;
   int levels = 1;
   while (ts->imagecache()->get_imagespec(name, spec, 0, levels)) ++levels;
   image->levels_ = levels;

@@ -74,6 +74,8 @@ class TextureImage {
   int levelWidth(int level) const { return std::max(1, width_ >> level); }
   int levelHeight(int level) const { return std::max(1, height_ >> level); }
   const std::string& file() const { return source_; }  // the file the scene names
+  // The index of the channel named `name` (OIIO's order: R, G, B, A first), or -1.
+  int channelIndex(const std::string& name) const;
 
   // A filtered lookup over the footprint with axes (dsdx, dtdx) and (dsdy, dtdy) about (s, t):
   // OIIO's anisotropic MIP filter with bilinear texel interpolation. Zero axes: a bilinear
@@ -96,6 +98,7 @@ class TextureImage {
   void* system_ = nullptr;               // OIIO::TextureSystem*
   void* handle_ = nullptr;               // OIIO::TextureSystem::TextureHandle*
   std::string source_, path_;
+  std::vector<std::string> channelNames_;
   int width_ = 0, height_ = 0, channels_ = 0, levels_ = 1;
 };
 

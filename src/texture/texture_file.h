@@ -12,8 +12,8 @@
 // place is taken as linear whatever its format (make such files from float images, or give the
 // renderer the PNG itself). NaN texels
 // become black. MIP levels are box-filtered (so a level's texels never leave the range of the
-// texels below them: the environment's sampling distribution and the height maps' bounds rely
-// on it).
+// texels below them: the environment's sampling distribution relies on it). Height maps use
+// only the finest level (geometry/displacement.h: their bounds are a pyramid of their own).
 //
 // Functions here are thread-compatible (one conversion per file at a time; a second process
 // converting the same file writes its own temporary and renames it over the same bytes).

@@ -1,8 +1,13 @@
-// Height maps: bilinear filtering and the min-max MIP pyramid (geometry/displacement.h).
+// Height maps: bilinear filtering and the min-max pyramid (geometry/displacement.h), from
+// memory and through the texture cache.
 #include <gtest/gtest.h>
+#include <cstring>
 #include <memory>
+#include <OpenImageIO/imageio.h>
 #include "geometry/displacement.h"
 #include "support/patch_test_util.h"
+#include "support/temp_folder.h"
+#include "texture/texture_cache.h"
 
 namespace rayes {
 namespace {
@@ -91,9 +96,64 @@ TEST(HeightMap, DerivativesMatchDifferences) {
 }
 
 TEST(HeightMap, RejectsBadInput) {
-  EXPECT_THROW(HeightMap(0, 3, {}), std::invalid_argument);
-  EXPECT_THROW(HeightMap(2, 2, {1, 2, 3}), std::invalid_argument);
-  EXPECT_THROW(HeightMap(1, 1, {std::nanf("")}), std::invalid_argument);
+  EXPECT_THROW(HeightMap(0, 3, std::vector<float>{}), std::invalid_argument);
+  EXPECT_THROW(HeightMap(2, 2, std::vector<float>{1, 2, 3}), std::invalid_argument);
+  EXPECT_THROW(HeightMap(1, 1, std::vector<float>{std::nanf("")}), std::invalid_argument);
+}
+
+// A large image read through a small texture cache: the pyramid is a small fraction of the
+// image, samples equal those of the same texels in memory bit for bit, and every range holds
+// the samples of its rectangle.
+TEST(HeightMap, LargeImageThroughASmallCache) {
+  const int w = 4096, h = 4096;
+  std::vector<float> texels(size_t(w) * h);
+  Random rng(11);
+  // Smooth hills plus noise: ranges over large rectangles are narrower than the whole image's.
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      texels[size_t(j) * w + i] = std::sin(float(i) * 0.003f) * std::cos(float(j) * 0.002f) * 10.0f + rng.uniform(-1.0f, 1.0f);
+  const testing::TempFolder temp;
+  const std::string file = (temp.dir() / "big.exr").string();
+  {
+    auto out = OIIO::ImageOutput::create(file);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(file, OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, texels.data()));
+    out->close();
+  }
+  TextureCacheOptions options;
+  options.memoryBytes = uint64_t(4) << 20;  // a sixteenth of the image
+  options.conversionDir = temp.dir() / "converted";
+  options.notice = [](const std::string&) {};
+  const auto cache = TextureCache::make(options);
+  const HeightMap cached(cache->open(file), 0);
+  const HeightMap memory(w, h, texels);
+  ASSERT_EQ(cached.width(), w);
+  // Two floats per cell of kCell x kCell texels, and a third more for the coarser levels.
+  const double cells = double(w / HeightMap::kCell) * double(h / HeightMap::kCell);
+  EXPECT_LE(double(cached.pyramidBytes()), 2 * sizeof(float) * cells * 4 / 3 + 64);
+  EXPECT_EQ(cached.meanNeighbourDifference(), memory.meanNeighbourDifference());
+  EXPECT_GT(cache->stats().tilesRead, 0u);
+
+  int outside = 0;
+  for (int b = 0; b < 300; ++b) {
+    const float su = std::pow(10.0f, rng.uniform(-5, 0)), sv = std::pow(10.0f, rng.uniform(-5, 0));
+    const float u0 = rng.uniform(0, 1 - su), v0 = rng.uniform(0, 1 - sv), u1 = u0 + su, v1 = v0 + sv;
+    const Interval r = cached.range(u0, u1, v0, v1);
+    for (int k = 0; k < 300; ++k) {
+      const int pu = rng.below(6), pv = rng.below(6);
+      const float u = pu == 0 ? u0 : pu == 1 ? u1 : std::min(u1, u0 + su * rng.uniform());
+      const float v = pv == 0 ? v0 : pv == 1 ? v1 : std::min(v1, v0 + sv * rng.uniform());
+      float du = 0, dv = 0, mu = 0, mv = 0;
+      const float x = cached.sample(u, v, &du, &dv);
+      const float y = memory.sample(u, v, &mu, &mv);
+      ASSERT_EQ(std::memcmp(&x, &y, sizeof x), 0) << u << " " << v;
+      ASSERT_EQ(du, mu);
+      ASSERT_EQ(dv, mv);
+      if (!r.contains(x)) ++outside;
+    }
+  }
+  EXPECT_EQ(outside, 0);
 }
 
 TEST(HeightMapDisplacement, AmplitudeAndOffsetApplyToTheRange) {

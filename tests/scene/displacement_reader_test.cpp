@@ -55,6 +55,10 @@ TEST(DisplacementReader, HeightMapFromExr) {
   // The first texel row is v = 0; the corner (0, 0) reads texel (0, 0) = 0: h = -0.5.
   EXPECT_NEAR(s.leaves.patch(0)->evaluate(0, 0).p.z, -0.5f, 1e-5f);
   EXPECT_NEAR(s.leaves.patch(0)->evaluate(1, 1).p.z, -0.5f + 1.1f, 1e-5f);
+  // Its texels came through the scene's texture cache (one image, tiles read).
+  ASSERT_TRUE(s.textures);
+  EXPECT_EQ(s.textures->stats().files, 1u);
+  EXPECT_GT(s.textures->stats().tilesRead, 0u);
   // A relative name is relative to the scene file.
   const std::string scenePath = (dir / "scene.json").string();
   FILE* f = std::fopen(scenePath.c_str(), "w");
