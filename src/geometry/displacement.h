@@ -158,6 +158,10 @@ class HeightMap {
   // Channel `channel` of the finest level of a texture-cache image (the scene's height maps).
   HeightMap(std::shared_ptr<const TextureImage> image, int channel);
   float sample(float u, float v, float* dhdu = nullptr, float* dhdv = nullptr) const;
+  // sample() at n points of one v (a grid row), bit for bit: out[i] = sample(u[i], v), dhdu[i],
+  // dhdv[i]. The two texel rows the points read are fetched in one call (per sample, one call
+  // each made dicing 1.65x slower through the texture cache).
+  void sampleRow(int n, const float* u, float v, float* out, float* dhdu, float* dhdv) const;
   Interval range(float u0, float u1, float v0, float v1) const;
   // Min and max over texels [i0, i1] x [j0, j1] (inclusive, clamped): exact for at most
   // kDirectTexels texels, else from the pyramid (containing the exact range).
@@ -185,6 +189,8 @@ class HeightMapDisplacement final : public Displacement {
  public:
   HeightMapDisplacement(std::shared_ptr<const HeightMap> map, float amplitude, float offset);
   HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const override;
+  void sampleRow(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, const float* u, float v,
+                 HeightSample* out) const override;
   Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const override;
   float meanSlopePerLength() const override { return 0; }
   float meanSlopePerParameter() const override;

@@ -121,6 +121,48 @@ float HeightMap::texel(int i, int j) const {
   return t;
 }
 
+namespace {
+// One point's bilinear blend from its four texels: the one formula sample() and sampleRow()
+// share, so the two agree bit for bit.
+inline float blend(float t00, float t10, float t01, float t11, float tx, float ty, bool flatU, bool flatV, int w, int h,
+                   float* dhdu, float* dhdv) {
+  const float b0 = lerp1(t00, t10, tx), b1 = lerp1(t01, t11, tx);
+  if (dhdu) *dhdu = flatU ? 0.0f : (lerp1(t10, t11, ty) - lerp1(t00, t01, ty)) * float(w);
+  if (dhdv) *dhdv = flatV ? 0.0f : (b1 - b0) * float(h);
+  return lerp1(b0, b1, ty);
+}
+}  // namespace
+
+void HeightMap::sampleRow(int n, const float* u, float v, float* out, float* dhdu, float* dhdv) const {
+  if (n <= 0) return;
+  const float y = clampUnit(v) * float(height_) - 0.5f;
+  const float fy = std::floor(y), ty = y - fy;
+  const int iy = int(fy);
+  const int j0 = std::clamp(iy, 0, height_ - 1), j1 = std::clamp(iy + 1, 0, height_ - 1);
+  // The texel columns the row's points read, fetched once for rows j0 and j1.
+  int lo = width_ - 1, hi = 0;
+  for (int k = 0; k < n; ++k) {
+    const int ix = int(std::floor(clampUnit(u[k]) * float(width_) - 0.5f));
+    lo = std::min(lo, std::clamp(ix, 0, width_ - 1));
+    hi = std::max(hi, std::clamp(ix + 1, 0, width_ - 1));
+  }
+  if (lo > hi) lo = hi;
+  const int cols = hi - lo + 1, rows = j1 - j0 + 1;
+  thread_local std::vector<float> block;
+  block.resize(size_t(cols) * size_t(rows));
+  read_(lo, hi + 1, j0, j1 + 1, block.data());
+  const float* r0 = block.data();
+  const float* r1 = block.data() + size_t(rows - 1) * size_t(cols);
+  for (int k = 0; k < n; ++k) {
+    const float x = clampUnit(u[k]) * float(width_) - 0.5f;
+    const float fx = std::floor(x), tx = x - fx;
+    const int ix = int(fx);
+    const int i0 = std::clamp(ix, 0, width_ - 1) - lo, i1 = std::clamp(ix + 1, 0, width_ - 1) - lo;
+    out[k] = blend(r0[i0], r0[i1], r1[i0], r1[i1], tx, ty, i0 == i1, j0 == j1, width_, height_, dhdu ? dhdu + k : nullptr,
+                   dhdv ? dhdv + k : nullptr);
+  }
+}
+
 float HeightMap::sample(float u, float v, float* dhdu, float* dhdv) const {
   const float x = clampUnit(u) * float(width_) - 0.5f, y = clampUnit(v) * float(height_) - 0.5f;
   const float fx = std::floor(x), fy = std::floor(y);
@@ -131,12 +173,7 @@ float HeightMap::sample(float u, float v, float* dhdu, float* dhdv) const {
   float t[4];  // the (i1 - i0 + 1) x (j1 - j0 + 1) texels, row-major
   read_(i0, i1 + 1, j0, j1 + 1, t);
   const int di = i1 - i0, dj = (j1 - j0) * (di + 1);
-  const float t00 = t[0], t10 = t[di];
-  const float t01 = t[dj], t11 = t[dj + di];
-  const float b0 = lerp1(t00, t10, tx), b1 = lerp1(t01, t11, tx);
-  if (dhdu) *dhdu = i0 == i1 ? 0.0f : (lerp1(t10, t11, ty) - lerp1(t00, t01, ty)) * float(width_);
-  if (dhdv) *dhdv = j0 == j1 ? 0.0f : (b1 - b0) * float(height_);
-  return lerp1(b0, b1, ty);
+  return blend(t[0], t[di], t[dj], t[dj + di], tx, ty, i0 == i1, j0 == j1, width_, height_, dhdu, dhdv);
 }
 
 Interval HeightMap::texelRange(int i0, int i1, int j0, int j1) const {
@@ -219,6 +256,16 @@ HeightSample HeightMapDisplacement::sample(Vec3, Vec3, Vec3, float u, float v) c
   float du = 0, dv = 0;
   const float t = map_->sample(u, v, &du, &dv);
   return {offset_ + amplitude_ * t, amplitude_ * du, amplitude_ * dv};
+}
+
+void HeightMapDisplacement::sampleRow(int n, const Vec3*, const Vec3*, const Vec3*, const float* u, float v,
+                                      HeightSample* out) const {
+  thread_local std::vector<float> t, du, dv;
+  t.resize(size_t(std::max(n, 0)));
+  du.resize(t.size());
+  dv.resize(t.size());
+  map_->sampleRow(n, u, v, t.data(), du.data(), dv.data());
+  for (int k = 0; k < n; ++k) out[k] = {offset_ + amplitude_ * t[size_t(k)], amplitude_ * du[size_t(k)], amplitude_ * dv[size_t(k)]};
 }
 
 Interval HeightMapDisplacement::range(const Box3&, float u0, float u1, float v0, float v1) const {

@@ -2,6 +2,7 @@
 // memory and through the texture cache.
 #include <gtest/gtest.h>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <OpenImageIO/imageio.h>
 #include "geometry/displacement.h"
@@ -29,6 +30,32 @@ TEST(HeightMap, SampleIsBetweenItsFourTexelsAndInterpolatesCentres) {
   // Edges clamp.
   EXPECT_FLOAT_EQ(map->sample(0, 0), map->texel(0, 0));
   EXPECT_FLOAT_EQ(map->sample(1, 1), map->texel(4, 2));
+}
+
+// A grid row is sampled with its texels fetched once (DisplacedPatch::dice through
+// Displacement::sampleRow): the same bits as one point at a time, at the clamped edges, on
+// one-texel-wide maps and for parameters outside [0, 1] or NaN too.
+TEST(HeightMap, RowSamplesEqualPointSamplesBitForBit) {
+  Random rng(7);
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{37, 23}, {1, 9}, {9, 1}, {1, 1}}) {
+    const auto map = randomMap(w, h, uint64_t(w * 100 + h));
+    const HeightMapDisplacement disp(map, 0.75f, -0.25f);
+    for (int row = 0; row < 40; ++row) {
+      const int n = 1 + int(rng.uniform(0.0f, 30.0f));
+      const float v = row == 0 ? -0.5f : row == 1 ? 1.5f : rng.uniform(0.0f, 1.0f);
+      std::vector<float> u(static_cast<size_t>(n));
+      for (auto& x : u) x = rng.uniform(-0.2f, 1.2f);
+      if (row == 2) u[0] = std::numeric_limits<float>::quiet_NaN();
+      std::vector<Vec3> p(static_cast<size_t>(n));
+      std::vector<HeightSample> got(static_cast<size_t>(n));
+      disp.sampleRow(n, p.data(), p.data(), p.data(), u.data(), v, got.data());
+      for (int k = 0; k < n; ++k) {
+        const HeightSample want = disp.sample(p[size_t(k)], p[size_t(k)], p[size_t(k)], u[size_t(k)], v);
+        EXPECT_EQ(std::memcmp(&want, &got[size_t(k)], sizeof want), 0)
+            << w << "x" << h << " u " << u[size_t(k)] << " v " << v << ": " << got[size_t(k)].h << " against " << want.h;
+      }
+    }
+  }
 }
 
 TEST(HeightMap, PyramidRangeContainsTheBruteForceRange) {
