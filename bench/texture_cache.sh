@@ -10,13 +10,22 @@
 # tile-cache hit rate, tiles read, bytes read, I/O seconds, peak RSS; and checks the three images
 # are the same bits. A warm-up render first, so the page cache holds the files for every run.
 # Usage: bench/texture_cache.sh [SIZE] [COUNT] [RES] [SPP]     (default 4096 4 640x320 4)
+# With SCENE=FILE, that scene instead of the quads, its textures made into the folder `textures`
+# beside it (bench/creature-textured.json: `SCENE=bench/creature-textured.json
+# bench/texture_cache.sh 8192 2 320x240 4`, the uv-mapped creature with two 8K textures).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 size=${1:-4096} count=${2:-4} res=${3:-640x320} spp=${4:-4}
-tex=build/bench-textures/$size
-scenes/make_textures.sh "$tex" "$size" "$count"
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+if [ -n "${SCENE:-}" ]; then
+  tex=$(dirname "$SCENE")/textures
+  scenes/make_textures.sh "$tex" "$size" "$count"
+  scene=$SCENE
+else
+scene=$out/scene.json
+tex=build/bench-textures/$size
+scenes/make_textures.sh "$tex" "$size" "$count"
 python3 - "$out/scene.json" "$tex" "$count" <<'PY'
 import json, os, sys
 path, tex, count = sys.argv[1], os.path.abspath(sys.argv[2]), int(sys.argv[3])
@@ -32,8 +41,9 @@ scene = {"camera": {"position": [0, -1.6, 1.4], "look_at": [0, 0.1, 0], "up": [0
          "lights": [{"type": "environment", "radiance": [1, 1, 1]}]}
 json.dump(scene, open(path, "w"), indent=1)
 PY
+fi
 bytes=$(python3 -c "import os,sys; print(sum(os.path.getsize(f'$tex/tex{k}.tx') for k in range($count)))")
-common=(render "$out/scene.json" --res "$res" --spp "$spp" --threads 2 -q)
+common=(render "$scene" --res "$res" --spp "$spp" --threads 2 -q)
 build/bin/rayes "${common[@]}" -o "$out/warm.exr" --texture-memory 4G --stats "$out/warm.json"
 image=$(python3 -c "import json; print(json.load(open('$out/warm.json'))['textures']['image_bytes'])")
 small=$((image / 16))
