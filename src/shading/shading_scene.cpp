@@ -16,24 +16,35 @@ std::vector<uint32_t> shadeRanks(const std::vector<uint32_t>& leafMaterial) {
   return rank;
 }
 
+namespace {
+// The leaf's uv set at the hit, when a texture may read it: a material that reads no texture
+// needs no query at all, so its hits skip the uv set's evaluation (a Bfr face-varying surface on
+// subdivision leaves) and the footprint's solve.
+bool needsQuery(const ShadingScene& scene, const RayHit& h) {
+  return scene.materials[scene.leafMaterial[h.leaf]].textured();
+}
+bool uvAt(const ShadingScene& scene, const RayHit& h, TexCoordSample& st) {
+  if (!scene.texCoords || !scene.texCoords->has(h.leaf)) return false;
+  st = scene.texCoords->at(h.leaf, h.u, h.v);
+  return true;
+}
+}  // namespace
+
 TextureQuery textureQueryAt(const ShadingScene& scene, const Ray& ray, const RayHit& h, const HitDerivatives* dpd,
                             float widthScale) {
+  if (!needsQuery(scene, h)) return TextureQuery::at(h.u, h.v);
   TexCoordSample st;
-  const bool hasUv = scene.texCoords && scene.texCoords->has(h.leaf);
-  if (hasUv) st = scene.texCoords->at(h.leaf, h.u, h.v);
+  const bool hasUv = uvAt(scene, h, st);
   // The cone may narrow toward a focus (negative spread): its width is never below zero.
   const float width = std::max(0.0f, ray.coneWidth + h.t * ray.coneSpread) * widthScale;
   return footprintQuery(h.u, h.v, ray.dir, h.ng(), width, dpd, hasUv ? &st : nullptr);
 }
 
 TextureQuery textureQueryAt(const ShadingScene& scene, const RayHit& h) {
-  TextureQuery q = TextureQuery::at(h.u, h.v);
-  if (scene.texCoords && scene.texCoords->has(h.leaf)) {
-    const TexCoordSample st = scene.texCoords->at(h.leaf, h.u, h.v);
-    q.hasUv = true;
-    q.uv.x = st.s; q.uv.y = st.t;
-  }
-  return q;
+  if (!needsQuery(scene, h)) return TextureQuery::at(h.u, h.v);
+  TexCoordSample st;
+  const bool hasUv = uvAt(scene, h, st);
+  return footprintQuery(h.u, h.v, Vec3{}, Vec3{}, 0.0f, nullptr, hasUv ? &st : nullptr);
 }
 
 }  // namespace rayes
