@@ -6,12 +6,16 @@
 #include "fuzz/fuzz_input.h"
 #include "texture/texture_file.h"
 
+// Under libFuzzer's -malloc_limit_mb=2048 an allocation beyond 2 GB is a finding: a header that
+// claims more pixels than that is refused by the conversion's memory check instead.
+constexpr uint64_t kConversionMemory = uint64_t(1) << 30;
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("rayes-fuzz-textures-" + std::to_string(getpid()));
   try {
-    rayes::prepareTextureFile(rayes::fuzz::writeInputFile(data, size, ".exr"), dir, {});
-  } catch (const rayes::InputError&) {
+    rayes::prepareTextureFile(rayes::fuzz::writeInputFile(data, size, ".exr"), dir, {}, kConversionMemory);
+  } catch (const rayes::InputError&) {  // a ResourceError too
   }
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);

@@ -1,5 +1,6 @@
 #include "texture/texture_file.h"
 #include <cstdio>
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -13,6 +14,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include "core/error.h"
+#include "core/memory.h"
 #include "core/text_file.h"
 
 namespace rayes {
@@ -111,7 +113,20 @@ std::string fileContentHash(const std::filesystem::path& file, uint64_t seed) {
 
 namespace {
 
-PreparedTextureFile prepared(const std::filesystem::path& source, const std::filesystem::path& cacheDir) {
+// The source's pixels, read with ImageInput into a buffer of this call. Not through an ImageBuf
+// that names the file: that reads through OpenImageIO's shared ImageCache, which keeps what it
+// learnt of a path across calls, so a file rewritten under the same name (the fuzzers do it on
+// every input) was read with the old file's layout and OpenImageIO's own buffers were corrupted.
+bool readPixels(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::ImageBuf& pixels) {
+  OIIO::ImageSpec layout = spec;
+  layout.set_format(spec.format);  // one format for every channel (an EXR may mix half and float)
+  layout.channelformats.clear();
+  pixels.reset(layout);
+  return in.read_image(0, 0, 0, spec.nchannels, spec.format, pixels.localpixels());
+}
+
+PreparedTextureFile prepared(const std::filesystem::path& source, const std::filesystem::path& cacheDir,
+                             uint64_t conversionMemoryBytes) {
   const std::string name = source.string();
   std::error_code ec;
   // Missing, a folder, a FIFO or a device: refused before any reader opens it (a FIFO would block).
@@ -121,24 +136,49 @@ PreparedTextureFile prepared(const std::filesystem::path& source, const std::fil
   const OIIO::ImageSpec spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw InputError(name, "", "the image has no pixels");
-  // A PNG is deflated, which expands at most 1032:1: a header claiming more pixels than the file
-  // can hold is a lie, refused before the conversion allocates them.
-  const uint64_t rawBytes = uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) * spec.format.size();
-  if (std::string(in->format_name()) == "png" && rawBytes > 1032 * fileBytes + 65536)
+  // In double: width x height x channels can pass 2^64 bytes. A PNG is deflated, which expands at
+  // most 1032:1: a header claiming more pixels than the file can hold is a lie, refused before
+  // the conversion allocates them.
+  const double texels = double(spec.width) * double(spec.height) * double(spec.nchannels);
+  const double rawBytes = texels * double(spec.format.size());
+  if (std::string(in->format_name()) == "png" && rawBytes > 1032.0 * double(fileBytes) + 65536.0)
     throw InputError(name, "", "the header claims " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                                    " pixels, more than its " + std::to_string(fileBytes) + " bytes can hold");
   if (spec.depth > 1) throw InputError(name, "", "a volume image is not a surface texture");
   const bool tiled = spec.tile_width > 0;
   const bool mipmapped = in->seek_subimage(0, 1) || (spec.width == 1 && spec.height == 1);
   const bool linear = isFloatFormat(spec.format);
-  in->close();
   if (tiled && mipmapped) return {source, false, true};
+  if (!in->seek_subimage(0, 0)) throw InputError(name, "", "cannot read image: " + oneLine(in->geterror()));
 
   // What the conversion depends on: the source's bytes and the settings, so an edited file or
   // new settings give a new name.
   const std::string hash = fileContentHash(source, OIIO::Strutil::strhash(kConversionVersion));
   const std::filesystem::path target = cacheDir / (source.stem().string() + "-" + hash + ".exr");
   if (std::filesystem::exists(target, ec)) return {target, false, false};
+  // The conversion holds the source's pixels, the reader's staging buffer (OpenImageIO 2.4 reads
+  // scanlines in chunks of at least 256 rows or 64 MiB, whatever the image's height), a half-float
+  // copy of an sRGB image, and make_texture's float pyramid (4/3 of a float copy). Any format but PNG can claim pixels its
+  // bytes do not hold (an EXR's compression has no such bound), so this is checked before anything
+  // is allocated; a file read in place, or converted by an earlier run, needs none of it.
+  const uint64_t conversionBytes =
+      uint64_t(std::min(rawBytes + std::max(0x1p26, 256.0 * double(spec.width) * double(spec.pixel_bytes(true))) +
+                            (linear ? 0.0 : texels * 2) + texels * 4 * 4 / 3,
+                        0x1p62));
+  const std::string what = "converting '" + name + "' (" + std::to_string(spec.width) + "x" +
+                           std::to_string(spec.height) + ", " + std::to_string(spec.nchannels) +
+                           " channels) to a tiled MIP-mapped file";
+  const std::string advice =
+      "convert it beforehand with OpenImageIO's maketx (maketx --tile 64 64 -o image.exr image), which a render "
+      "reads in place through the texture cache without holding it";
+  if (conversionMemoryBytes != 0) {
+    if (conversionBytes > conversionMemoryBytes)
+      throw ResourceError(name, what + " needs about " + readableBytes(conversionBytes) + ", more than the " +
+                                    readableBytes(conversionMemoryBytes) + " allowed; " + advice);
+  } else {
+    checkMemoryFits(conversionBytes, name, what, advice);
+  }
+
   std::filesystem::create_directories(cacheDir, ec);
   if (ec || !std::filesystem::is_directory(cacheDir))
     throw InputError("--texture-cache-dir", "", "cannot create the texture conversion folder '" + cacheDir.string() +
@@ -155,21 +195,23 @@ PreparedTextureFile prepared(const std::filesystem::path& source, const std::fil
   static std::atomic<uint64_t> counter{0};
   const std::filesystem::path temp =
       target.string() + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-  bool made = false;
-  std::string why;
-  if (linear) {
-    made = OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, name, temp.string(), config);
-  } else {
+  OIIO::ImageBuf pixels;
+  bool made = readPixels(*in, spec, pixels);
+  std::string why = made ? "" : in->geterror();
+  in->close();
+  if (made && linear) {
+    made = OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, pixels, temp.string(), config);
+  } else if (made) {
     // OIIO's colour conversion needs an OpenColorIO config, which a render must not depend on:
     // the sRGB curve is applied here, row by row, into a half-float copy.
-    OIIO::ImageBuf encoded(name);
     OIIO::ImageBuf decoded;
-    made = encoded.read(0, 0, /*force=*/true) && srgbDecoded(encoded, decoded);
+    made = srgbDecoded(pixels, decoded);
+    pixels.reset();
     if (made) {
       config.format = OIIO::TypeDesc::HALF;
       made = OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, decoded, temp.string(), config);
     } else {
-      why = encoded.geterror();
+      why = decoded.geterror();
     }
   }
   if (!made) {
@@ -189,13 +231,14 @@ PreparedTextureFile prepared(const std::filesystem::path& source, const std::fil
 }  // namespace
 
 PreparedTextureFile prepareTextureFile(const std::filesystem::path& source, const std::filesystem::path& cacheDir,
-                                       const std::function<void(const std::string&)>& notice) {
+                                       const std::function<void(const std::string&)>& notice,
+                                       uint64_t conversionMemoryBytes) {
   std::string failure;
   try {
     PreparedTextureFile result;
     {
       const QuietStderr quiet;
-      result = prepared(source, cacheDir);
+      result = prepared(source, cacheDir, conversionMemoryBytes);
     }
     if (result.converted && notice)
       notice("converted texture '" + source.string() + "' to a tiled MIP-mapped file '" + result.path.string() + "'");

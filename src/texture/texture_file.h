@@ -37,10 +37,13 @@ struct PreparedTextureFile {
 
 // The file to read for `source`. Throws InputError(source, "", why) when `source` is missing,
 // is not an image OpenImageIO can read (not an image, truncated), or cannot be converted; and
-// InputError("--texture-cache-dir", ...) when the conversion folder cannot be written.
-// `notice` is told once per conversion written ("converted X to Y").
+// InputError("--texture-cache-dir", ...) when the conversion folder cannot be written; and
+// ResourceError(source, ...) (exit code 3) when converting would need more memory than
+// `conversionMemoryBytes` allows (0: what this process may use, core/memory.h), checked from the
+// header before any pixel is read. `notice` is told once per conversion written ("converted X to Y").
 PreparedTextureFile prepareTextureFile(const std::filesystem::path& source, const std::filesystem::path& cacheDir,
-                                       const std::function<void(const std::string&)>& notice);
+                                       const std::function<void(const std::string&)>& notice,
+                                       uint64_t conversionMemoryBytes = 0);
 
 // A hash of the file's bytes and `seed` (hex, 16 digits), read in blocks of 1 MiB.
 std::string fileContentHash(const std::filesystem::path& file, uint64_t seed);

@@ -55,15 +55,58 @@ TEST(TextureFile, APlainImageIsConvertedOnceAndFoundAfterwards) {
   EXPECT_TRUE(in->seek_subimage(0, 2));
 }
 
-TEST(TextureFile, AnEditedFileIsConvertedAgain) {
+void writeGreyPng(const fs::path& path, int w, int h, const std::vector<uint8_t>& grey) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out && out->open(path.string(), OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::UINT8)));
+  out->write_image(OIIO::TypeDesc::UINT8, grey.data());
+  out->close();
+}
+
+TEST(TextureFile, AnEditedFileIsConvertedAgainFromItsNewPixels) {
   const testing::TempFolder temp;
   const fs::path dir = temp.path("cache");
-  testing::writeRgbExr(temp.path("t.exr"), 2, 2, std::vector<Rgb>(4, Rgb{1, 1, 1}));
-  const fs::path a = prepareTextureFile(temp.path("t.exr"), dir, {}).path;
-  testing::writeRgbExr(temp.path("t.exr"), 2, 2, std::vector<Rgb>(4, Rgb{0, 1, 1}));
-  const PreparedTextureFile b = prepareTextureFile(temp.path("t.exr"), dir, {});
-  EXPECT_TRUE(b.converted);
-  EXPECT_NE(a, b.path);
+  for (const char* name : {"t.exr", "t.png"}) {
+    const bool png = fs::path(name).extension() == ".png";
+    if (png) writeGreyPng(temp.path(name), 2, 2, {255, 255, 255, 255});
+    else testing::writeRgbExr(temp.path(name), 2, 2, std::vector<Rgb>(4, Rgb{1, 1, 1}));
+    const fs::path a = prepareTextureFile(temp.path(name), dir, {}).path;
+    // Rewritten under the same name with another size: the conversion reads the new file, not
+    // what a cache kept of the old one (read through OpenImageIO's shared ImageCache, the PNG
+    // was decoded with the old layout and OpenImageIO's buffers were corrupted).
+    if (png) writeGreyPng(temp.path(name), 3, 1, {255, 0, 255});
+    else testing::writeRgbExr(temp.path(name), 3, 1, {Rgb{1, 1, 1}, Rgb{0, 0, 0}, Rgb{1, 1, 1}});
+    const PreparedTextureFile b = prepareTextureFile(temp.path(name), dir, {});
+    EXPECT_TRUE(b.converted) << name;
+    EXPECT_NE(a, b.path) << name;
+    auto in = OIIO::ImageInput::open(b.path.string());
+    ASSERT_TRUE(in);
+    ASSERT_EQ(in->spec().width, 3) << name;
+    ASSERT_EQ(in->spec().height, 1) << name;
+    std::vector<float> texels(3 * size_t(in->spec().nchannels));
+    ASSERT_TRUE(in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, texels.data()));
+    const int n = in->spec().nchannels;
+    EXPECT_EQ(texels[0], 1.0f) << name;
+    EXPECT_EQ(texels[size_t(n)], 0.0f) << name;
+    EXPECT_EQ(texels[2 * size_t(n)], 1.0f) << name;
+  }
+}
+
+TEST(TextureFile, AConversionBeyondItsMemoryIsAResourceLimitNamingTheFile) {
+  const testing::TempFolder temp;
+  const fs::path dir = temp.path("cache");
+  testing::writeRgbExr(temp.path("big.exr"), 64, 64, std::vector<Rgb>(64 * 64, Rgb{0.5f, 0.5f, 0.5f}));
+  // 64 x 64 x 3 floats: 48 KiB of pixels, a 64 MiB staging buffer, a 64 KiB float pyramid.
+  try {
+    prepareTextureFile(temp.path("big.exr"), dir, {}, uint64_t(32) << 20);
+    ADD_FAILURE() << "no error";
+  } catch (const ResourceError& e) {
+    EXPECT_EQ(e.file(), temp.path("big.exr"));
+    EXPECT_NE(std::string(e.what()).find("maketx"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir)) << "nothing written before the check";
+  // With the memory it needs the same file converts, and once converted it needs none.
+  const fs::path made = prepareTextureFile(temp.path("big.exr"), dir, {}, uint64_t(80) << 20).path;
+  EXPECT_EQ(prepareTextureFile(temp.path("big.exr"), dir, {}, 1).path, made);
 }
 
 TEST(TextureFile, PngIsDecodedFromSrgbToLinear) {
