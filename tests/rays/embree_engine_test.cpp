@@ -22,28 +22,21 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kLod = 4;
 
-// The teapot, a floor of four quads and, in front of the teapot, a patch moving in x and z.
-struct World {
-  std::vector<PatchPtr> leaves;
-  StoredLeaves source;  // the leaves, as the engines read them
-  TopLevelBvh top;
-  explicit World(bool moving) : leaves(test::teapotOnFloor()) {
-    if (moving) {
-      const auto teapot = loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt");
-      std::vector<PatchPtr> samples;
-      // A body patch of the teapot, doubled in size, in front of it.
-      for (const Vec3 shift : {Vec3{-3, -4, 0.0f}, Vec3{-1, -4, 1.0f}, Vec3{1, -4, 0.0f}}) {
-        auto cp = teapot[4];
-        for (Vec3& p : cp) p = p * 2.0f + shift;
-        samples.push_back(std::make_shared<BezierPatch>(cp));
-      }
-      leaves.push_back(std::make_shared<MovingPatch>(samples, std::vector<float>{0.0f, 0.5f, 1.0f}));
-    }
-    std::vector<Box3> boxes;
-    for (const auto& l : leaves) boxes.push_back(l->bounds());
-    source = StoredLeaves(leaves);
-    top.build(boxes);
+// A body patch of the teapot, doubled in size, in front of it, moving in x and z.
+std::vector<PatchPtr> movingPatch() {
+  const auto teapot = loadBezierPatchFile(std::string(RAYES_SOURCE_DIR) + "/scenes/teapot.bpt");
+  std::vector<PatchPtr> samples;
+  for (const Vec3 shift : {Vec3{-3, -4, 0.0f}, Vec3{-1, -4, 1.0f}, Vec3{1, -4, 0.0f}}) {
+    auto cp = teapot[4];
+    for (Vec3& p : cp) p = p * 2.0f + shift;
+    samples.push_back(std::make_shared<BezierPatch>(cp));
   }
+  return {std::make_shared<MovingPatch>(samples, std::vector<float>{0.0f, 0.5f, 1.0f})};
+}
+
+// The teapot, a floor of four quads and, if `moving`, the moving patch.
+struct World : test::TracedWorld {
+  explicit World(bool moving) : TracedWorld(test::teapotOnFloorAnd(moving ? movingPatch() : std::vector<PatchPtr>{})) {}
 };
 
 // Rays from a circle around the scene toward random points of `target` (default: the middle of

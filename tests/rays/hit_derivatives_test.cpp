@@ -23,18 +23,12 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kLod = 4;
 
-struct World {
-  std::vector<PatchPtr> leaves;
-  StoredLeaves source;
-  TopLevelBvh top;
-  World() : leaves(test::teapotOnFloor()) {
-    // A skewed, non-planar bilinear wall behind: partials that vary over the patch.
-    leaves.push_back(std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 6, 1}, Vec3{-4, 5, 6}, Vec3{5, 4, 7}));
-    std::vector<Box3> boxes;
-    for (const auto& l : leaves) boxes.push_back(l->bounds());
-    source = StoredLeaves(leaves);
-    top.build(boxes);
-  }
+// The teapot on its floor and, behind, a skewed, non-planar bilinear wall: partials that vary
+// over the patch.
+struct World : test::TracedWorld {
+  World()
+      : TracedWorld(test::teapotOnFloorAnd(
+            {std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 6, 1}, Vec3{-4, 5, 6}, Vec3{5, 4, 7})})) {}
 };
 
 RayBatch randomRays(int n, bool derivatives) {

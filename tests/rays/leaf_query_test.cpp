@@ -21,15 +21,8 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kLod = 3;
 
-struct World {
-  std::vector<PatchPtr> leaves = test::teapotOnFloor();
-  StoredLeaves source{leaves};
-  TopLevelBvh top;
-  World() {
-    std::vector<Box3> boxes;
-    for (const auto& l : leaves) boxes.push_back(l->bounds());
-    top.build(boxes);
-  }
+struct World : test::TracedWorld {
+  World() : TracedWorld(test::teapotOnFloor()) {}
 };
 
 // Records every call; concurrent runs of distinct leaves are allowed, so it locks.

@@ -18,20 +18,13 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr int kLod = 4;
 
-struct World {
-  std::vector<PatchPtr> leaves;
-  StoredLeaves source;  // the leaves, as the SortedEngine reads them
-  std::vector<Box3> boxes;
+// The teapot on its floor and a wall behind.
+struct World : test::TracedWorld {
   std::vector<std::array<uint32_t, 4>> neighbours;  // SortedEngine::borderNeighbours
-  TopLevelBvh top;
-  World() : leaves(test::teapotOnFloor()) {
-    // And a wall behind.
-    leaves.push_back(std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 6}, Vec3{5, 5, 6}));
-    for (const auto& l : leaves) boxes.push_back(l->bounds());
-    top.build(boxes);
-    source = StoredLeaves(leaves);
-    neighbours = SortedEngine::borderNeighbours(source, top);
-  }
+  World()
+      : TracedWorld(test::teapotOnFloorAnd(
+            {std::make_shared<BilinearPatch>(Vec3{-5, 5, 0}, Vec3{5, 5, 0}, Vec3{-5, 5, 6}, Vec3{5, 5, 6})})),
+        neighbours(SortedEngine::borderNeighbours(source, top)) {}
 };
 
 // Random rays from around the teapot toward it; zero footprint, so every ray uses kLod.
