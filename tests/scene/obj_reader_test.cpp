@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_loader.h"
+#include "scene_text.h"
 #include "support/temp_folder.h"
 
 namespace rayes {
@@ -37,14 +38,7 @@ t corner 2/2/0 6 7 1 10
 t hole 1/0/0 5
 )";
 
-std::string objError(const std::string& text) {
-  try {
-    parseObj(text, "bad.obj");
-  } catch (const InputError& e) {
-    return e.message();
-  }
-  return "no error";
-}
+using test::objError;
 
 TEST(ObjReader, ReadsFacesIndicesAndTags) {
   const ObjMesh m = parseObj(kCube, "cube.obj");

@@ -1,8 +1,9 @@
 // The smallest valid scene file, for tests that change one piece of it, and the message a
-// scene text is rejected with.
+// scene text (or an OBJ text) is rejected with.
 #pragma once
 #include <string>
 #include "core/error.h"
+#include "scene/obj_reader.h"
 #include "scene/scene_loader.h"
 
 namespace rayes::test {
@@ -23,6 +24,16 @@ inline std::string minimalScene(const std::string& shapeExtra = "") {
 inline std::string errorOf(const std::string& text) {
   try {
     parseScene(text, "bad.json");
+  } catch (const InputError& e) {
+    return e.message();
+  }
+  return "no error";
+}
+
+// The InputError message parsing `text` as an OBJ file (named bad.obj) gives, or "no error".
+inline std::string objError(const std::string& text) {
+  try {
+    parseObj(text, "bad.obj");
   } catch (const InputError& e) {
     return e.message();
   }

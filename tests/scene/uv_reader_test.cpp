@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_loader.h"
+#include "scene_text.h"
 #include "support/temp_folder.h"
 
 namespace rayes {
@@ -36,14 +37,7 @@ f 1/1 2/2 5/4 4/3
 f 2/5 3/6 6/8 5/7
 )";
 
-std::string objError(const std::string& text) {
-  try {
-    parseObj(text, "bad.obj");
-  } catch (const InputError& e) {
-    return e.message();
-  }
-  return "no error";
-}
+using test::objError;
 
 TEST(ObjUvs, VtLinesAndIndicesBecomeTheUvSet) {
   const ObjMesh m = parseObj(kTwoQuads, "q.obj");
