@@ -119,7 +119,7 @@ TEST_F(CompiledScene, HeightMapsUvSetsAndMovingMeshesRenderTheSameBitsAsTheJson)
   fs::remove(temp_.path("src/h.exr"));
   const RunResult r = run({"render", compiled, "-o", temp_.path("gone.exr"), "-q"});
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find(compiled + ": section scene (height map 0): cannot open height map"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(compiled + ":section scene (height map 0): cannot open height map"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(temp_.path("gone.exr")));
 }
 
