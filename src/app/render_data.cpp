@@ -77,6 +77,9 @@ RenderData::RenderData(const Scene& scene) {
   facts = {};
   leafKinds.assign(kinds.begin(), kinds.end());
   countScene(features, scene);
+  // Built before the tables below are made: its build (Embree's primitives and nodes) is the
+  // set-up's peak, which they would add to.
+  top.build(std::move(leafBoxes));
 
   const CameraDesc& cam = scene.camera;
   shading.camera = PerspectiveCamera(cam.position, cam.lookAt, cam.up, cam.fovYDegrees, scene.width, scene.height,
@@ -89,14 +92,14 @@ RenderData::RenderData(const Scene& scene) {
   shading.leafMaterial = scene.leafMaterial;
   shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
-  for (size_t i = 0; i < n; ++i) shading.leafSide[i] = leafBoxes[i].longestSide();
+  const std::span<const Box3> boxes = top.leafBoxes();
+  for (size_t i = 0; i < n; ++i) shading.leafSide[i] = boxes[i].longestSide();
   // Lights at infinity are picked by power through a disk of the scene's bounding radius, and
   // light paths leave them from such a disk about the scene's centre.
   Box3 all;
-  for (const Box3& b : leafBoxes) all.extend(b);
+  for (const Box3& b : boxes) all.extend(b);
   const float radius = all.empty() ? 1.0f : std::max(std::numeric_limits<float>::min(), 0.5f * length(all.extent()));
   const Vec3 center = all.empty() ? Vec3{} : all.center();
-  top.build(std::move(leafBoxes));
   shading.lights = LightSampler(scene.pointLights, patchLightsOf(scene), scene.moreLights, radius, center);
 }
 

@@ -190,8 +190,11 @@ void TopLevelBvh::build(std::vector<Box3>&& boxes) {
     const auto* root = static_cast<const BuildItem*>(rtcBuildBVH(&args));
     if (!root) embreeFailure(device.get(), "rtcBuildBVH failed");
     if (context.multiPrimLeaf) throw std::logic_error("toplevel: Embree made a leaf of several boxes");
+    // The primitives are Embree's input only: released before the nodes are made, so that the
+    // two never take memory at once (32 + 64 bytes per leaf).
+    std::vector<RTCBuildPrimitive>().swap(prims);
 
-    impl->nodes.reserve(prims.size() / 2 + 1);  // ~n/2 inner nodes measured (at most n-1)
+    impl->nodes.reserve(leafBoxes.size() / 2 + 1);  // ~n/2 inner nodes measured (at most n-1)
     impl->root = flatten(root, leafBoxes, impl->nodes, impl->bounds);
     impl->nodes.shrink_to_fit();
   }  // the Embree tree and device are released here
