@@ -24,15 +24,15 @@ Method methodOf(const std::string& name) {
 std::unique_ptr<Integrator> makeBeamIntegrator(const MethodOptions& options, const Scene& scene, const RenderData& data) {
   const ShadingScene& shading = data.shading;
   std::vector<ScattererSurface> scatterers;
-  for (size_t l = 0; l < data.leafBoxes.size(); ++l)
-    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data.leafBoxes[l].empty()) {
+  for (size_t l = 0; l < data.top.leafBoxes().size(); ++l)
+    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data.top.leafBoxes()[l].empty()) {
       PatchPtr patch = scene.leaves.patch(l);
       scatterers.push_back({uint32_t(l), [patch](float u, float v) { return patch->evaluate(u, v).p; }});
     }
   BeamLights lights{scene.pointLights, scene.moreLights.spots, scene.moreLights.distants,
                     options.beams.areaSamples > 0 ? patchLightsOf(scene) : std::vector<PatchLight>{},
                     options.beams.areaSamples};
-  return std::make_unique<BeamIntegrator>(shading, data.top, data.leafBoxes, std::move(scatterers), std::move(lights),
+  return std::make_unique<BeamIntegrator>(shading, data.top, data.top.leafBoxes(), std::move(scatterers), std::move(lights),
                                           options.beams, options.causticPaths, options.laterGatherProbability);
 }
 

@@ -8,25 +8,25 @@
 namespace rayes {
 namespace {
 
-SceneFeatures featuresOf(const Scene& scene, const std::vector<Box3>& leafBoxes, const std::vector<LeafFacts>& facts) {
-  SceneFeatures f;
-  for (size_t i = 0; i < facts.size(); ++i) {
-    f.movingLeaves += facts[i].timeSamples > 1;
-    f.displacedLeaves += facts[i].displaced;
-    f.subdivisionLeaves += facts[i].subdivision;
-    f.borderClosureLeaves += facts[i].borderClosure;
-    const float spacing = leafBoxes[i].relativeSpacing();
-    f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
-    f.lowPrecisionLeaves += spacing > 0x1p-16f;
-  }
+// The per-leaf counts, one leaf at a time (facts are not kept: 32 bytes a leaf).
+void countLeaf(SceneFeatures& f, const LeafFacts& facts, const Box3& box) {
+  f.movingLeaves += facts.timeSamples > 1;
+  f.displacedLeaves += facts.displaced;
+  f.subdivisionLeaves += facts.subdivision;
+  f.borderClosureLeaves += facts.borderClosure;
+  const float spacing = box.relativeSpacing();
+  f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
+  f.lowPrecisionLeaves += spacing > 0x1p-16f;
+}
+
+void countScene(SceneFeatures& f, const Scene& scene) {
   if (scene.uvs)
-    for (size_t i = 0; i < facts.size(); ++i) f.uvLeaves += scene.uvs->has(uint32_t(i));
+    for (size_t i = 0; i < scene.leaves.size(); ++i) f.uvLeaves += scene.uvs->has(uint32_t(i));
   f.uvSetsDropped = scene.uvSetsDropped;
   f.shutterOpen = scene.camera.shutterClose > scene.camera.shutterOpen;
   f.environment = scene.moreLights.environment != nullptr;
   f.distantLights = scene.moreLights.distants.size();
   for (const Material& m : scene.materials) f.texturedMaterials += m.textured();
-  return f;
 }
 
 }  // namespace
@@ -48,21 +48,38 @@ std::vector<PatchLight> patchLightsOf(const Scene& scene) {
 
 RenderData::RenderData(const Scene& scene) {
   const size_t n = scene.leaves.size();
-  leafBoxes.resize(n);
-  // The facts are gathered once (a generated leaf's patch is made and dropped again); only
-  // the dicing error is kept per leaf.
-  std::vector<LeafFacts> facts(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      leafBoxes[i] = scene.leaves.bounds(i);
-      facts[i] = scene.leaves.facts(i);
-    }
-  });
+  std::vector<Box3> leafBoxes(n);  // kept by the top level (TopLevelBvh::leafBoxes), not copied
+  shading.leafDicingError.resize(n);
+  // The facts are gathered once (a generated leaf's patch is made and dropped again), a chunk
+  // of leaves at a time, so that they never take 32 bytes a leaf at once (10 M leaves: 326 MB
+  // beside the top level's build); only the dicing error is kept per leaf.
+  constexpr size_t kChunk = size_t(1) << 16;
+  std::vector<LeafFacts> facts;
   std::map<std::string, uint64_t> kinds;
-  for (const LeafFacts& f : facts) ++kinds[f.kind];
+  std::string kind;
+  for (size_t c0 = 0; c0 < n; c0 += kChunk) {
+    const size_t c1 = std::min(n, c0 + kChunk);
+    facts.resize(c1 - c0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(c0, c1, 1024), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        leafBoxes[i] = scene.leaves.bounds(i);
+        facts[i - c0] = scene.leaves.facts(i);
+      }
+    });
+    for (size_t i = c0; i < c1; ++i) {
+      const LeafFacts& f = facts[i - c0];
+      if (kind != f.kind) kind = f.kind;  // leaves of a kind come in runs: no string made per leaf
+      ++kinds[kind];
+      countLeaf(features, f, leafBoxes[i]);
+      shading.leafDicingError[i] = f.dicingError;
+    }
+  }
+  facts = {};
   leafKinds.assign(kinds.begin(), kinds.end());
-  features = featuresOf(scene, leafBoxes, facts);
-  top.build(leafBoxes);
+  countScene(features, scene);
+  // Built before the tables below are made: its build (Embree's primitives and nodes) is the
+  // set-up's peak, which they would add to.
+  top.build(std::move(leafBoxes));
 
   const CameraDesc& cam = scene.camera;
   shading.camera = PerspectiveCamera(cam.position, cam.lookAt, cam.up, cam.fovYDegrees, scene.width, scene.height,
@@ -75,22 +92,19 @@ RenderData::RenderData(const Scene& scene) {
   shading.leafMaterial = scene.leafMaterial;
   shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
-  shading.leafDicingError.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    shading.leafSide[i] = leafBoxes[i].longestSide();
-    shading.leafDicingError[i] = facts[i].dicingError;
-  }
+  const std::span<const Box3> boxes = top.leafBoxes();
+  for (size_t i = 0; i < n; ++i) shading.leafSide[i] = boxes[i].longestSide();
   // Lights at infinity are picked by power through a disk of the scene's bounding radius, and
   // light paths leave them from such a disk about the scene's centre.
   Box3 all;
-  for (const Box3& b : leafBoxes) all.extend(b);
+  for (const Box3& b : boxes) all.extend(b);
   const float radius = all.empty() ? 1.0f : std::max(std::numeric_limits<float>::min(), 0.5f * length(all.extent()));
   const Vec3 center = all.empty() ? Vec3{} : all.center();
   shading.lights = LightSampler(scene.pointLights, patchLightsOf(scene), scene.moreLights, radius, center);
 }
 
 size_t RenderData::leafTableBytes() const {
-  return leafBoxes.capacity() * sizeof(Box3) + shading.leafMaterial.capacity() * sizeof(uint32_t) +
+  return shading.leafMaterial.capacity() * sizeof(uint32_t) +
          shading.leafSide.capacity() * sizeof(float) + shading.leafDicingError.capacity() * sizeof(float);
 }
 

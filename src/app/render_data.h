@@ -43,13 +43,13 @@ struct RenderData {
   RenderData(const RenderData&) = delete;
   RenderData& operator=(const RenderData&) = delete;
 
-  std::vector<Box3> leafBoxes;  // Patch::bounds per leaf
-  TopLevelBvh top;
+  TopLevelBvh top;              // with the leaf boxes (Patch::bounds per leaf): top.leafBoxes()
   ShadingScene shading;
   SceneFeatures features;
   std::vector<std::pair<std::string, uint64_t>> leafKinds;  // (Patch::kind, leaves), by name
 
-  // Bytes of the per-leaf tables above (boxes, and shading's material, size and dicing error).
+  // Bytes of the per-leaf tables above (shading's material, size and dicing error; the boxes
+  // count in the top level).
   size_t leafTableBytes() const;
 };
 

@@ -22,6 +22,8 @@ const char* compiled::sectionName(SectionKind kind) {
     case SectionKind::Leaves: return "leaves";
     case SectionKind::Records: return "records";
     case SectionKind::Checksums: return "checksums";
+    case SectionKind::Meshes: return "meshes";
+    case SectionKind::UvSets: return "uv_sets";
   }
   return "unknown";
 }
@@ -290,7 +292,7 @@ void MappedFile::read(SectionKind kind, uint64_t at, uint64_t n, void* out, cons
     std::string place = std::string("section ") + sectionName(kind);
     if (*what) place += " (" + std::string(what) + " " + std::to_string(whatIndex) + ")";
     throw InputError(path_, place, "bytes [" + std::to_string(at) + ", " + std::to_string(at + n) +
-                                       ") lie outside the section: the leaf table is corrupt");
+                                       ") lie outside the section: the file is corrupt");
   }
   const uint64_t b0 = at / kBlockBytes, b1 = (at + n - 1) / kBlockBytes;
   const auto unpin = [&](uint64_t last) {

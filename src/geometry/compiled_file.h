@@ -36,9 +36,11 @@ namespace rayes {
 namespace compiled {
 
 constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
-// Version 1: sections Scene, Materials, Leaves, Records, Checksums. A new section kind (a
-// leaf's uv set: UvSets) or a changed record is a new version; readers refuse others.
-constexpr uint32_t kFormatVersion = 1;
+// Version 2: sections Scene, Materials, Leaves, Records, Meshes (when a leaf is a subdivision
+// face), UvSets (when a leaf has a uv set that a texture reads), Checksums; records of
+// subdivision faces and height-map displacement (version 1 had neither, nor the two sections).
+// A new section kind or a changed record is a new version; readers refuse others.
+constexpr uint32_t kFormatVersion = 2;
 constexpr uint64_t kPageBytes = 4096;
 constexpr uint64_t kBlockBytes = 64 * 1024;  // a multiple of the page: released whole
 constexpr int kMaxSections = 16;
@@ -49,6 +51,8 @@ enum class SectionKind : uint32_t {
   Leaves = 3,     // LeafEntry per leaf
   Records = 4,    // patch records (geometry/patch_record.h), at the LeafEntry's offsets
   Checksums = 5,  // uint32 CRC-32 per block of every other section, in section order
+  Meshes = 6,     // subdivision topologies and meshes' control points (the Scene section indexes them)
+  UvSets = 7,     // the leaves' uv sets (scene/leaf_uv_table.h): a UvRef per leaf, then UvCorners
 };
 const char* sectionName(SectionKind kind);
 
@@ -86,6 +90,14 @@ struct LeafEntry {
   static constexpr uint8_t kDisplaced = 1, kSubdivision = 2, kBorderClosure = 4;
 };
 static_assert(sizeof(LeafEntry) == 48);
+
+// A leaf's uv set in the UvSets section: table 0 none, 1 the corners at `index` (four (s, t)
+// as 8 floats, after the section's refs), t >= 2 leaf `index` of the uv set of topology t - 2
+// (the Scene section's "topologies").
+struct UvRef {
+  uint32_t table = 0, index = 0;
+};
+static_assert(sizeof(UvRef) == 8);
 
 }  // namespace compiled
 

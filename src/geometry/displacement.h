@@ -184,10 +184,17 @@ class HeightMap {
   float meanDiff_ = 0;
 };
 
+// Where a scene's height map came from: the file as the scene named it (relative to the
+// scene's folder, or absolute) and the channel read. A compiled scene stores it and opens the
+// map again (geometry/patch_record.h); empty for maps made in memory.
+struct HeightMapOrigin {
+  std::string file, channel;
+};
+
 // h(u, v) = offset + amplitude * map.sample(u, v).
 class HeightMapDisplacement final : public Displacement {
  public:
-  HeightMapDisplacement(std::shared_ptr<const HeightMap> map, float amplitude, float offset);
+  HeightMapDisplacement(std::shared_ptr<const HeightMap> map, float amplitude, float offset, HeightMapOrigin origin = {});
   HeightSample sample(Vec3 p, Vec3 pu, Vec3 pv, float u, float v) const override;
   void sampleRow(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, const float* u, float v,
                  HeightSample* out) const override;
@@ -196,10 +203,14 @@ class HeightMapDisplacement final : public Displacement {
   float meanSlopePerParameter() const override;
   const char* kind() const override { return "image"; }
   const HeightMap& map() const { return *map_; }
+  float amplitude() const { return amplitude_; }
+  float offset() const { return offset_; }
+  const HeightMapOrigin& origin() const { return origin_; }
 
  private:
   std::shared_ptr<const HeightMap> map_;
   float amplitude_, offset_;
+  HeightMapOrigin origin_;
 };
 
 }  // namespace rayes

@@ -246,8 +246,9 @@ Interval HeightMap::range(float u0, float u1, float v0, float v1) const {
   return widened(r, roundingMargin_);
 }
 
-HeightMapDisplacement::HeightMapDisplacement(std::shared_ptr<const HeightMap> map, float amplitude, float offset)
-    : map_(std::move(map)), amplitude_(amplitude), offset_(offset) {
+HeightMapDisplacement::HeightMapDisplacement(std::shared_ptr<const HeightMap> map, float amplitude, float offset,
+                                             HeightMapOrigin origin)
+    : map_(std::move(map)), amplitude_(amplitude), offset_(offset), origin_(std::move(origin)) {
   if (!map_) throw std::invalid_argument("height map displacement needs a map");
   if (!std::isfinite(amplitude) || !std::isfinite(offset)) throw std::invalid_argument("height map amplitude and offset must be finite");
 }

@@ -9,8 +9,9 @@ namespace rayes {
 using compiled::LeafEntry;
 using compiled::SectionKind;
 
-MappedLeaves::MappedLeaves(std::shared_ptr<const MappedFile> file, std::vector<std::string> kinds)
-    : file_(std::move(file)), kinds_(std::move(kinds)) {
+MappedLeaves::MappedLeaves(std::shared_ptr<const MappedFile> file, std::vector<std::string> kinds,
+                           std::shared_ptr<const RecordTables> shared)
+    : file_(std::move(file)), kinds_(std::move(kinds)), shared_(std::move(shared)) {
   const uint64_t bytes = file_->sectionBytes(SectionKind::Leaves);
   if (bytes % sizeof(LeafEntry) != 0)
     throw InputError(file_->path(), "section leaves", "its size is not a whole number of 48-byte leaf entries");
@@ -53,7 +54,7 @@ PatchPtr MappedLeaves::patch(size_t i) const {
   record.resize(e.recordBytes);
   file_->read(SectionKind::Records, e.recordOffset, e.recordBytes, record.data(), "leaf", i);
   try {
-    return decodePatch(record.data(), e.recordBytes);
+    return decodePatch(record.data(), e.recordBytes, shared_.get());
   } catch (const std::invalid_argument& x) {
     throw InputError(file_->path(), "section records (leaf " + std::to_string(i) + ")",
                      std::string("the patch record does not decode: ") + x.what());

@@ -14,14 +14,18 @@
 #include <vector>
 #include "geometry/compiled_file.h"
 #include "geometry/leaf_source.h"
+#include "geometry/patch_record.h"
 
 namespace rayes {
 
 class MappedLeaves final : public LeafSource {
  public:
-  // `kinds`: the names the entries' kind indices refer to (the Scene section's "kinds").
-  // Throws InputError when the leaf table's size is not a whole number of entries.
-  MappedLeaves(std::shared_ptr<const MappedFile> file, std::vector<std::string> kinds);
+  // `kinds`: the names the entries' kind indices refer to (the Scene section's "kinds");
+  // `shared`: the meshes and height maps records name (filled by the loader before the first
+  // patch(), never changed after). Throws InputError when the leaf table's size is not a whole
+  // number of entries.
+  MappedLeaves(std::shared_ptr<const MappedFile> file, std::vector<std::string> kinds,
+               std::shared_ptr<const RecordTables> shared = nullptr);
   MappedLeaves(const MappedLeaves&) = delete;  // facts point into kinds_
   MappedLeaves& operator=(const MappedLeaves&) = delete;
   size_t size() const override { return size_; }
@@ -37,6 +41,7 @@ class MappedLeaves final : public LeafSource {
   compiled::LeafEntry entry(size_t i) const;
   std::shared_ptr<const MappedFile> file_;
   std::vector<std::string> kinds_;
+  std::shared_ptr<const RecordTables> shared_;
   size_t size_ = 0;
 };
 

@@ -171,6 +171,12 @@ SubdivStats SubdivMesh::stats() const {
 
 int SubdivMesh::leafCount() const { return int(topo_->leaves.size()); }
 std::pair<int, int> SubdivMesh::leafFace(int leaf) const { return topo_->leaves[size_t(leaf)]; }
+std::vector<Vec3> SubdivMesh::controlPoints() const {
+  std::vector<Vec3> out(impl_->points.size() / 3);
+  for (size_t v = 0; v < out.size(); ++v) out[v] = {impl_->points[3 * v], impl_->points[3 * v + 1], impl_->points[3 * v + 2]};
+  return out;
+}
+
 Vec3 SubdivMesh::vertexLimit(int v) const { return impl_->vertexLimit[size_t(v)]; }
 
 Box3 SubdivMesh::leafBounds(int leaf) const { return impl_->faceBounds[size_t(topo_->leaves[size_t(leaf)].first)]; }

@@ -99,6 +99,13 @@ class SubdivTopology;
 // instead of through Bfr; false only to measure the difference (bench/dicing_subdiv.cpp).
 std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& desc, bool regularAsBezier = true);
 
+// The description `topology` was built from, again (positions: as many as it has, all zero;
+// faces, creases, corners, holes, the uv set and the options as given): buildSubdivTopology of
+// it builds the same topology (a compiled scene stores a mesh's topology so).
+SubdivMeshDesc describeTopology(const SubdivTopology& topology);
+// The regularAsBezier the topology was built with.
+bool builtRegularAsBezier(const SubdivTopology& topology);
+
 struct SubdivStats {
   int faces = 0, leaves = 0, regularFaces = 0, irregularFaces = 0, facesWithoutLimit = 0;
 };
@@ -127,6 +134,9 @@ class SubdivMesh : public std::enable_shared_from_this<SubdivMesh> {
   // (face, sub-face) of a leaf; sub-face -1 for a whole quad.
   std::pair<int, int> leafFace(int leaf) const;
   const SubdivTopology& topology() const { return *topo_; }
+  const std::shared_ptr<const SubdivTopology>& topologyPtr() const { return topo_; }
+  // The control points it was built with (x y z per vertex, as given).
+  std::vector<Vec3> controlPoints() const;
 
   struct Impl;
 

@@ -61,6 +61,12 @@ class SubdivTopology {
   // The uv set's values, s t per value (empty: none); its indices are the refiner's
   // face-varying channel 0.
   std::vector<float> uvs;
+  // What the description said beyond faces, positions and uvs (scheme, boundary, creases,
+  // corners, holes, uv interpolation; its vectors of faces, positions and uvs left empty), and
+  // the regularAsBezier it was built with: with the tables above, the description again
+  // (describeTopology), for a compiled scene.
+  SubdivMeshDesc tags;
+  bool regularAsBezier = true;
 
   int faces() const { return int(faceOffset.size()) - 1; }
   int faceSize(int f) const { return faceOffset[f + 1] - faceOffset[f]; }

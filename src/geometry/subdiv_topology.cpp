@@ -169,6 +169,13 @@ std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& 
                     : d.scheme == SubdivScheme::Bilinear ? Sdc::SCHEME_BILINEAR
                                                          : Sdc::SCHEME_CATMARK;
   topo->numVertices = int(d.positions.size());
+  topo->tags.scheme = d.scheme;
+  topo->tags.boundary = d.boundary;
+  topo->tags.creases = d.creases;
+  topo->tags.corners = d.corners;
+  topo->tags.holes = d.holes;
+  topo->tags.uvInterpolation = d.uvInterpolation;
+  topo->regularAsBezier = regularAsBezier;
 
   std::vector<int> creaseVerts, cornerVerts;
   std::vector<float> creaseW, cornerW;
@@ -286,5 +293,31 @@ std::shared_ptr<const SubdivTopology> buildSubdivTopology(const SubdivMeshDesc& 
   if (topo->leaves.empty()) throw SubdivInputError(Item::Mesh, -1, "no face of the mesh has a limit surface");
   return topo;
 }
+
+}  // namespace rayes
+
+namespace rayes {
+
+SubdivMeshDesc describeTopology(const SubdivTopology& t) {
+  SubdivMeshDesc d = t.tags;
+  d.positions.assign(size_t(t.numVertices), Vec3{});
+  const int nf = t.faces();
+  d.faceSizes.resize(size_t(nf));
+  for (int f = 0; f < nf; ++f) d.faceSizes[size_t(f)] = t.faceSize(f);
+  d.faceVertices = t.faceVerts;
+  if (!t.uvs.empty()) {
+    d.uvs.resize(t.uvs.size() / 2);
+    for (size_t k = 0; k < d.uvs.size(); ++k) d.uvs[k] = {t.uvs[2 * k], t.uvs[2 * k + 1]};
+    const Far::TopologyLevel& level = t.refiner->GetLevel(0);
+    d.uvIndices.reserve(d.faceVertices.size());
+    for (int f = 0; f < nf; ++f) {
+      const auto fv = level.GetFaceFVarValues(f, 0);
+      for (int k = 0; k < fv.size(); ++k) d.uvIndices.push_back(fv[k]);
+    }
+  }
+  return d;
+}
+
+bool builtRegularAsBezier(const SubdivTopology& t) { return t.regularAsBezier; }
 
 }  // namespace rayes

@@ -30,6 +30,7 @@ class SubdivUvSet {
   void evaluate(int leaf, float u, float v, float st[2], float dst_du[2], float dst_dv[2]) const;
   // The uv values and their per-face-vertex indices.
   size_t bytes() const;
+  const SubdivTopology& topology() const { return *topo_; }
 
  private:
   std::shared_ptr<const SubdivTopology> topo_;

@@ -33,7 +33,7 @@ namespace rayes {
 struct EngineStats {
   const char* name = "";
   size_t fixedBytes = 0;       // dice buffers (Rayes) or vertices + normals + Embree's own bytes
-  size_t leafTableBytes = 0;   // the engine's own per-leaf tables (sizes, boxes, levels): grow with leaves
+  size_t leafTableBytes = 0;   // the engine's own per-leaf tables (sizes, levels; the boxes are the top level's): grow with leaves
   // Up-front tessellation (the Embree engine; zero for Rayes).
   uint64_t micropolygons = 0;  // micro-quads held, summed over time steps
   uint64_t vertices = 0;       // grid vertices held, summed over time steps

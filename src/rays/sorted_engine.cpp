@@ -5,6 +5,7 @@
 // alone, the CachingEngine) in rays/single_ray_walk.cpp.
 #include "rays/sorted_engine.h"
 #include <algorithm>
+#include <stdexcept>
 #include <atomic>
 #include <bit>
 #include <limits>
@@ -32,15 +33,14 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
       // A small scene needs a small table: 64 entries per leaf at most, so forest-1's 664 leaves
       // take 2.6 MiB instead of the 160 MiB that forest-100's re-dicings pay for.
       borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
+  if (top.leafBoxes().size() != leaves.size()) throw std::logic_error("SortedEngine: the top level is not over these leaves");
   leafSize_.resize(leaves.size());
-  leafBox_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 1024), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const LeafFacts f = leaves.facts(i);
       leafSize_[i] = f.sizeBound;
       leafMoving_[i] = f.timeSamples > 1;
-      leafBox_[i] = leaves.bounds(i);
     }
   });
   if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top, &borderSide_);
@@ -48,7 +48,7 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
 
 bool SortedEngine::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
   float exit;
-  const Box3& box = leafBox_[leaf];
+  const Box3& box = top_.leafBoxes()[leaf];
   return intersectBox(q, box.lo, box.hi, 0.0f, kInf, entry, exit);
 }
 
@@ -67,8 +67,7 @@ EngineStats SortedEngine::engineStats() const {
   EngineStats s;
   s.name = "rayes";
   s.fixedBytes = fixedBytes();
-  s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafBox_.capacity() * sizeof(Box3) +
-                     leafMoving_.capacity() + borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
+  s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafMoving_.capacity() + borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
   s.maxLevel = settings_.maxLod;
   s.cacheHits = cache_.hits();
   s.cachePeakBytes = cache_.peakBytes();

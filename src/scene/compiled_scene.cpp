@@ -9,6 +9,7 @@
 #include "geometry/patch_record.h"
 #include "scene/json_document.h"
 #include "scene/scene_loader.h"
+#include "scene/shape_kinds.h"
 
 namespace rayes {
 
@@ -39,6 +40,27 @@ LeafEntry entryOf(const Scene& scene, size_t i, uint8_t kind, uint64_t offset, u
   return e;
 }
 
+// The UvSets section: a record per shape leaf (subdivision sets renumbered by topology), then
+// every corner entry of the table.
+void writeUvSets(const LeafUvTable& uvs, size_t n, const RecordTableIndex& shared, CompiledFileWriter& w) {
+  w.beginSection(SectionKind::UvSets);
+  std::vector<LeafUvTable::Ref> refs;
+  for (size_t c0 = 0; c0 < n; c0 += kChunkLeaves) {
+    const size_t c1 = std::min(n, c0 + kChunkLeaves);
+    refs.resize(c1 - c0);
+    for (size_t i = c0; i < c1; ++i) {
+      LeafUvTable::Ref r = uvs.ref(uint32_t(i));
+      if (r.table >= 2) r.table = 2 + shared.topologyIndex(&uvs.subdivSet(r.table)->topology());
+      refs[i - c0] = r;
+    }
+    w.write(refs.data(), refs.size() * sizeof(LeafUvTable::Ref));
+  }
+  for (size_t k = 0; k < uvs.cornerCount(); ++k) {
+    const UvCorners c = uvs.corners(uint32_t(k));
+    w.write(&c, sizeof c);
+  }
+}
+
 }  // namespace
 
 bool isCompiledSceneName(const std::string& path) {
@@ -50,10 +72,9 @@ bool isCompiledSceneName(const std::string& path) {
 void writeCompiledScene(const Scene& scene, const std::string& jsonText, const std::string& jsonPath,
                         const std::string& outPath, const std::function<void(size_t, size_t)>& progress) {
   const size_t n = scene.shapeLeaves;
-  // Uv sets have no section in format version 1: refused rather than dropped, which would turn
-  // a uv-mapped texture into one over the patch parameters.
-  if (scene.uvs)
-    throw InputError(jsonPath, "/shapes", "uv sets cannot be compiled yet (format version 1 has no uv section); render the JSON scene");
+  // What records share (meshes, their topologies, height maps), numbered in leaf order.
+  RecordTableIndex shared;
+  for (size_t i = 0; i < n; ++i) shared.add(*scene.leaves.patch(i));
   // The leaf kinds' names, in order of first appearance.
   std::vector<std::string> kinds;
   std::vector<uint8_t> kindOf(n);
@@ -70,10 +91,35 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   }
   nlohmann::json doc = parseJsonDocument(withoutByteOrderMark(jsonText), jsonPath);
   doc["shapes"] = nlohmann::json::array();  // compiled: the leaves
-  const nlohmann::json sceneSection = {{"source", std::filesystem::absolute(jsonPath).lexically_normal().string()},
-                                       {"text", doc.dump()},
-                                       {"kinds", kinds},
-                                       {"leaves", n}};
+  nlohmann::json sceneSection = {{"source", std::filesystem::absolute(jsonPath).lexically_normal().string()},
+                                 {"text", doc.dump()},
+                                 {"kinds", kinds},
+                                 {"leaves", n},
+                                 {"uv_sets_dropped", scene.uvSetsDropped}};
+
+  // The Meshes section, built first (its index goes into the Scene section): each topology's
+  // record, then each mesh's control points.
+  std::vector<uint8_t> meshBytes;
+  nlohmann::json topologies = nlohmann::json::array(), meshes = nlohmann::json::array(),
+                 heightMaps = nlohmann::json::array();
+  for (const SubdivTopology* t : shared.topologies()) {
+    const size_t at = meshBytes.size();
+    encodeSubdivTopology(*t, meshBytes);
+    topologies.push_back({at, meshBytes.size() - at});
+  }
+  for (size_t k = 0; k < shared.meshes().size(); ++k) {
+    const std::vector<Vec3> points = shared.meshes()[k]->controlPoints();
+    const size_t at = meshBytes.size();
+    meshBytes.resize(at + points.size() * sizeof(Vec3));
+    std::memcpy(meshBytes.data() + at, points.data(), points.size() * sizeof(Vec3));
+    meshes.push_back({shared.topologyOfMesh(uint32_t(k)), at, points.size() * sizeof(Vec3)});
+  }
+  for (const HeightMapDisplacement* d : shared.heightMaps())
+    heightMaps.push_back({{"file", d->origin().file}, {"channel", d->origin().channel},
+                          {"amplitude", d->amplitude()}, {"offset", d->offset()}});
+  sceneSection["topologies"] = topologies;
+  sceneSection["meshes"] = meshes;
+  sceneSection["height_maps"] = heightMaps;
 
   CompiledFileWriter w(outPath, programVersion());
   const std::string sceneText = sceneSection.dump();
@@ -93,13 +139,14 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     failures.assign(c1 - c0, {});
     tbb::parallel_for(c0, c1, [&](size_t i) {
       const PatchPtr p = scene.leaves.patch(i);
-      failures[i - c0] = encodePatch(*p, records[i - c0]);
+      failures[i - c0] = encodePatch(*p, records[i - c0], &shared);
     });
     for (size_t i = c0; i < c1; ++i) {
       if (!failures[i - c0].empty())
         throw InputError(jsonPath, "leaf " + std::to_string(i),
                          "cannot be compiled: " + failures[i - c0] +
-                             " (compiled scenes hold Bézier and bilinear patches, noise displacement and motion)");
+                             " (compiled scenes hold Bézier, bilinear and subdivision patches, noise and height-map "
+                             "displacement and motion)");
       offset[i] = w.sectionBytes();
       w.write(records[i - c0].data(), records[i - c0].size());
     }
@@ -117,8 +164,75 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     });
     w.write(entries.data(), entries.size() * sizeof(LeafEntry));
   }
+  if (!meshBytes.empty()) {
+    w.beginSection(SectionKind::Meshes);
+    w.write(meshBytes.data(), meshBytes.size());
+  }
+  if (scene.uvs) writeUvSets(*scene.uvs, n, shared, w);
   w.finish();
 }
+
+namespace {
+
+// The topologies and meshes the Scene section indexes, built from the Meshes section.
+void loadMeshes(const MappedFile& file, const nlohmann::json& section, RecordTables& tables,
+                std::vector<std::shared_ptr<const SubdivTopology>>& topologies) {
+  const std::string& path = file.path();
+  const nlohmann::json& ts = section.at("topologies");
+  const nlohmann::json& ms = section.at("meshes");
+  if ((!ts.empty() || !ms.empty()) && !file.has(SectionKind::Meshes))
+    throw InputError(path, "header", "no meshes section, while the scene section names " + std::to_string(ms.size()) + " meshes");
+  std::vector<uint8_t> bytes;
+  for (size_t k = 0; k < ts.size(); ++k) {
+    const uint64_t at = ts[k].at(0).get<uint64_t>(), n = ts[k].at(1).get<uint64_t>();
+    bytes.resize(n);
+    file.read(SectionKind::Meshes, at, n, bytes.data(), "topology", k);
+    try {
+      topologies.push_back(decodeSubdivTopology(bytes.data(), n));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path, "section meshes (topology " + std::to_string(k) + ")", std::string("does not decode: ") + e.what());
+    }
+  }
+  for (size_t k = 0; k < ms.size(); ++k) {
+    const uint64_t t = ms[k].at(0).get<uint64_t>(), at = ms[k].at(1).get<uint64_t>(), n = ms[k].at(2).get<uint64_t>();
+    const std::string place = "section meshes (mesh " + std::to_string(k) + ")";
+    if (t >= topologies.size() || n % sizeof(Vec3) != 0)
+      throw InputError(path, place, "names topology " + std::to_string(t) + " of " + std::to_string(topologies.size()) +
+                                        " with " + std::to_string(n) + " bytes of points: the file is corrupt");
+    std::vector<Vec3> points(n / sizeof(Vec3));
+    file.read(SectionKind::Meshes, at, n, points.data(), "mesh", k);
+    try {
+      tables.meshes.push_back(SubdivMesh::build(topologies[t], std::move(points)));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path, place, std::string("does not build: ") + e.what());
+    }
+  }
+}
+
+// The height maps the Scene section names, opened as the JSON route opens them (relative to
+// the source scene's folder) into the scene's texture cache.
+void loadHeightMaps(const std::string& path, const nlohmann::json& section, const std::string& source, Scene& scene,
+                    RecordTables& tables) {
+  const nlohmann::json& hs = section.at("height_maps");
+  const std::filesystem::path dir = std::filesystem::path(source).parent_path();
+  for (size_t k = 0; k < hs.size(); ++k) {
+    const std::string place = "section scene (height map " + std::to_string(k) + ")";
+    const std::string f = hs[k].at("file").get<std::string>();
+    std::string channel = hs[k].at("channel").get<std::string>();
+    const float amplitude = hs[k].at("amplitude").get<float>(), offset = hs[k].at("offset").get<float>();
+    const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : dir / f;
+    if (!std::filesystem::is_regular_file(fp)) throw InputError(path, place, "cannot open height map '" + fp.string() + "'");
+    auto map = openHeightMap(fp, channel, scene, [&](const char*, const std::string& why) { throw InputError(path, place, why); });
+    try {
+      tables.heightMaps.push_back(std::make_shared<const HeightMapDisplacement>(std::move(map), amplitude, offset,
+                                                                                HeightMapOrigin{f, channel}));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path, place, e.what());
+    }
+  }
+}
+
+}  // namespace
 
 Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const TextureCacheOptions& textures) {
   auto file = std::make_shared<const MappedFile>(path, residentBudget);
@@ -130,16 +244,24 @@ Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const 
   nlohmann::json section;
   std::string text, source;
   std::vector<std::string> kinds;
+  size_t leafCount = 0;
+  auto tables = std::make_shared<RecordTables>();
+  std::vector<std::shared_ptr<const SubdivTopology>> topologies;
   try {
     section = nlohmann::json::parse(sceneText);
     text = section.at("text").get<std::string>();
     source = section.at("source").get<std::string>();
     kinds = section.at("kinds").get<std::vector<std::string>>();
+    leafCount = section.at("leaves").get<size_t>();
+    loadMeshes(*file, section, *tables, topologies);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "section scene", std::string("not the scene's JSON: ") + e.what());
   }
-  auto leaves = std::make_shared<const MappedLeaves>(file, std::move(kinds));
+  auto leaves = std::make_shared<const MappedLeaves>(file, std::move(kinds), tables);
   const size_t n = leaves->size();
+  if (n != leafCount)
+    throw InputError(path, "section leaves", std::to_string(n) + " leaf entries, while the scene section says " +
+                                                 std::to_string(leafCount) + ": the file is corrupt");
   if (file->sectionBytes(SectionKind::Materials) != n * sizeof(uint32_t))
     throw InputError(path, "section materials", "not one material per leaf of the leaf table");
   std::vector<uint32_t> material(n);
@@ -150,6 +272,19 @@ Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const 
   // folder); messages then name the .rayes.
   Scene scene = parseSceneWithShapes(text, source, std::move(leaves), std::move(material), textures);
   scene.path = path;
+  try {
+    // Height maps go into the scene's texture cache, made by the parse; no patch() was asked
+    // for before this.
+    loadHeightMaps(path, section, source, scene, *tables);
+    scene.uvSetsDropped = section.at("uv_sets_dropped").get<bool>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path, "section scene", std::string("not the scene's JSON: ") + e.what());
+  }
+  if (file->has(SectionKind::UvSets)) {
+    std::vector<std::shared_ptr<const SubdivUvSet>> sets;
+    for (const auto& t : topologies) sets.push_back(hasUvSet(*t) ? std::make_shared<const SubdivUvSet>(t) : nullptr);
+    scene.uvs = LeafUvTable::mapped(file, n, std::move(sets));
+  }
   scene.compiled = std::move(file);
   return scene;
 }

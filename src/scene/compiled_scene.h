@@ -3,11 +3,15 @@
 //
 // What is compiled: the "shapes" section's leaves (leaf ids [0, Scene::shapeLeaves)): each
 // leaf's box, facts and material in the leaf table, its patch as a record (geometry/
-// patch_record.h). What stays text: the rest of the scene JSON (camera, film, integrator,
-// materials, lights), with "shapes" emptied, and the source file's absolute path, against
-// which its relative file names (textures, environment maps) resolve. Loading a compiled
-// scene reads that text as the JSON loader does and puts the mapped leaves first, so leaf ids,
-// materials and lights are those of the JSON scene and the image is the same, bit for bit.
+// patch_record.h); what records share, once: subdivision topologies and meshes' control points
+// (the Meshes section), height maps as the file and channel the scene named (in the Scene
+// section, opened again at load relative to the source's folder); the leaves' uv sets (the
+// UvSets section, read through the mapping: LeafUvTable::mapped). What stays text: the rest of
+// the scene JSON (camera, film, integrator, materials, lights), with "shapes" emptied, and the
+// source file's absolute path, against which its relative file names (textures, environment
+// maps, height maps) resolve. Loading a compiled scene reads that text as the JSON loader does
+// and puts the mapped leaves first, so leaf ids, materials and lights are those of the JSON
+// scene and the image is the same, bit for bit.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -17,15 +21,17 @@
 namespace rayes {
 
 // Writes `scene`, loaded from `jsonPath` (whose text is `jsonText`), to `outPath`. Throws
-// InputError(jsonPath, "leaf N", ...) for a leaf whose kind cannot be compiled (subdivision
-// faces, height-map displacement), InputError / ResourceError for a file that cannot be written.
+// InputError(jsonPath, "leaf N", ...) for a leaf whose kind cannot be compiled (a disk; a height
+// map made in memory), InputError / ResourceError for a file that cannot be written.
 // `progress(done, total)`, when given, is called between chunks of leaves.
 void writeCompiledScene(const Scene& scene, const std::string& jsonText, const std::string& jsonPath,
                         const std::string& outPath, const std::function<void(size_t, size_t)>& progress = {});
 
 // Maps `path` (a .rayes) and builds its Scene; residentBudget (--scene-memory) bounds the
 // mapping's resident blocks (0: no bound). InputError naming the file and the place for a file
-// that is not a .rayes, of another format version, truncated or corrupt.
+// that is not a .rayes, of another format version, truncated or corrupt, whose counts disagree
+// (a mesh, a topology, the uv records), or whose height map cannot be opened. Subdivision
+// meshes are built and height maps opened here, once.
 Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const TextureCacheOptions& textures = {});
 
 // True for a name ending in .rayes (any case): what `rayes render` loads as a compiled scene.

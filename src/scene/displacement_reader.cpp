@@ -6,6 +6,7 @@
 // are read through the scene's texture cache (geometry/displacement.h, HeightMap). Every error
 // names the scene file, line:column and JSON pointer; an unreadable image also names the image.
 #include <filesystem>
+#include <functional>
 #include <ImfChannelList.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
@@ -18,19 +19,16 @@
 
 namespace rayes {
 
-namespace {
-
-std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::string& ptr,
-                                                const std::filesystem::path& path, const std::string& wanted,
-                                                Scene& scene) {
+std::shared_ptr<const HeightMap> openHeightMap(const std::filesystem::path& path, std::string& name, Scene& scene,
+                                               const std::function<void(const char*, const std::string&)>& fail) {
   // The header is read with OpenEXR first: its checks (a truncated file, a lying size) and the
   // choice of channel come before the texture cache converts anything.
-  std::string name = wanted, failure;
+  std::string failure;
   std::unique_ptr<Imf::InputFile> in;
   try {
     in = openExrInput(path, "height map");
   } catch (const InputError& e) {
-    r.fail(ptr + "/file", e.message());
+    fail("file", e.message());
   }
   const Imf::ChannelList& channels = in->header().channels();
   if (name.empty()) {
@@ -38,9 +36,9 @@ std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::s
       if (channels.findChannel(c)) { name = c; break; }
     if (name.empty() && channels.begin() != channels.end() && ++channels.begin() == channels.end())
       name = channels.begin().name();
-    if (name.empty()) r.fail(ptr + "/file", "height map '" + path.string() + "' has no channel Y or R (name one with 'channel')");
+    if (name.empty()) fail("file", "height map '" + path.string() + "' has no channel Y or R (name one with 'channel')");
   } else if (!channels.findChannel(name.c_str())) {
-    r.fail(ptr + "/channel", "height map '" + path.string() + "' has no channel '" + name + "'");
+    fail("channel", "height map '" + path.string() + "' has no channel '" + name + "'");
   }
   in.reset();
   // The texels are paged through the scene's texture cache (a plain EXR is converted once to a
@@ -53,10 +51,10 @@ std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::s
     throw;
   } catch (const InputError& e) {
     if (e.file().rfind("--", 0) == 0) throw;  // the conversion folder, an option's fault
-    r.fail(ptr + "/file", "cannot read height map '" + path.string() + "': " + e.message());
+    fail("file", "cannot read height map '" + path.string() + "': " + e.message());
   }
   const int channel = image->channelIndex(name);
-  if (channel < 0) r.fail(ptr + "/channel", "height map '" + path.string() + "' has no channel '" + name + "'");
+  if (channel < 0) fail("channel", "height map '" + path.string() + "' has no channel '" + name + "'");
   try {
     return std::make_shared<HeightMap>(image, channel);
   } catch (const InputError& e) {
@@ -64,10 +62,9 @@ std::shared_ptr<const HeightMap> readHeightMap(const JsonReader& r, const std::s
   } catch (const std::invalid_argument& e) {
     failure = e.what();
   }
-  r.fail(ptr + "/file", "cannot read height map '" + path.string() + "': " + failure);
+  fail("file", "cannot read height map '" + path.string() + "': " + failure);
+  throw std::logic_error("openHeightMap: fail returned");
 }
-
-}  // namespace
 
 DisplacementPtr readDisplacement(const ShapeContext& ctx, Scene& scene) {
   const JsonReader& r = ctx.reader;
@@ -109,9 +106,9 @@ DisplacementPtr readDisplacement(const ShapeContext& ctx, Scene& scene) {
     const std::filesystem::path fp = std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : ctx.sceneDir / f;
     if (!std::filesystem::exists(fp)) r.fail(p + "/file", "cannot open height map '" + fp.string() + "'");
     if (std::filesystem::is_directory(fp)) r.fail(p + "/file", "height map '" + fp.string() + "' is a directory");
-    const std::string channel = d.contains("channel") ? r.string(d["channel"], p + "/channel") : "";
-    auto map = readHeightMap(r, p, fp, channel, scene);
-    return std::make_shared<HeightMapDisplacement>(std::move(map), float(amplitude), float(offset));
+    std::string channel = d.contains("channel") ? r.string(d["channel"], p + "/channel") : "";
+    auto map = openHeightMap(fp, channel, scene, [&](const char* key, const std::string& why) { r.fail(p + "/" + key, why); });
+    return std::make_shared<HeightMapDisplacement>(std::move(map), float(amplitude), float(offset), HeightMapOrigin{f, channel});
   }
   r.fail(p + "/type", "unknown displacement type '" + type + "' (expected image, noise)");
 }

@@ -59,6 +59,12 @@ std::vector<PatchPtr> movingPatches(const Motion& m, const Transform& xf,
 // The "displacement" modifier of ctx.shape (displacement_reader.cpp; the shape must have it).
 // A height map is opened in scene.textureCache().
 DisplacementPtr readDisplacement(const ShapeContext& ctx, Scene& scene);
+// A height map's image (an EXR, read through the scene's texture cache) and its channel:
+// `channel` as named, or chosen (Y, R, or the only one) and set when empty. Problems call
+// fail("file" | "channel", why), which must throw (the JSON route names the pointer, a
+// compiled scene its section).
+std::shared_ptr<const HeightMap> openHeightMap(const std::filesystem::path& path, std::string& channel, Scene& scene,
+                                               const std::function<void(const char*, const std::string&)>& fail);
 // `patches` = source.build(xf), each wrapped in a DisplacedPatch when `d` is not null. The
 // displacement is a function of the object-space surface (source.build of the identity), so
 // the pattern moves with the shape's transform and is the same at every time sample.

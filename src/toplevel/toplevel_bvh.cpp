@@ -23,6 +23,7 @@ struct TopLevelBvh::Impl {
   std::vector<Node4> nodes;  // depth first, a parent before its children
   uint32_t root = toplevel::kNoRoot;
   Box3 bounds;
+  std::vector<Box3> leafBoxes;  // what it was built over, by leaf id
 };
 
 namespace {
@@ -148,10 +149,14 @@ class BestList {
 TopLevelBvh::TopLevelBvh() : impl_(new Impl) {}
 TopLevelBvh::~TopLevelBvh() { delete impl_; }
 
-void TopLevelBvh::build(std::span<const Box3> leafBoxes) {
-  if (leafBoxes.size() > size_t(toplevel::kMaxLeafId) + 1)
+void TopLevelBvh::build(std::span<const Box3> leafBoxes) { build(std::vector<Box3>(leafBoxes.begin(), leafBoxes.end())); }
+
+void TopLevelBvh::build(std::vector<Box3>&& boxes) {
+  if (boxes.size() > size_t(toplevel::kMaxLeafId) + 1)
     throw std::length_error("toplevel: too many leaves for 31-bit leaf ids");
   auto impl = std::make_unique<Impl>();
+  impl->leafBoxes = std::move(boxes);
+  const std::span<const Box3> leafBoxes = impl->leafBoxes;
 
   std::vector<RTCBuildPrimitive> prims;
   prims.reserve(leafBoxes.size());
@@ -185,8 +190,11 @@ void TopLevelBvh::build(std::span<const Box3> leafBoxes) {
     const auto* root = static_cast<const BuildItem*>(rtcBuildBVH(&args));
     if (!root) embreeFailure(device.get(), "rtcBuildBVH failed");
     if (context.multiPrimLeaf) throw std::logic_error("toplevel: Embree made a leaf of several boxes");
+    // The primitives are Embree's input only: released before the nodes are made, so that the
+    // two never take memory at once (32 + 64 bytes per leaf).
+    std::vector<RTCBuildPrimitive>().swap(prims);
 
-    impl->nodes.reserve(prims.size() / 2 + 1);  // ~n/2 inner nodes measured (at most n-1)
+    impl->nodes.reserve(leafBoxes.size() / 2 + 1);  // ~n/2 inner nodes measured (at most n-1)
     impl->root = flatten(root, leafBoxes, impl->nodes, impl->bounds);
     impl->nodes.shrink_to_fit();
   }  // the Embree tree and device are released here
@@ -296,7 +304,10 @@ bool TopLevelBvh::anyOtherLeafMeets(const Box3& box, uint32_t except) const {
 }
 
 size_t TopLevelBvh::nodeCount() const { return impl_->nodes.size(); }
-size_t TopLevelBvh::bytes() const { return impl_->nodes.capacity() * sizeof(Node4); }
+size_t TopLevelBvh::bytes() const {
+  return impl_->nodes.capacity() * sizeof(Node4) + impl_->leafBoxes.capacity() * sizeof(Box3);
+}
+std::span<const Box3> TopLevelBvh::leafBoxes() const { return impl_->leafBoxes; }
 Box3 TopLevelBvh::bounds() const { return impl_->bounds; }
 
 void TopLevelBvh::overlapping(const Box3& box, std::vector<uint32_t>& out, TraversalScratch& scratch) const {

@@ -14,8 +14,10 @@
 //
 // Threads: the BVH is immutable after build(); collect() is const and thread-safe, each thread
 // passing its own TraversalScratch. Memory: 128 bytes per inner node (about n/2 inner nodes
-// for n leaves: SAH leaves many 2- and 3-child nodes near the leaves), nothing per leaf beyond the leaf id in its parent; no geometry is stored here
-// and nothing of Embree is kept after build(). Node layout: toplevel_node.h.
+// for n leaves: SAH leaves many 2- and 3-child nodes near the leaves) and the leaf boxes it was
+// built over (24 bytes per leaf: the one copy of them a render keeps, read by the engine and
+// lbt); no geometry is stored here and nothing of Embree is kept after build(). Node layout:
+// toplevel_node.h.
 #pragma once
 #include <cstdint>
 #include <limits>
@@ -48,8 +50,11 @@ class TopLevelBvh {
 
   // Builds over leafBoxes[i] for leaf id i (fewer than 2^31 of them). Empty boxes (and boxes
   // with a NaN bound) are left out: never candidates. Boxes must otherwise be finite.
-  // Rebuilding replaces the previous tree.
+  // Rebuilding replaces the previous tree. The boxes are kept (leafBoxes()): copied, or taken.
   void build(std::span<const Box3> leafBoxes);
+  void build(std::vector<Box3>&& leafBoxes);
+  // The boxes of the last build, by leaf id (empty ones included).
+  std::span<const Box3> leafBoxes() const;
 
   // See the contract above. Start a trace with resumeEntry = -inf (any resumeLeaf); tmin must
   // be finite (entries are clamped to it, so they then exceed -inf). Returns the number of
@@ -67,7 +72,7 @@ class TopLevelBvh {
 
   size_t leafCount() const { return leafCount_; }  // leaf ids, empty boxes included
   size_t nodeCount() const;
-  size_t bytes() const;     // memory held by the nodes
+  size_t bytes() const;     // memory held by the nodes and the leaf boxes
   Box3 bounds() const;      // scene bounds (union of all leaf boxes)
 
  private:

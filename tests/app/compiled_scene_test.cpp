@@ -9,6 +9,7 @@
 #include "app/command_line.h"
 #include "core/memory.h"
 #include "geometry/compiled_file.h"
+#include "support/exr_test_file.h"
 #include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
@@ -46,11 +47,22 @@ class CompiledScene : public ::testing::Test {
   testing::TempFolder temp_;
 };
 
+// The offset of `kind`'s section in a compiled file (0: none).
+uint64_t sectionOffset(const std::string& path, compiled::SectionKind kind) {
+  MappedFile probe(path, 0);
+  for (uint32_t k = 0; k < probe.header().sectionCount; ++k)
+    if (probe.header().sections[k].kind == uint32_t(kind)) return probe.header().sections[k].offset;
+  return 0;
+}
+
 // Bézier (teapot), noise-displaced Bézier (displaced teapot), a forest (displaced Bézier bark,
 // displaced bilinear terrain, bilinear foliage), moving bilinear patches, a bilinear box with a
-// rectangle light (a light leaf after the compiled ones), depth of field over Bézier patches.
+// rectangle light (a light leaf after the compiled ones), depth of field over Bézier patches,
+// a Catmull-Clark mesh with creases (subdiv creature) and with its uv set read by a texture
+// (uv checker).
 TEST_F(CompiledScene, RendersTheSameBitsAsTheJson) {
-  for (const char* name : {"teapot", "displaced-teapot", "forest-1", "motion-cubes", "cornell-box", "dof"}) {
+  for (const char* name : {"teapot", "displaced-teapot", "forest-1", "motion-cubes", "cornell-box", "dof",
+                           "subdiv-creature", "uv-checker"}) {
     SCOPED_TRACE(name);
     const std::string json = sceneFile(std::string(name) + ".json");
     const std::string compiled = compile(json, name);
@@ -60,6 +72,55 @@ TEST_F(CompiledScene, RendersTheSameBitsAsTheJson) {
     ASSERT_FALSE(a.empty());
     EXPECT_TRUE(a == b) << "the compiled render differs from the JSON render";
   }
+}
+
+// Format version 2's other kinds, in one scene: height-map displacement (the map named relative
+// to the scene, which lies in another folder than the .rayes) on a bilinear quad with uv
+// corners a texture reads, a moving displaced subdivision mesh whose uv set the texture reads
+// (its topology stored once for both time samples), and a Bézier teapot without a uv set
+// among leaves with one.
+TEST_F(CompiledScene, HeightMapsUvSetsAndMovingMeshesRenderTheSameBitsAsTheJson) {
+  fs::create_directories(temp_.path("src"));
+  std::vector<float> h(16 * 16);
+  for (int k = 0; k < 256; ++k) h[size_t(k)] = float((k * 37) % 17) / 17.0f;
+  testing::writeOneChannelExr(temp_.path("src/h.exr"), 16, 16, "Y", h);
+  const std::string json = temp_.write("src/scene.json", R"({
+    "camera": {"position": [0, -6, 4], "look_at": [0, 0, 0.3], "up": [0, 0, 1], "fov": 40, "shutter": [0, 1]},
+    "film": {"resolution": [40, 30], "spp": 2},
+    "integrator": {"max_depth": 2},
+    "materials": {
+      "uv": {"type": "diffuse", "albedo": {"type": "checker", "colors": [[0.8, 0.7, 0.6], [0.1, 0.2, 0.4]], "scale": 6,
+                                          "coordinates": "uv"}},
+      "plain": {"type": "diffuse", "albedo": [0.5, 0.5, 0.5]}},
+    "shapes": [
+      {"type": "bilinear", "material": "uv", "quads": [[[-3, -3, 0], [3, -3, 0], [-3, 3, 0], [3, 3, 0]]],
+       "uvs": [[[0, 0], [2, 0], [0, 2], [2, 2]]],
+       "displacement": {"type": "image", "file": "h.exr", "amplitude": 0.3}},
+      {"type": "subdiv", "material": "uv",
+       "vertices": [[-1, -1, 0.5], [1, -1, 0.5], [1, 1, 0.5], [-1, 1, 0.5], [-1, -1, 1.5], [1, -1, 1.5], [1, 1, 1.5], [-1, 1, 1.5]],
+       "faces": [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]],
+       "creases": [[4, 5, 2.5]], "corners": [[6, 3]],
+       "uvs": [[0, 0], [1, 0], [1, 1], [0, 1]], "uv_faces": [[0, 3, 2, 1], [0, 1, 2, 3], [0, 1, 2, 3], [0, 1, 2, 3], [0, 1, 2, 3], [0, 1, 2, 3]],
+       "displacement": {"type": "noise", "amplitude": 0.05, "frequency": 3},
+       "motion": {"times": [0, 1], "transforms": [[{"translate": [0, 0, 0]}], [{"translate": [0.3, 0, 0]}]]}},
+      {"type": "bezier", "file": ")" + sceneFile("teapot.bpt") + R"(", "material": "plain",
+       "transform": [{"scale": [0.2, 0.2, 0.2]}, {"translate": [2, 1, 0.5]}]}
+    ],
+    "lights": [{"type": "point", "position": [2, -4, 6], "intensity": [40, 40, 40]}]})");
+  fs::create_directories(temp_.path("out"));
+  const std::string compiled = compile(json, "out/scene");
+  EXPECT_NE(sectionOffset(compiled, compiled::SectionKind::Meshes), 0u);
+  EXPECT_NE(sectionOffset(compiled, compiled::SectionKind::UvSets), 0u);
+  const std::string a = render(json, "json");
+  const std::string b = render(compiled, "rayes");
+  ASSERT_FALSE(a.empty());
+  EXPECT_TRUE(a == b) << "the compiled render differs from the JSON render";
+  // The map is opened again at every render: gone, it is named with the compiled file.
+  fs::remove(temp_.path("src/h.exr"));
+  const RunResult r = run({"render", compiled, "-o", temp_.path("gone.exr"), "-q"});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(compiled + ":section scene (height map 0): cannot open height map"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(temp_.path("gone.exr")));
 }
 
 // A forest of 48 trees: a .rayes of several MiB rendered under --scene-memory 1M, with the
@@ -117,10 +178,14 @@ TEST_F(CompiledScene, PartsOfACompiledRenderMergeToTheWholeRender) {
 TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   const std::string good = compile(sceneFile("cornell-box.json"), "good");
   const std::string bytes = temp_.read("good.rayes");
-  MappedFile probe(good, 0);
-  uint64_t records = 0;
-  for (uint32_t k = 0; k < probe.header().sectionCount; ++k)
-    if (probe.header().sections[k].kind == uint32_t(compiled::SectionKind::Records)) records = probe.header().sections[k].offset;
+  const uint64_t records = sectionOffset(good, compiled::SectionKind::Records);
+  // A mesh with a uv set: its topology is built at load, its uv records read as hits are shaded.
+  const std::string uvScene = compile(sceneFile("uv-checker.json"), "uv");
+  const std::string uvBytes = temp_.read("uv.rayes");
+  const uint64_t meshes = sectionOffset(uvScene, compiled::SectionKind::Meshes);
+  const uint64_t uvSets = sectionOffset(uvScene, compiled::SectionKind::UvSets);
+  ASSERT_NE(meshes, 0u);
+  ASSERT_NE(uvSets, 0u);
   struct Case {
     const char* name;
     std::string content;
@@ -133,10 +198,18 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
       {"header", bytes, "header: checksum mismatch"},
       // A record block: the bilinear leaves are read first when diced, mid-render.
       {"block", bytes, "section records, block 0 (leaf "},
+      // A file of format version 1 (no uv sets, meshes or height maps): refused, both versions named.
+      {"version-1", bytes, "header: format version 1, written by rayes"},
+      {"mesh-block", uvBytes, "section meshes, block 0 (topology 0)"},
+      {"uv-block", uvBytes, "section uv_sets, block 0 (leaf "},
+      {"uv-truncated", uvBytes.substr(0, uvSets + 100), "header: truncated or extended"},
   };
   cases[2].content[8] = 7;
   cases[3].content[90] ^= 1;
   cases[4].content[records + 3] ^= 1;
+  cases[5].content[8] = 1;
+  cases[6].content[meshes + 5] ^= 1;
+  cases[7].content[uvSets + 3] ^= 1;
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     testing::TempFolder t;
@@ -146,6 +219,9 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find(scene + ":"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(c.place), std::string::npos) << r.err;
+    if (std::string(c.name) == "version-1") {
+      EXPECT_NE(r.err.find("this program reads version 2"), std::string::npos) << r.err;
+    }
     EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
     EXPECT_EQ(t.entries(), std::vector<std::string>{std::string(c.name) + ".rayes"}) << "something was written";
   }
@@ -173,10 +249,6 @@ TEST_F(CompiledScene, CompileFailsLikeRenderAndWritesNothing) {
   RunResult r = run({"compile", bad, "-o", temp_.path("bad.rayes"), "-q"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find(bad + ":2:"), std::string::npos) << r.err;
-  // Subdivision faces are not compiled (yet): the leaf is named, nothing is left.
-  r = run({"compile", sceneFile("subdiv-creature.json"), "-o", temp_.path("s.rayes"), "-q"});
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.err.find("leaf 0: cannot be compiled: a patch of kind 'subdiv'"), std::string::npos) << r.err;
   r = run({"compile", sceneFile("teapot.json"), "-o", temp_.path("t.exr"), "-q"});
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("ends in .rayes"), std::string::npos) << r.err;

@@ -7,7 +7,10 @@
 #include "geometry/leaf_source.h"
 #include "geometry/moving_patch.h"
 #include "geometry/patch_record.h"
+#include "geometry/subdiv_patch.h"
+#include "geometry/subdiv_uv.h"
 #include "support/displaced_test_shapes.h"
+#include "support/subdiv_test_meshes.h"
 
 namespace rayes {
 namespace {
@@ -78,7 +81,93 @@ TEST(PatchRecord, NamesWhatItCannotEncode) {
   const auto map = test::randomMap(8, 8, 1);
   const DisplacedPatch heightMapped(test::testShapes()[2].patch, std::make_shared<HeightMapDisplacement>(map, 0.1f, 0.0f));
   out.clear();
-  EXPECT_NE(encodePatch(heightMapped, out).find("'image'"), std::string::npos);
+  EXPECT_NE(encodePatch(heightMapped, out).find("height-map displacement without a table"), std::string::npos);
+  // With a table, a map must name its file: one made in memory cannot be opened again.
+  RecordTableIndex index;
+  index.add(heightMapped);
+  out.clear();
+  EXPECT_NE(encodePatch(heightMapped, out, &index).find("made in memory"), std::string::npos);
+}
+
+// A cube with every tag a topology carries (crease, corner, hole, a uv set with a seam, a
+// boundary rule, a uv interpolation), moved to two time samples and displaced by a height map
+// that names a file.
+struct SharedKinds {
+  std::shared_ptr<const SubdivTopology> topology;
+  SubdivMeshPtr at0, at1;
+  std::shared_ptr<const HeightMapDisplacement> map;
+  PatchPtr moving, displaced;
+
+  SharedKinds() {
+    SubdivMeshDesc d = test::cube();
+    d.creases = {{0, 2, 2.5f}};
+    d.corners = {{7, 4.0f}};
+    d.holes = {5};
+    d.boundary = SubdivBoundary::EdgeOnly;
+    d.uvInterpolation = SubdivUvInterpolation::CornersPlus1;
+    d.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5f, 0.5f}};
+    for (int f = 0; f < 6; ++f)
+      for (int k = 0; k < 4; ++k) d.uvIndices.push_back(f == 2 && k == 0 ? 4 : k);
+    topology = buildSubdivTopology(d);
+    std::vector<Vec3> moved = d.positions;
+    for (Vec3& p : moved) p = p + Vec3{0.25f, 0, 0};
+    at0 = SubdivMesh::build(topology, d.positions);
+    at1 = SubdivMesh::build(topology, moved);
+    map = std::make_shared<HeightMapDisplacement>(test::randomMap(8, 8, 1), 0.1f, 0.02f, HeightMapOrigin{"h.exr", "Y"});
+    moving = std::make_shared<MovingPatch>(std::vector<PatchPtr>{at0->patches()[1], at1->patches()[1]},
+                                           std::vector<float>{0.0f, 1.0f});
+    displaced = std::make_shared<DisplacedPatch>(at0->patches()[2], map, at1->patches()[2]);
+  }
+};
+
+// Subdivision faces and height maps: the records name the shared objects by index, the objects
+// are rebuilt from their own records (the topology) or passed in (meshes, maps), and the patch
+// comes back bit for bit.
+TEST(PatchRecord, SharedObjectsAreNamedByIndexAndRebuildTheSamePatch) {
+  const SharedKinds k;
+  RecordTableIndex index;
+  index.add(*k.moving);
+  index.add(*k.displaced);
+  ASSERT_EQ(index.meshes().size(), 2u);
+  ASSERT_EQ(index.topologies().size(), 1u) << "a moving mesh's time samples share one topology";
+  ASSERT_EQ(index.heightMaps().size(), 1u);
+  std::vector<uint8_t> topo;
+  encodeSubdivTopology(*k.topology, topo);
+  const auto rebuilt = decodeSubdivTopology(topo.data(), topo.size());
+  RecordTables tables;
+  for (const SubdivMesh* m : index.meshes()) tables.meshes.push_back(SubdivMesh::build(rebuilt, m->controlPoints()));
+  tables.heightMaps.push_back(k.map);
+  for (const PatchPtr& p : {k.moving, k.displaced}) {
+    SCOPED_TRACE(p->kind());
+    std::vector<uint8_t> r;
+    ASSERT_EQ(encodePatch(*p, r, &index), "");
+    expectSamePatch(*p, *decodePatch(r.data(), r.size(), &tables));
+  }
+  // The uv set of the rebuilt topology is the same function.
+  const SubdivUvSet a(k.topology), b(rebuilt);
+  ASSERT_EQ(a.leafCount(), b.leafCount());
+  for (int leaf = 0; leaf < a.leafCount(); ++leaf) {
+    float sa[2], ua[2], va[2], sb[2], ub[2], vb[2];
+    a.evaluate(leaf, 0.3f, 0.7f, sa, ua, va);
+    b.evaluate(leaf, 0.3f, 0.7f, sb, ub, vb);
+    EXPECT_EQ(std::memcmp(sa, sb, sizeof sa) | std::memcmp(ua, ub, sizeof ua) | std::memcmp(va, vb, sizeof va), 0) << leaf;
+  }
+  // Without the tables, or with an index beyond them, the record is refused.
+  std::vector<uint8_t> r;
+  ASSERT_EQ(encodePatch(*k.moving, r, &index), "");
+  EXPECT_THROW(decodePatch(r.data(), r.size()), std::invalid_argument);
+  RecordTables short_;
+  short_.meshes.push_back(tables.meshes[0]);
+  EXPECT_THROW(decodePatch(r.data(), r.size(), &short_), std::invalid_argument);
+}
+
+TEST(PatchRecord, ATopologyRecordRefusesEveryTruncationAndExtension) {
+  const SharedKinds k;
+  std::vector<uint8_t> topo;
+  encodeSubdivTopology(*k.topology, topo);
+  for (size_t n = 0; n < topo.size(); ++n) EXPECT_THROW(decodeSubdivTopology(topo.data(), n), std::invalid_argument) << n;
+  topo.push_back(0);
+  EXPECT_THROW(decodeSubdivTopology(topo.data(), topo.size()), std::invalid_argument);
 }
 
 TEST(PatchRecord, RefusesEveryTruncationAndExtension) {

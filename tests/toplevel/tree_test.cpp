@@ -1,4 +1,5 @@
 // The built tree itself: containment of leaf boxes, counts, empty slots, 4-wide nodes.
+#include <cstring>
 #include <gtest/gtest.h>
 
 #include "toplevel/toplevel_bvh.h"
@@ -72,7 +73,10 @@ TreeStats checkTree(const TopLevelBvh& bvh, const std::vector<Box3>& boxes) {
   for (size_t i = 0; i < boxes.size(); ++i)
     EXPECT_EQ(stats.leafSeen[i], boxes[i].empty() ? 0 : 1) << "leaf " << i;
   EXPECT_EQ(stats.innerNodes, bvh.nodeCount());  // every node reachable, none twice
-  EXPECT_EQ(bvh.bytes(), bvh.nodeCount() * sizeof(Node4));
+  EXPECT_EQ(bvh.bytes(), bvh.nodeCount() * sizeof(Node4) + boxes.size() * sizeof(Box3));
+  EXPECT_EQ(bvh.leafBoxes().size(), boxes.size());
+  for (size_t i = 0; i < boxes.size() && i < bvh.leafBoxes().size(); ++i)
+    EXPECT_EQ(std::memcmp(&bvh.leafBoxes()[i], &boxes[i], sizeof(Box3)), 0) << "leaf " << i;
   EXPECT_EQ(bvh.leafCount(), boxes.size());
   return stats;
 }
