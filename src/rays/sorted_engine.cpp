@@ -33,12 +33,14 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
       // take 2.6 MiB instead of the 160 MiB that forest-100's re-dicings pay for.
       borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
   leafSize_.resize(leaves.size());
+  leafFloor_.resize(leaves.size());
   leafBox_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 1024), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const LeafFacts f = leaves.facts(i);
       leafSize_[i] = f.sizeBound;
+      leafFloor_[i] = uint8_t(levelForDicingError(f.sizeBound, f.dicingError, settings_.maxLod));
       leafMoving_[i] = f.timeSamples > 1;
       leafBox_[i] = leaves.bounds(i);
     }
@@ -90,8 +92,9 @@ int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float
     level = std::min<int>(b.ray[ray].originLevel, settings_.maxLod);  // carries the bias already
   } else {
     const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread;
-    level = biasedLevel(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), settings_.lodBias,
-                        settings_.maxLod);
+    // No coarser than the patch's dicing error allows (docs/design.md, "Level of detail and energy").
+    const int footprint = std::max(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), int(leafFloor_[leaf]));
+    level = biasedLevel(footprint, settings_.lodBias, settings_.maxLod);
   }
   if (settings_.levelHook) level = std::clamp(settings_.levelHook(ray, leaf, level), 0, settings_.maxLod);
   return level;
