@@ -70,7 +70,8 @@ EngineStats SortedEngine::engineStats() const {
   s.name = "rayes";
   s.fixedBytes = fixedBytes();
   s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafBox_.capacity() * sizeof(Box3) +
-                     leafMoving_.capacity() + borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
+                     leafMoving_.capacity() + leafFloor_.capacity() +
+                     borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
   s.maxLevel = settings_.maxLod;
   s.cacheHits = cache_.hits();
   s.cachePeakBytes = cache_.peakBytes();

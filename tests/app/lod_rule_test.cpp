@@ -1,4 +1,5 @@
-// Level-of-detail rules and the bias on them; the per-ray rule renders the energy of the fixed geometry. The thesis's batch-density LOD rule (--lod density) is available: it renders a finite,
+// Level-of-detail rules and the bias on them; the per-ray rule renders the energy of the fixed
+// geometry. The thesis's batch-density LOD rule (--lod density) is available: it renders a finite,
 // non-black image and dices coarser than the per-ray footprint rule on a low-spp render (its
 // level comes from the ray count per leaf, not from each ray's footprint).
 #include <cmath>
