@@ -261,6 +261,15 @@ class DiceBuffer {
 // (Precedence: maxLevel <= 0 gives 0, then patchSize <= 0 gives 0; a NaN or infinite
 // patchSize gives maxLevel, the safe choice for an unknown size.)
 int levelForFootprint(float patchSize, float footprintWidth, int maxLevel);
+// The coarsest level at which a patch's dicing error bound, errorCoefficient / 4^m
+// (Patch::dicingErrorCoefficient), is at most kRelativeDicingError of its size: the per-ray
+// rule's floor (docs/design.md, "Level of detail and energy"). A footprint as wide as a curved
+// patch would otherwise see it as a few chords, which lie inside a convex surface (its shadow
+// shrinks) and whose planes lean tens of degrees off its normals (reflections lost); both err
+// by about the dicing error over the size, so this bounds them. Planar patches (C = 0) get 0;
+// a non-finite C gets maxLevel; clamped to [0, maxLevel].
+inline constexpr double kRelativeDicingError = 1.0 / 1024;
+int levelForDicingError(float patchSize, float errorCoefficient, int maxLevel);
 // `level` shifted by `bias` (--lod-bias), clamped to [0, maxLevel] (maxLevel < 0 counts as 0).
 int biasedLevel(int level, int bias, int maxLevel);
 

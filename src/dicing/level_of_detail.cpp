@@ -21,6 +21,18 @@ int levelForFootprint(float patchSize, float footprintWidth, int maxLevel) {
   return maxLevel;
 }
 
+int levelForDicingError(float patchSize, float errorCoefficient, int maxLevel) {
+  if (maxLevel <= 0 || !(errorCoefficient > 0.0f)) return 0;
+  if (!std::isfinite(errorCoefficient)) return maxLevel;
+  if (!(patchSize > 0.0f)) return maxLevel;  // no size to be small against
+  // In double: the tolerance cannot underflow, and quartering a float's C is exact there.
+  const double tolerance = double(patchSize) * kRelativeDicingError;
+  double error = errorCoefficient;
+  for (int m = 0; m < maxLevel; ++m, error *= 0.25)
+    if (error <= tolerance) return m;
+  return maxLevel;
+}
+
 int biasedLevel(int level, int bias, int maxLevel) {
   // In int64 so no bias can overflow; the clamp keeps the result a level the buffer holds.
   return int(std::clamp<int64_t>(int64_t(level) + bias, 0, std::max(maxLevel, 0)));

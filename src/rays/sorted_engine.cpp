@@ -35,11 +35,13 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
       borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
   if (top.leafBoxes().size() != leaves.size()) throw std::logic_error("SortedEngine: the top level is not over these leaves");
   leafSize_.resize(leaves.size());
+  leafFloor_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size(), 1024), [&](const auto& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const LeafFacts f = leaves.facts(i);
       leafSize_[i] = f.sizeBound;
+      leafFloor_[i] = uint8_t(levelForDicingError(f.sizeBound, f.dicingError, settings_.maxLod));
       leafMoving_[i] = f.timeSamples > 1;
     }
   });
@@ -67,7 +69,8 @@ EngineStats SortedEngine::engineStats() const {
   EngineStats s;
   s.name = "rayes";
   s.fixedBytes = fixedBytes();
-  s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafMoving_.capacity() + borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
+  s.leafTableBytes = leafSize_.capacity() * sizeof(float) + leafMoving_.capacity() + leafFloor_.capacity() +
+                     borderNeighbour_.capacity() * sizeof(borderNeighbour_[0]);
   s.maxLevel = settings_.maxLod;
   s.cacheHits = cache_.hits();
   s.cachePeakBytes = cache_.peakBytes();
@@ -89,8 +92,9 @@ int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float
     level = std::min<int>(b.ray[ray].originLevel, settings_.maxLod);  // carries the bias already
   } else {
     const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread;
-    level = biasedLevel(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), settings_.lodBias,
-                        settings_.maxLod);
+    // No coarser than the patch's dicing error allows (docs/design.md, "Level of detail and energy").
+    const int footprint = std::max(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), int(leafFloor_[leaf]));
+    level = biasedLevel(footprint, settings_.lodBias, settings_.maxLod);
   }
   if (settings_.levelHook) level = std::clamp(settings_.levelHook(ray, leaf, level), 0, settings_.maxLod);
   return level;

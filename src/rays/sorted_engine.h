@@ -203,6 +203,7 @@ class SortedEngine : public RayEngine {
   const LeafSource& leaves_;
   TraceSettings settings_;
   std::vector<float> leafSize_;  // LeafFacts::sizeBound per leaf, for LOD
+  std::vector<uint8_t> leafFloor_;  // levelForDicingError per leaf: the per-ray rule's coarsest level
   std::vector<uint8_t> leafMoving_;  // more than one time sample: diced per time interval
   std::vector<std::array<uint32_t, 4>> borderNeighbour_;  // borderNeighbours(leaves), per-ray LOD only
   std::vector<std::array<uint8_t, 4>> borderSide_;        // its `sides`

@@ -91,6 +91,34 @@ TEST(LevelOfDetail, FootprintRule) {
   EXPECT_EQ(levelForFootprint(3e38f, 1e-38f, 1000), 255);  // 2^255 * 1e-38 overflows to inf: still >=
 }
 
+// The per-ray rule's floor: the coarsest m with C / 4^m <= size / 1024, so a curved patch is
+// never seen as chords that stray more than 2^-10 of its size (docs/design.md, "Level of detail
+// and energy"); planar patches keep level 0.
+TEST(LevelOfDetail, DicingErrorFloor) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(kRelativeDicingError, 1.0 / 1024);
+  EXPECT_EQ(levelForDicingError(1, 0, 10), 0);                 // planar
+  EXPECT_EQ(levelForDicingError(1024, 1, 10), 0);              // C = size / 1024: level 0 suffices
+  EXPECT_EQ(levelForDicingError(1, 1, 10), 5);                 // 4^5 = 1024, exactly on the boundary
+  EXPECT_EQ(levelForDicingError(1, 1.0001f, 10), 6);
+  EXPECT_EQ(levelForDicingError(1, 0.25f, 10), 4);
+  EXPECT_EQ(levelForDicingError(1, 1, 3), 3);                  // clamped
+  for (int m = 0; m <= 10; ++m) {                              // the definition, level by level
+    const int level = levelForDicingError(3, 0.7f, 10);
+    EXPECT_EQ(m >= level, 0.7 * std::ldexp(1.0, -2 * m) <= 3.0 / 1024 || m == 10) << m;
+  }
+  // Documented edge cases: finite, in [0, maxLevel], for any input.
+  EXPECT_EQ(levelForDicingError(1, -1, 10), 0);
+  EXPECT_EQ(levelForDicingError(1, nan, 10), 0);
+  EXPECT_EQ(levelForDicingError(1, inf, 10), 10);
+  EXPECT_EQ(levelForDicingError(0, 1, 10), 10);
+  EXPECT_EQ(levelForDicingError(nan, 1, 10), 10);
+  EXPECT_EQ(levelForDicingError(inf, 1, 10), 0);
+  EXPECT_EQ(levelForDicingError(1e-45f, 3e38f, 300), 144);  // in double: neither underflows to 0
+  EXPECT_EQ(levelForDicingError(1, 1, 0), 0);
+  EXPECT_EQ(levelForDicingError(1, 1, -3), 0);
+}
+
 // The rule doubles the width instead of calling ldexp per level; doubling is exact, so the two
 // must agree everywhere, including subnormal widths and widths that overflow on the way.
 TEST(LevelOfDetail, FootprintRuleEqualsTheLdexpDefinition) {
