@@ -119,6 +119,8 @@ std::string htmlReport(const json& s, const std::string& preview) {
         {"border bounds", mib("border_bounds"), "crack-closing border boxes kept between dicings"},
         {"film", mib("film"), "per-pixel sums"},
         {"uv sets", mib("uv_sets"), "the leaves' texture coordinates (none without uvs)"},
+        {"beams", double(own.value("beams", uint64_t(0))) / double(1 << 20),
+         "lbt: the --beam-memory account at its peak (none for other methods)"},
         {"scene description", mib("scene_description"),
          number(m["scene_bytes_per_leaf"].get<double>()) + " B per leaf: grows with the scene"},
         {"peak resident", double(t["peak_rss_bytes"].get<uint64_t>()) / double(1 << 20), "whole process"}},

@@ -24,7 +24,9 @@ struct RenderMemoryPlan {
   uint64_t rays = 0;               // --ray-memory: the batch's paths, ray slots and the engine's per-ray state
   uint64_t diceBuffers = 0;        // --max-lod (and --threads): one dice buffer per thread
   uint64_t gridCache = 0;          // --grid-cache
-  uint64_t beams = 0;              // --beam-memory (lbt)
+  // --beam-memory (lbt): everything the beams allocate, freed pages returned (lbt/beam_budget.h);
+  // lbt's larger dice buffers are in diceBuffers, its camera batch's gathers in rays.
+  uint64_t beams = 0;
   uint64_t textures = 0;           // --texture-memory, when the scene reads an image
   uint64_t total() const { return film + outputs + rays + diceBuffers + gridCache + beams + textures; }
   // The option whose part is largest, and the parts for a message.

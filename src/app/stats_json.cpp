@@ -107,6 +107,9 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"film", m.film},
       {"scene_description", m.sceneDescription},
       {"uv_sets", m.uvSets},
+      // lbt: the --beam-memory account's peak (beams.peak_bytes), the grids kept while beams
+      // are traced included; 0 for the other methods and when no beams were built.
+      {"beams", s.method.section == "beams" ? uint64_t(s.method.number("peak_bytes")) : uint64_t(0)},
   };
   j["memory"]["scene_bytes_per_leaf"] = m.leaves ? double(m.sceneDescription) / double(m.leaves) : 0.0;
   j["memory"]["peak_rss_bytes"] = peakRssBytes();

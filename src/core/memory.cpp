@@ -1,5 +1,9 @@
 #include "core/memory.h"
 #include <sys/resource.h>
+#include <cstdlib>  // defines __GLIBC__ on glibc
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <unistd.h>
 #include <cstdio>
 #include <cstring>
@@ -154,6 +158,11 @@ std::string gib(uint64_t bytes) {
 
 uint64_t peakRssBytes() { return readStatusKb("VmHWM:"); }
 uint64_t currentRssBytes() { return statmBytes(1); }
+void releaseFreedMemory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
 uint64_t physicalMemoryBytes() {
   const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGESIZE);
   return pages > 0 && size > 0 ? uint64_t(pages) * uint64_t(size) : 0;

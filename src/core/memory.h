@@ -19,6 +19,12 @@ uint64_t peakRssBytes();
 uint64_t currentRssBytes();
 // Physical memory of the machine in bytes, 0 where it cannot be read.
 uint64_t physicalMemoryBytes();
+// Gives the pages of freed heap blocks back to the system (glibc: malloc_trim). glibc keeps
+// blocks below its mmap threshold in its arenas after they are freed, resident, and reuses them
+// only for later blocks that fit: a budget that frees and allocates in turn (lbt's beams) would
+// otherwise see the resident set grow past what it holds. Walks the arenas' free lists: call
+// it after a budget has freed megabytes, not per block. Thread-safe; a no-op elsewhere.
+void releaseFreedMemory();
 // "123 MiB" from 1 MiB up, else "456 bytes": for messages.
 std::string readableBytes(uint64_t bytes);
 

@@ -424,6 +424,8 @@ MethodStats BeamIntegrator::methodStats() const {
   m.add("lobe_cells", options_.lobeCells);
   m.add("max_depth", int64_t(options_.maxDepth));
   m.add("memory_budget_bytes", uint64_t(options_.memoryBytes));
+  m.add("memory_releases", uint64_t(budget_.releases()));
+  m.add("release_step_bytes", uint64_t(budget_.releaseStep()));
   m.add("batches", uint64_t(b.batches));
   m.add("split_depth", int64_t(options_.splitDepth));
   m.add("splits", b.trace.splits);
