@@ -48,7 +48,11 @@ std::string lineChart(const LineChart& c) {
     for (const LinePoint& p : l.points) xs.push_back(p.x), ys.push_back(p.y);
   const Axis ax = fit(c.logX, xs), ay = fit(c.logY, ys);
   constexpr int left = 70, right = 20, topMargin = 10, plotW = 560, plotH = 220, bottom = 40;
-  const int legendH = 16 * int(c.lines.size());
+  // The legend names at most kLegend lines (an lbt render has dozens of generations); the
+  // rest are counted, and each point still names its line in its read-out.
+  constexpr size_t kLegend = 12;
+  const size_t named = std::min(c.lines.size(), kLegend);
+  const int legendH = 16 * int(named + (c.lines.size() > named ? 1 : 0));
   const int width = left + plotW + right, height = topMargin + plotH + bottom + legendH;
   const auto X = [&](double v) { return left + plotW * (ax.toUnit(v) - ax.lo) / (ax.hi - ax.lo); };
   const auto Y = [&](double v) { return topMargin + plotH - plotH * (ay.toUnit(v) - ay.lo) / (ay.hi - ay.lo); };
@@ -87,11 +91,15 @@ std::string lineChart(const LineChart& c) {
           o << "<text x=" << shortNumber(X(p.x) + 4, 5) << " y=" << shortNumber(Y(p.y) - 5, 5) << " class=pointlabel>"
             << htmlEscape(p.label) << "</text>";
       }
+    if (i >= named) continue;
     const int ly = topMargin + plotH + bottom + 16 * int(i) + 10;
     o << "<line x1=" << left << " x2=" << left + 24 << " y1=" << ly - 4 << " y2=" << ly - 4 << " stroke=\"" << colour
       << "\" stroke-width=2" << (l.guide ? " stroke-dasharray=\"5,4\"" : "") << " /><text x=" << left + 30 << " y=" << ly
       << " class=axis>" << htmlEscape(l.name) << "</text>";
   }
+  if (c.lines.size() > named)
+    o << "<text x=" << left << " y=" << topMargin + plotH + bottom + 16 * int(named) + 10 << " class=axis>… and "
+      << c.lines.size() - named << " more lines</text>";
   o << "</svg></figure>";
   return o.str();
 }

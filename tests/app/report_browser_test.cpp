@@ -4,7 +4,7 @@
 // every chart without a drawn mark in #page-check; a page that fails it, or whose check never
 // ran, fails here. Skipped with a message when chromium is absent, unless
 // RAYES_REQUIRE_CHROMIUM is set (as CI should), when its absence fails.
-// `ctest -R ReportBrowser` runs these alone.
+// `ctest -L browser` runs these alone (their label, CMakeLists.txt).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>

@@ -129,6 +129,29 @@ TEST_F(Report, AMethodsOwnSectionIsShownWhenTheStatsHaveIt) {
   EXPECT_THAT(reportPage({{"s.json", stats()}}), Not(HasSubstr("Beams (lbt)")));
 }
 
+// Edges of every formula a page draws: zero times (ratios, bar scales), no generation, nothing
+// diced, an RMSE of 0 on a log axis, one file compared with itself. No NaN or infinity may
+// reach the page, and every chart that is drawn still has its marks.
+TEST_F(Report, ZerosAndEmptyDataGiveFiniteCharts) {
+  json s = stats();
+  for (auto& [k, v] : s["totals"]["time_s"].items()) v = 0.0;
+  s["generations"] = json::array();
+  s["totals"]["leaves_diced"] = 0;
+  s["totals"]["grid_cache_hits"] = 0;
+  s["totals"]["rays_per_dicing"] = 0.0;
+  s["totals"]["dicings_by_level"] = json::object();
+  for (auto& [k, v] : s["memory"]["by_owner"].items()) v = 0;
+  s["error_vs_time"] = {{{"spp", 1}, {"time_s", 0.0}, {"rmse", 0.0}}, {{"spp", 2}, {"time_s", 0.5}, {"rmse", 0.1}}};
+  const std::regex nonFinite("[=>\" ,(-](nan|-?inf)\\b", std::regex::icase);
+  for (const std::string& html : {reportPage({{"s.json", s}}), reportPage({{"a.json", s}, {"b.json", s}, {"c.json", s}}),
+                                  comparisonPage({"a.json", s}, {"b.json", s})}) {
+    std::smatch m;
+    EXPECT_FALSE(std::regex_search(html, m, nonFinite)) << m.str() << " in " << html.substr(0, 200);
+    expectNoEmptyChart(html);
+  }
+  EXPECT_THAT(reportPage({{"s.json", s}}), HasSubstr("No generation was traced."));
+}
+
 // Many files: the figures side by side, the one far from the others' median marked. Render
 // times 1, 1.2, 0.9, 1.1 and 10 s: the median is 1.1 s, the median absolute deviation 0.1 s,
 // so the bound is 3 · 1.4826 · 0.1 = 0.44 s from the median: 10 s is far outside, 0.9 s and
