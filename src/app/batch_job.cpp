@@ -132,7 +132,7 @@ Rule ruleFor(const std::string& path) {
                                                 "beams.max_depth", "beams.split_depth", "beams.memory_budget_bytes",
                                                 "beams.batches"};
   auto starts = [&](const char* p) { return path.rfind(p, 0) == 0; };
-  if (starts("scene.") || starts("settings.") || starts("skipped.")) return Rule::First;
+  if (path == "stats_version" || starts("scene.") || starts("settings.") || starts("skipped.")) return Rule::First;
   if (starts("features.")) return summedFeatures.count(path) ? Rule::Sum : Rule::First;
   if (starts("memory.")) return Rule::Max;
   if (starts("totals.")) return maxTotals.count(path) ? Rule::Max : Rule::Sum;

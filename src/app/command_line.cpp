@@ -194,6 +194,16 @@ int runCommandLine(int argc, char** argv) {
   m->add_option("--stats", ma.stats, "the parts' statistics combined as JSON (docs/stats.md, \"Merged parts\")");
   m->add_flag("-q,--quiet", ma.quiet, "no message when done");
 
+  ReportArgs ra;
+  CLI::App* rep = app.add_subcommand("report", "the statistics of one render (--stats), a farm job's parts or a frame "
+                                               "sequence as one self-contained HTML page of charts (docs/dashboard.md); "
+                                               "with --compare, two runs side by side with ratios");
+  rep->add_option("stats", ra.stats, "the stats files (JSON, docs/stats.md)")->required();
+  rep->add_option("-o,--output", ra.out, "the page, NAME.html")->required()->allow_extra_args(false);
+  rep->add_flag("--compare", ra.compare, "two stats files of the same scene and resolution: times, memory, dicings "
+                                         "and error side by side with ratios B / A");
+  rep->add_flag("-q,--quiet", ra.quiet, "no message when done");
+
   CompileArgs pa;
   CLI::App* p = app.add_subcommand("compile", "compile a scene (JSON) into a .rayes file that rayes render "
                                               "memory-maps, reading a leaf's patch only when it is diced; the "
@@ -264,8 +274,8 @@ int runCommandLine(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // A mistyped subcommand: name the nearest.
-    const std::vector<std::string> commands = {"render", "compile", "converge", "merge", "farm"};
-    if (!r->parsed() && !c->parsed() && !m->parsed() && !f->parsed() && !p->parsed() && argc > 1 && argv[1][0] != '-' &&
+    const std::vector<std::string> commands = {"render", "compile", "converge", "merge", "farm", "report"};
+    if (!r->parsed() && !c->parsed() && !m->parsed() && !f->parsed() && !p->parsed() && !rep->parsed() && argc > 1 && argv[1][0] != '-' &&
         std::find(commands.begin(), commands.end(), argv[1]) == commands.end()) {
       const std::string near = closestName(argv[1], commands);
       std::cerr << "rayes: " << argv[1] << ": unknown command" << (near.empty() ? "" : "; did you mean " + near + "?")
@@ -280,6 +290,7 @@ int runCommandLine(int argc, char** argv) {
                         : m->parsed() ? "merge "
                         : f->parsed() ? "farm submit "
                         : p->parsed() ? "compile "
+                        : rep->parsed() ? "report "
                                       : "";
     std::cerr << "rayes: " << e.what() << "\n(run 'rayes " << which << "--help' for the options)\n";
     return 2;
@@ -290,6 +301,7 @@ int runCommandLine(int argc, char** argv) {
     if (c->parsed()) return runConverge(ca);
     if (m->parsed()) return runMerge(ma);
     if (p->parsed()) return runCompile(pa);
+    if (rep->parsed()) return runReport(ra);
     if (f->parsed()) return runFarmSubmit(fa, f->remaining());
   } catch (const ResourceError& e) {
     std::cerr << "rayes: " << e.message() << "\n";

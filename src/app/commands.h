@@ -20,10 +20,18 @@ struct CompileArgs {
   bool quiet = false;
 };
 
+// `rayes report`'s arguments.
+struct ReportArgs {
+  std::vector<std::string> stats;
+  std::string out;
+  bool compare = false, quiet = false;
+};
+
 int runRender(const RenderArgs& a);    // render_command.cpp
 int runCompile(const CompileArgs& a);  // compile_command.cpp
 int runConverge(const RenderArgs& a);  // converge_command.cpp
 int runMerge(const MergeArgs& a);      // merge_command.cpp
+int runReport(const ReportArgs& a);    // report_command.cpp
 
 // An output's extension, lower case (".exr"); and the one check of an image output's name
 // (render's and merge's -o, farm submit's outputs): .exr, .png or .film, else InputError("-o").

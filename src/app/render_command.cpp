@@ -13,15 +13,16 @@
 #include "app/checkpoint.h"
 #include "app/commands.h"
 #include "app/film_file.h"
-#include "app/html_report.h"
 #include "app/image_io.h"
 #include "app/interrupt.h"
 #include "app/output_set.h"
 #include "app/progress.h"
 #include "app/renderer.h"
+#include "app/report_page.h"
 #include "app/stats_json.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/text_file.h"
 #include "core/timer.h"
 
 namespace rayes {
@@ -198,13 +199,16 @@ int runRender(const RenderArgs& a) {
     outputs->write(out, [&](const std::string& tmp) { writeFilmFile(tmp, h, film); });
   }
   if (!exr.empty()) outputs->write(exr, [&](const std::string& tmp) { writeExr(tmp, film); });
-  if (!png.empty()) outputs->write(png, [&](const std::string& tmp) { writePngPreview(tmp, film); });
+  std::string previewPng;  // the report shows the preview inline: a page with no file beside it
+  if (!png.empty())
+    outputs->write(png, [&](const std::string& tmp) {
+      writePngPreview(tmp, film);
+      if (!a.report.empty()) previewPng = readTextFile(tmp, "the preview");
+    });
   if (!a.stats.empty()) outputs->writeText(a.stats, stats.dump(2) + "\n");
   if (!a.report.empty()) {
-    const auto reportDir = std::filesystem::path(a.report).parent_path();
-    const auto rel = png.empty() ? std::filesystem::path()
-                                 : std::filesystem::proximate(png, reportDir.empty() ? std::filesystem::path(".") : reportDir);
-    outputs->writeText(a.report, htmlReport(stats, rel.string()));
+    checkStats(stats, a.stats.empty() ? a.report : a.stats);  // what this program writes, it can draw
+    outputs->writeText(a.report, reportPage({StatsFile{a.stats.empty() ? a.scene : a.stats, stats}}, previewPng));
   }
   outputs->commit();
   progress.finish();

@@ -280,10 +280,12 @@ Film Renderer::render(const Progress& progress, const Control& control) {
   // The method's own figures again: some grow while the passes run (beams retraced per round).
   stats_.method = integrator_->methodStats();
   stats_.engine = engine_->engineStats();
-  stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? engine_->fixedBytes() : 0;
   stats_.memory.diceCache = stats_.engine.cachePeakBytes;
   stats_.memory.borderBounds = stats_.engine.borderBoundBytes;
   stats_.memory.diceBuffers = engine_->fixedBytes() - stats_.engine.cachePeakBytes - stats_.engine.borderBoundBytes;
+  // The dice buffers alone: the engine's fixed bytes also hold the grid cache and the border
+  // bounds, which have their own owners (memory.by_owner), so the two figures agree.
+  stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? stats_.memory.diceBuffers : 0;
   stats_.memory.film = film.bytes();
   stats_.splatSaturations = film.splatSaturations();
   if (scene_.textures) stats_.textures = scene_.textures->stats();

@@ -10,6 +10,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                            const RunInfo& run) {
   using json = nlohmann::json;
   json j;
+  j["stats_version"] = kStatsVersion;
   j["scene"] = {{"file", run.scenePath}, {"leaves", scene.leaves.size()}, {"resolution", {run.width, run.height}},
                 {"spp", run.spp}};
   json kinds = json::object();
@@ -37,6 +38,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
 
   json gens = json::array();
   uint64_t diced = 0, created = 0, rays = 0, shadow = 0;
+  std::array<uint64_t, GenerationStats::kLevels> byLevel{};
   for (const auto& g : s.generations) {
     json its = json::array();
     for (const auto& it : g.stats.iterations)
@@ -51,7 +53,12 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
     created += g.stats.micropolygonsCreated;
     rays += g.stats.rays;
     shadow += g.stats.shadowRays;
+    for (size_t m = 0; m < byLevel.size(); ++m) byLevel[m] += g.stats.dicingsByLevel[m];
   }
+  // Keyed by level so that merged parts sum level by level (app/batch_job.cpp).
+  json lodHistogram = json::object();
+  for (size_t m = 0; m < byLevel.size(); ++m)
+    if (byLevel[m]) lodHistogram[std::to_string(m)] = byLevel[m];
   j["generations"] = gens;
 
   j["totals"] = {
@@ -61,6 +68,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"rays_per_dicing", diced ? double(rays) / double(diced) : 0.0},
       {"micropolygons_created", created},
       {"micropolygons_potential", s.micropolygonsPotential},
+      {"dicings_by_level", lodHistogram},
       {"batches", s.batches},
       {"pixels_per_block", s.pixelsPerBlock},
       {"nonfinite_samples_dropped", s.shade.nonFinite.load()},

@@ -8,6 +8,10 @@
 
 namespace rayes {
 
+// The stats file's format version (field `stats_version`): raised when a field changes meaning
+// or place, so that `rayes report` refuses a file it would misread.
+inline constexpr int kStatsVersion = 1;
+
 struct RunInfo {
   std::string scenePath;
   int threads = 0;

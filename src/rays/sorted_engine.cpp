@@ -315,6 +315,7 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();
   stats.originLeafDicings += counters.originLeafDicings.load();
+  for (size_t m = 0; m < counters.byLevel.size(); ++m) stats.dicingsByLevel[m] += counters.byLevel[m].load();
 }
 
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
@@ -381,6 +382,7 @@ void SortedEngine::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* 
   const uint64_t grids = interval < 0 ? 1 : 2;
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
   counters.dicings.fetch_add(1, std::memory_order_relaxed);
+  counters.byLevel[size_t(m)].fetch_add(1, std::memory_order_relaxed);
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
   if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.ray[rayOfSlot(s)].originLeaf == leaf; }))
     counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);

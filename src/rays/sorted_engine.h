@@ -140,6 +140,7 @@ class SortedEngine : public RayEngine {
   // active rays with N candidate slots each.
   struct DicingCounters {
     std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, originLeafDicings{0};
+    std::array<std::atomic<uint64_t>, GenerationStats::kLevels> byLevel{};  // the level-of-detail histogram
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
   size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2

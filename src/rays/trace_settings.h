@@ -1,5 +1,6 @@
 // Settings and statistics of the bottom-level / top-level tracing of one generation.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -74,6 +75,9 @@ struct GenerationStats {
   // (§6.2.1: continuation rays intersected with their still-diced leaf) could save at most.
   uint64_t originLeafDicings = 0;
   uint64_t gridCacheHits = 0;        // leaf visits served by the grid cache instead of a dicing
+  // Dicings per level of detail m (4^m micro-quads), the sorted pipeline's; --max-lod is at most 12.
+  static constexpr size_t kLevels = 13;
+  std::array<uint64_t, kLevels> dicingsByLevel{};
 };
 
 // Times of the tracing stages. toplevel and sort are wall clock; dice and bottom are summed
