@@ -26,6 +26,13 @@ SceneFeatures featuresOf(const Scene& scene, const std::vector<Box3>& leafBoxes,
   f.environment = scene.moreLights.environment != nullptr;
   f.distantLights = scene.moreLights.distants.size();
   for (const Material& m : scene.materials) f.texturedMaterials += m.textured();
+  f.volumes = scene.media.size();
+  for (const auto& m : scene.media) {
+    f.volumeBricks += m->bricks();
+    f.volumeVoxels += m->voxels();
+    f.volumeBytes += m->bytes();
+  }
+  f.volumeLoadSeconds = scene.volumeLoadSeconds;
   return f;
 }
 
@@ -73,6 +80,7 @@ RenderData::RenderData(const Scene& scene) {
   shading.integrator = scene.integrator;
   shading.materials = scene.materials;
   shading.leafMaterial = scene.leafMaterial;
+  shading.media = scene.media;
   shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
   shading.leafDicingError.resize(n);

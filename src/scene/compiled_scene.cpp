@@ -54,6 +54,9 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   // a uv-mapped texture into one over the patch parameters.
   if (scene.uvs)
     throw InputError(jsonPath, "/shapes", "uv sets cannot be compiled yet (format version 1 has no uv section); render the JSON scene");
+  // Nor have volumes: refused rather than rendered without their media.
+  if (!scene.media.empty())
+    throw InputError(jsonPath, "/shapes", "volumes cannot be compiled yet (format version 1 has no volume section); render the JSON scene");
   // The leaf kinds' names, in order of first appearance.
   std::vector<std::string> kinds;
   std::vector<uint8_t> kindOf(n);
