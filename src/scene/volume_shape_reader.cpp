@@ -5,7 +5,9 @@
 // would only coarsen the majorants (more null collisions) for nothing the first slice needs.
 //
 // The only file that includes OpenVDB: a scene without a volume never initialises it.
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -85,6 +87,27 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
   Transform indexToWorld;
   if (!linearIndexToWorld(*grid, indexToWorld)) r.fail(at, named + " has a non-linear (frustum) transform");
   indexToWorld = xf * indexToWorld;
+  // Where float stops resolving the voxels (docs/design.md, "Precision", the rule for patches with
+  // a voxel's shortest world edge as the size): the float spacing at the volume's position must
+  // be at most 1/256 of it. Checked on the grid's bounding box, before any voxel is read.
+  {
+    float voxelEdge = std::numeric_limits<float>::infinity();
+    for (int j = 0; j < 3; ++j)
+      voxelEdge = std::min(voxelEdge, length(Vec3{indexToWorld.m[0][j], indexToWorld.m[1][j], indexToWorld.m[2][j]}));
+    const openvdb::CoordBBox active = grid->evalActiveVoxelBoundingBox();
+    Box3 world;
+    if (!active.empty())
+      for (int corner = 0; corner < 8; ++corner)
+        world.extend(indexToWorld.point({float(corner & 1 ? active.max().x() + 1 : active.min().x() - 1),
+                                         float(corner & 2 ? active.max().y() + 1 : active.min().y() - 1),
+                                         float(corner & 4 ? active.max().z() + 1 : active.min().z() - 1)}));
+    const float magnitude = world.magnitude();
+    if (!world.empty() && (!(magnitude <= 0x1p60f) || !(magnitude * 0x1p-23f <= voxelEdge * 0x1p-8f)))
+      r.fail(at, named + ": voxels of size " + std::to_string(voxelEdge) + " at distance " + std::to_string(magnitude) +
+                     " from the origin, where float resolves only " + std::to_string(magnitude * 0x1p-23f) +
+                     ", more than 1/256 of a voxel, so the grid cannot be represented (move the scene nearer the "
+                     "origin or scale it up)");
+  }
   if (grid->background() != 0.0f)
     r.fail(at, named + " has background " + std::to_string(grid->background()) + "; a density grid's must be 0");
 
