@@ -98,9 +98,14 @@ TEST_F(VolumeShape, BadInputIsOneInputErrorNamingFileAndGrid) {
   expectRefused(volumeScene(folder.dir() / "missing.vdb"), "missing.vdb", "cannot open file");
   expectRefused(volumeScene(good, R"(, "grid": "smoke")"), "good.vdb", "no grid named 'smoke' (it has: density)");
   expectRefused(volumeScene(good, R"(, "density_scale": -1)"), "density_scale", "not negative");
-  // Singular to float precision (an exactly singular matrix is the transform reader's refusal).
-  expectRefused(volumeScene(good, R"(, "transform": [{"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1e-14, 0]}])"),
+  // Singular to float precision, with voxel edges of ordinary length (an exactly singular matrix
+  // is the transform reader's refusal; a vanishing edge the precision check's).
+  expectRefused(volumeScene(good, R"(, "transform": [{"matrix": [1, 0, 1, 0, 0, 1, 1, 0, 0, 0, 1e-13, 0]}])"),
                 "grid 'density'", "not invertible");
+  expectRefused(volumeScene(good, R"(, "transform": [{"matrix": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1e-14, 0]}])"),
+                "grid 'density'", "cannot be represented");
+  expectRefused(volumeScene(good, R"(, "transform": [{"translate": [1e5, 0, 0]}])"), "grid 'density'",
+                "cannot be represented");
   expectRefused(volumeScene(writeGrid(folder.dir(), "negative.vdb", "density", -2)), "negative.vdb", "at voxel (5, 5, 5)");
 
   const fs::path garbage = folder.dir() / "garbage.vdb";
