@@ -59,6 +59,11 @@ void checkMethodOptions(const MethodOptions& options) {
 std::unique_ptr<Integrator> makeMethod(const MethodOptions& options, const Scene& scene, const RenderData& data) {
   checkMethodOptions(options);
   const Method method = methodOf(options.name);
+  // Only the path tracer carries media so far (docs/design.md, "Volumes").
+  if (!scene.media.empty() && method != Method::PathTracing)
+    throw InputError("--method", "", "--method " + options.name + " does not render volumes yet; the scene " +
+                                         scene.path + " has " + std::to_string(scene.media.size()) +
+                                         " volume shape(s): use --method pt");
   switch (method) {
     case Method::PathTracing:
       return std::make_unique<PathTracer>(data.shading, PathTracer::Options{.causticPaths = options.causticPaths});

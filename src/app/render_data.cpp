@@ -27,6 +27,13 @@ void countScene(SceneFeatures& f, const Scene& scene) {
   f.environment = scene.moreLights.environment != nullptr;
   f.distantLights = scene.moreLights.distants.size();
   for (const Material& m : scene.materials) f.texturedMaterials += m.textured();
+  f.volumes = scene.media.size();
+  for (const auto& m : scene.media) {
+    f.volumeBricks += m->bricks();
+    f.volumeVoxels += m->voxels();
+    f.volumeBytes += m->bytes();
+  }
+  f.volumeLoadSeconds = scene.volumeLoadSeconds;
 }
 
 }  // namespace
@@ -90,6 +97,7 @@ RenderData::RenderData(const Scene& scene) {
   shading.integrator = scene.integrator;
   shading.materials = scene.materials;
   shading.leafMaterial = scene.leafMaterial;
+  shading.media = scene.media;
   shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
   const std::span<const Box3> boxes = top.leafBoxes();

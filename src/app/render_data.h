@@ -36,6 +36,9 @@ struct SceneFeatures {
   // same scene near the origin by more than rounding noise.
   double coarsestRelativeSpacing = 0;
   uint64_t lowPrecisionLeaves = 0;
+  // Volumes (Scene::media): their bricks, the voxels read into them, their bytes, and the load time.
+  uint64_t volumes = 0, volumeBricks = 0, volumeVoxels = 0, volumeBytes = 0;
+  double volumeLoadSeconds = 0;
 };
 
 struct RenderData {

@@ -193,7 +193,19 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   }
   if (s.method.section != "beams" && !skipped.contains("beams"))
     skipped["beams"] = "--method " + options.method.name + " traces no beams";
-  skipped["volumes"] = "volumes are not built yet: OpenVDB not used";
+  if (f.volumes == 0) {
+    skipped["volumes"] = "no volume in the scene: OpenVDB not initialised, no tracking";
+  } else {
+    j["volumes"] = {{"volumes", f.volumes},
+                    {"bricks", f.volumeBricks},
+                    {"voxels_read", f.volumeVoxels},
+                    {"bytes", f.volumeBytes},
+                    {"collisions", s.shade.mediumCollisions.load()},
+                    {"transmittance_estimates", s.shade.transmittanceEstimates.load()},
+                    {"density_lookups", s.shade.densityLookups.load()},
+                    {"brick_cells_walked", s.shade.brickCellsWalked.load()},
+                    {"time_s", {{"load", f.volumeLoadSeconds}, {"tracking", s.shade.volume.seconds()}}}};
+  }
   if (s.textures) {
     const TextureCacheStats& t = *s.textures;
     j["textures"] = {{"files", t.files},

@@ -75,6 +75,9 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   // What records share (meshes, their topologies, height maps), numbered in leaf order.
   RecordTableIndex shared;
   for (size_t i = 0; i < n; ++i) shared.add(*scene.leaves.patch(i));
+  // Volumes have no section in the format: refused rather than rendered without their media.
+  if (!scene.media.empty())
+    throw InputError(jsonPath, "/shapes", "volumes cannot be compiled yet (the compiled format has no volume section); render the JSON scene");
   // The leaf kinds' names, in order of first appearance.
   std::vector<std::string> kinds;
   std::vector<uint8_t> kindOf(n);

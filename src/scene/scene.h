@@ -43,6 +43,9 @@ struct Scene {
   // What the loader noticed that is not an error (a light that lights nothing), one sentence
   // each naming the file and the place; the program prints them as warnings.
   std::vector<std::string> warnings;
+  // Participating media, one per "volume" shape (shading/medium.h); empty: OpenVDB never ran.
+  std::vector<std::shared_ptr<const Medium>> media;
+  double volumeLoadSeconds = 0;  // reading the .vdb files and building the bricks
   // The render's texture cache (texture/texture_cache.h): made by the loader at the first image
   // file the scene names, with textureOptions; null when the scene names none (it then pays
   // nothing for textures). Every image texture, the environment map and height maps read it.

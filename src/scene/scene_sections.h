@@ -32,5 +32,9 @@ void checkRepresentable(const JsonReader& r, const std::string& ptr, size_t leaf
 // material per part.
 void readForestShape(const JsonReader& r, const json& shape, const std::string& ptr, Scene& scene,
                      const MaterialIndex& materials);
+// A {"type": "volume"} shape (volume_shape_reader.cpp): a density grid of a .vdb file, read with
+// OpenVDB into a Medium appended to scene.media; bad files, grids and values fail at ptr.
+void readVolumeShape(const JsonReader& r, const json& shape, const std::string& ptr, Scene& scene,
+                     const std::filesystem::path& sceneDir);
 
 }  // namespace rayes

@@ -81,11 +81,15 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
       readForestShape(r, shape, p, scene, materials);
       continue;
     }
+    if (type == "volume") {  // a medium, not leaves
+      readVolumeShape(r, shape, p, scene, sceneDir);
+      continue;
+    }
     const auto kind = shapeKinds().find(type);
     if (kind == shapeKinds().end()) {
       std::string known;
       for (const auto& [name, _] : shapeKinds()) known += (known.empty() ? "" : ", ") + name;
-      known += ", forest";
+      known += ", forest, volume";
       r.fail(p + "/type", "unknown shape type '" + type + "' (expected " + known + ")");
     }
     const ShapeContext ctx{r, shape, p, sceneDir};

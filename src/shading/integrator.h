@@ -70,6 +70,11 @@ struct ShadeStats {
   // lbt, pm, ppm: caustic estimates taken at diffuse vertices, and those a later vertex's
   // roulette left out (PathTracer::Options::laterGatherProbability).
   std::atomic<uint64_t> gathers{0}, gathersSkipped{0};
+  // Media (pt): real collisions (scattering vertices), transmittance estimates (shadow rays
+  // through media), density lookups and brick cells walked by both trackings; time summed over
+  // threads inside shade.
+  std::atomic<uint64_t> mediumCollisions{0}, transmittanceEstimates{0}, densityLookups{0}, brickCellsWalked{0};
+  TimeAccumulator volume;
   TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
 };
 

@@ -15,6 +15,7 @@
 #include "shading/ray_spawning.h"
 #include "shading/sampling.h"
 #include "shading/surface_hit.h"
+#include "shading/volume_tracking.h"
 
 namespace rayes {
 namespace {
@@ -123,6 +124,43 @@ void recordFirstHit(const Vertex& v, PathBatch& paths) {
   aov.materialId = int32_t(v.matId);
 }
 
+// The shadow ray's segment from `origin` (near the receiver `p`) to the light sample: the segment
+// to the light point, not a ray from p along ls.wi: a ray of length ls.distance from the offset
+// origin would end beyond the light and find whatever lies just behind it. An emitter's point
+// is first moved off its own surface toward the receiver by its own offset (at level 0, the
+// largest), so the emitter's neighbours and anything flush with it do not occlude. False when a
+// light point within the offsets of the receiver leaves no segment to test.
+bool shadowSegment(const ShadingScene& scene, Vec3 origin, Vec3 p, const LightSample& ls, Vec3& dir, float& tmax) {
+  dir = ls.wi;
+  tmax = kInf;
+  if (std::isfinite(ls.distance)) {
+    Vec3 target = ls.point;
+    if (ls.leaf != kNoLeaf) {
+      const float back =
+          originOffset(scene.leafSide[ls.leaf], scene.leafDicingError[ls.leaf], 0, ls.point, ls.point);
+      target += ls.normal * (dot(ls.normal, p - ls.point) >= 0 ? back : -back);
+    }
+    tmax = length(target - origin);
+    dir = (target - origin) * (1.0f / tmax);
+  }
+  return tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0;
+}
+
+// The transmittance of a shadow segment through the scene's media by ratio tracking (1 without
+// media: no work). Keyed by the vertex, so the same bits for any thread count.
+float mediumTransmittance(const ShadingScene& scene, Vec3 origin, Vec3 dir, float tmax, const RngKey& key,
+                          ShadeStats& stats) {
+  if (scene.media.empty()) return 1;
+  ScopedTimer timer(stats.volume);
+  TrackingRng rng{key, kTransmittanceDimensions};
+  TrackingCounts counts;
+  const float T = ratioTransmittance(scene.media, origin, dir, tmax, rng, counts);
+  stats.transmittanceEstimates.fetch_add(1, std::memory_order_relaxed);
+  stats.densityLookups.fetch_add(counts.lookups, std::memory_order_relaxed);
+  stats.brickCellsWalked.fetch_add(counts.cells, std::memory_order_relaxed);
+  return T;
+}
+
 // Step 4, next-event estimation: one light sampled, its MIS-weighted contribution stored and a
 // shadow ray written into slot 2k+1. Returns whether a ray was written.
 bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFrame& frame, Vec3 woL, const RngKey& key,
@@ -136,32 +174,18 @@ bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFra
   const Rgb f = v.bsdf.eval(woL, wiL);
   if (isBlack(f) || isBlack(ls.radiance) || !v.at.consistent(ls.wi, wiL, v.wo, woL)) return false;
   const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, v.bsdf.pdf(woL, wiL));
-  const Rgb c = paths.throughput[v.k] * f * ls.radiance * (std::fabs(wiL.z) * w / ls.pdf);
+  Rgb c = paths.throughput[v.k] * f * ls.radiance * (std::fabs(wiL.z) * w / ls.pdf);
   if (!isFinite(c)) {
     stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
   if (isBlack(c)) return false;
-  // The segment from the offset origin to the light point, not a ray from p along
-  // ls.wi: a ray of length ls.distance from the offset origin would end beyond the
-  // light and find whatever lies just behind it. An emitter's point is first moved
-  // off its own surface toward the receiver by its own offset (at level 0, the
-  // largest), so the emitter's neighbours and anything flush with it do not occlude.
   const Vec3 origin = v.at.originToward(ls.wi);
-  Vec3 dir = ls.wi;
-  float tmax = kInf;
-  if (std::isfinite(ls.distance)) {
-    Vec3 target = ls.point;
-    if (ls.leaf != kNoLeaf) {
-      const float back =
-          originOffset(scene.leafSide[ls.leaf], scene.leafDicingError[ls.leaf], 0, ls.point, ls.point);
-      target += ls.normal * (dot(ls.normal, v.at.p - ls.point) >= 0 ? back : -back);
-    }
-    tmax = length(target - origin);
-    dir = (target - origin) * (1.0f / tmax);
-  }
-  // A light point within the offsets of the receiver leaves no segment to test.
-  if (!(tmax > 0 && isFinite(dir) && dot(dir, ls.wi) > 0)) return false;
+  Vec3 dir;
+  float tmax;
+  if (!shadowSegment(scene, origin, v.at.p, ls, dir, tmax)) return false;
+  c *= mediumTransmittance(scene, origin, dir, tmax, key, stats);
+  if (isBlack(c)) return false;
   paths.shadowContribution[v.k] = c;
   rays.set(v.ss, RayKind::Shadow, origin, dir, tmax, v.width, kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
@@ -215,6 +239,22 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const Vec3 wo = -normalize(rays.ray[cs].dir);
   // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
   const uint8_t countedNow = countedLights(paths.causticRun[k] == kInCausticChain);
+  // 2a. In a scene with media, the ray's free flight (delta tracking) up to the surface it found:
+  // a real collision before it makes a scattering vertex there instead.
+  if (!scene_.media.empty()) {
+    const PathIds ids = idsOf(paths.first + k);
+    const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
+    Collision c;
+    {
+      ScopedTimer timer(stats.volume);
+      TrackingRng rng{key, kFreeFlightDimensions};
+      TrackingCounts counts;
+      c = sampleCollision(scene_.media, rays.ray[cs].org, rays.ray[cs].dir, h.valid() ? h.t : kInf, rng, counts);
+      stats.densityLookups.fetch_add(counts.lookups, std::memory_order_relaxed);
+      stats.brickCellsWalked.fetch_add(counts.cells, std::memory_order_relaxed);
+    }
+    if (c.medium >= 0) return shadeMediumVertex(bounce, k, c.t, *scene_.media[size_t(c.medium)], key, paths, rays, stats);
+  }
   if (!h.valid()) {
     if (countedNow) gatherEscaped(scene_.lights, k, wo, countedNow, paths, stats);
     paths.alive[k] = 0;
@@ -285,6 +325,80 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   if (writeContinuation(scene_, bounce, v, frame, woL, key, paths, rays, stats)) return shadow + 1;
   paths.alive[k] = 0;
   return shadow;
+}
+
+// A scattering vertex at t along path k's closest ray, in medium m: the throughput times the
+// scattering albedo (absorption as a weight, not a random end), next-event estimation with the
+// phase function and the shadow segment's ratio-tracked transmittance, and a continuation
+// sampled exactly from the phase function (weight 1; its density is the MIS density). For the
+// caustic-path bookkeeping the vertex counts as diffuse. No AOVs: the first-hit AOVs are
+// surfaces'.
+size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const Medium& m, const RngKey& key,
+                                     PathBatch& paths, RayBatch& rays, ShadeStats& stats) const {
+  const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
+  stats.mediumCollisions.fetch_add(1, std::memory_order_relaxed);
+  const Ray ray = rays.ray[cs];
+  const Vec3 p = ray.org + ray.dir * t, in = normalize(ray.dir);
+  if (int(bounce) >= scene_.integrator.maxDepth || !isFinite(p) || !isFinite(in)) {
+    paths.alive[k] = 0;
+    return 0;
+  }
+  const float g = m.coefficients().g;
+  Rgb& T = paths.throughput[k];
+  T *= m.coefficients().albedo();
+  if (isBlack(T)) {  // a purely absorbing medium: nothing more can reach the film
+    paths.alive[k] = 0;
+    return 0;
+  }
+  paths.causticRun[k] = kAfterDiffuse;
+  const uint8_t kinds = countedLights(false);
+  const float width = ray.coneWidth + t * ray.coneSpread;
+  size_t written = 0;
+
+  // Next-event estimation.
+  const LightSampler& lights = scene_.lights;
+  LightSample ls;
+  const Sample2D lu = sample2D(key, kLight);
+  if (kinds && lights.sample(p, sample1D(key, kLightPick), lu.u, lu.v, ls) && (ls.kind & kinds) &&
+      !isBlack(ls.radiance)) {
+    const float phase = henyeyGreenstein(dot(in, ls.wi), g);
+    const float w = ls.delta ? 1.0f : powerHeuristic(ls.pdf, phase);
+    Rgb c = T * ls.radiance * (phase * w / ls.pdf);
+    Vec3 dir;
+    float tmax;
+    if (!isFinite(c)) {
+      stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    } else if (!isBlack(c) && shadowSegment(scene_, p, p, ls, dir, tmax)) {
+      c *= mediumTransmittance(scene_, p, dir, tmax, key, stats);
+      if (!isBlack(c)) {
+        paths.shadowContribution[k] = c;
+        rays.set(ss, RayKind::Shadow, p, dir, tmax, width, kDiffuseSpread, ls.leaf, kNoLeaf, 0, rays.timeOf(cs));
+        stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
+        written = 1;
+      }
+    }
+  }
+
+  // Continuation (as writeContinuation: not traced at the last vertex when nothing could be found).
+  if (int(bounce) + 1 >= scene_.integrator.maxDepth && !lights.hasHittable()) {
+    paths.alive[k] = 0;
+    return written;
+  }
+  const Sample2D bu = sample2D(key, kBsdf);
+  const Vec3 wi = sampleHenyeyGreenstein(in, g, bu.u, bu.v);
+  const float pdf = henyeyGreenstein(dot(in, wi), g);
+  paths.bsdfPdf[k] = pdf;
+  paths.bsdfDelta[k] = 0;
+  if (!isFinite(wi) ||
+      !throughputSurvives(T, int(bounce) + 1 >= scene_.integrator.rouletteDepth, paths.etaScale[k], key, kRoulette,
+                          stats)) {
+    paths.alive[k] = 0;
+    return written;
+  }
+  rays.set(cs, RayKind::Closest, p, wi, kInf, width, spreadAfterBounce(ray.coneSpread, pdf, false), kNoLeaf, kNoLeaf, 0,
+           rays.timeOf(cs));
+  stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
+  return written + 1;
 }
 
 size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats) {

@@ -21,6 +21,12 @@
 // keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
 // Non-finite contributions are dropped and counted (docs/design.md, invariant 5).
 //
+// Media (ShadingScene::media, docs/design.md "Volumes"): in a scene with volumes every closest
+// ray's free flight is sampled by delta tracking up to the surface it found, and a real
+// collision makes a medium vertex (shadeMediumVertex: Henyey-Greenstein phase function for NEE
+// and the continuation); every shadow segment is weighted by its ratio-tracked transmittance.
+// Without media none of this runs.
+//
 // Caustic paths (docs/design.md, "Caustic paths"): with Options::causticPaths = Without the
 // estimate leaves out every path light -> (caustic scatterer)+ -> diffuse vertex, read from the
 // light (isCausticScatterer, shading/material.h): emission found by a BSDF-sampled ray, and
@@ -34,6 +40,7 @@
 #include <span>
 #include <vector>
 #include "core/leaf_queries.h"
+#include "core/rng.h"
 #include "shading/bsdf.h"
 #include "shading/integrator.h"
 #include "shading/light.h"
@@ -203,6 +210,9 @@ class PathTracer final : public Integrator {
     PathBatch* paths = nullptr;
   };
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
+  // A real collision in a medium at t along path k's closest ray (path_tracer.cpp).
+  size_t shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const Medium& m, const RngKey& key, PathBatch& paths,
+                           RayBatch& rays, ShadeStats& stats) const;
   // The kinds of light whose paths count for light arriving now (inChain: along a caustic path).
   uint8_t countedLights(bool inChain) const {
     if (!inChain) return counts(options_.causticPaths, false) ? kAllLights : 0;

@@ -8,6 +8,7 @@
 #include "shading/camera.h"
 #include "shading/light.h"
 #include "shading/material.h"
+#include "shading/medium.h"
 
 namespace rayes {
 
@@ -28,6 +29,8 @@ struct ShadingScene {
   LightSampler lights;
   // The leaves' uv sets (null: no leaf has one; textures read the patch parameters).
   std::shared_ptr<const TexCoordSource> texCoords;
+  // Participating media (shading/medium.h; empty: rays travel in vacuum and no tracking runs).
+  std::vector<std::shared_ptr<const Medium>> media;
 };
 
 // Where a hit's material reads its textures: the patch parameters, the leaf's uv set when it

@@ -1,4 +1,4 @@
-// Rewrites a scene document so the whole scene -- camera, shapes, lights, displacement --
+// Rewrites a scene document so the whole scene -- camera, shapes, lights, displacement, media --
 // is scaled by s about the origin and then translated by (o, o, o). An exact similarity of
 // the scene, so the image is unchanged up to float rounding: the stiff-case tests compare
 // renders of the rewritten scene with the original.
@@ -40,6 +40,11 @@ inline nlohmann::json transformedScene(nlohmann::json doc, Similarity t) {
       for (json& keyframe : shape["motion"]["transforms"]) append(keyframe);
     } else {
       append(shape["transform"]);
+    }
+    // A medium's coefficients are per unit length: they scale with 1/s, its optical depths not.
+    if (shape.value("type", "") == "volume") {
+      shape["sigma_a"] = shape.value("sigma_a", 0.0) / t.scale;
+      shape["sigma_s"] = shape.value("sigma_s", 1.0) / t.scale;
     }
     // Noise is a function of the untransformed position; heights are in scene units.
     if (shape.contains("displacement")) {

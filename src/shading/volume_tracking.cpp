@@ -1,0 +1,164 @@
+#include "shading/volume_tracking.h"
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include "shading/bsdf.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kRouletteWeight = 1.0f / 16;
+
+// A ray in one medium's index space: the point at t is org + t·dir there as in the world, and
+// `length` world units per unit of t.
+struct IndexRay {
+  Vec3 org, dir;
+  float length;
+};
+
+IndexRay toIndex(const Medium& m, Vec3 org, Vec3 dir) {
+  return {m.worldToIndex().point(org), applyLinear(m.worldToIndex(), dir), length(dir)};
+}
+
+// Calls visit(brick, ta, tb) for each brick cell the ray crosses within (t0, t1), in order along
+// the ray, until it returns true. Cells without a brick are skipped without a call.
+template <class Visit>
+void walkCells(const Medium& m, const IndexRay& r, float t0, float t1, TrackingCounts& counts, Visit&& visit) {
+  const BrickCoord lo = m.cellLo(), n = m.cellCount();
+  if (n.x == 0) return;
+  // Cell coordinates q = (index + ½) / 8: cell c is [c, c + 1) in q.
+  const float oq[3] = {(r.org.x + 0.5f) / 8, (r.org.y + 0.5f) / 8, (r.org.z + 0.5f) / 8};
+  const float dq[3] = {r.dir.x / 8, r.dir.y / 8, r.dir.z / 8};
+  const int32_t l[3] = {lo.x, lo.y, lo.z}, c[3] = {n.x, n.y, n.z};
+  for (int a = 0; a < 3; ++a) {
+    const float b0 = float(l[a]), b1 = float(l[a] + c[a]);
+    if (dq[a] == 0) {
+      if (!(oq[a] >= b0 && oq[a] < b1)) return;
+      continue;
+    }
+    float ta = (b0 - oq[a]) / dq[a], tb = (b1 - oq[a]) / dq[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  if (!(t0 < t1)) return;
+  int32_t cell[3], step[3];
+  float tNext[3], tDelta[3];
+  for (int a = 0; a < 3; ++a) {
+    // Rounding may put the entry point a hair outside the grid: clamp into it.
+    const float q = oq[a] + dq[a] * t0;
+    cell[a] = std::clamp(int32_t(std::floor(q)), l[a], l[a] + c[a] - 1);
+    if (dq[a] > 0) {
+      step[a] = 1, tDelta[a] = 1 / dq[a], tNext[a] = (float(cell[a] + 1) - oq[a]) / dq[a];
+    } else if (dq[a] < 0) {
+      step[a] = -1, tDelta[a] = -1 / dq[a], tNext[a] = (float(cell[a]) - oq[a]) / dq[a];
+    } else {
+      step[a] = 0, tDelta[a] = kInf, tNext[a] = kInf;
+    }
+  }
+  float t = t0;
+  while (t < t1) {
+    const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+    const float tb = std::min(tNext[a], t1);
+    ++counts.cells;
+    const int32_t brick = m.brickAt(cell[0], cell[1], cell[2]);
+    if (brick >= 0 && tb > t && visit(brick, t, tb)) return;
+    t = std::max(t, tb);
+    cell[a] += step[a];
+    tNext[a] += tDelta[a];
+    if (step[a] == 0 || cell[a] < l[a] || cell[a] >= l[a] + c[a]) return;
+  }
+}
+
+// The first real collision in one medium within (0, tEnd), or kInf.
+float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts) {
+  const float sigmaT = m.coefficients().sigmaT();
+  if (!(sigmaT > 0)) return kInf;
+  const IndexRay r = toIndex(m, org, dir);
+  float found = kInf;
+  walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
+    const float majorant = m.majorant(brick);
+    const float rate = sigmaT * majorant * r.length;  // tentative collisions per unit t
+    if (!(rate > 0)) return false;
+    float t = ta;
+    for (;;) {
+      t -= std::log1p(-rng()) / rate;  // rng() < 1: the logarithm is finite
+      if (!(t < tb)) return false;     // memoryless: the next cell starts afresh at tb
+      ++counts.lookups;
+      const float rho = m.density(brick, r.org + r.dir * t);
+      if (rng() * majorant < rho) {
+        found = t;
+        return true;
+      }
+    }
+  });
+  return found;
+}
+
+}  // namespace
+
+Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts) {
+  Collision c;
+  float limit = tEnd;
+  for (size_t i = 0; i < media.size(); ++i) {
+    const float t = firstCollision(*media[i], org, dir, limit, rng, counts);
+    if (t < limit) {
+      limit = t;
+      c = {t, int32_t(i)};
+    }
+  }
+  return c;
+}
+
+float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts) {
+  float T = 1;
+  for (const auto& mp : media) {
+    const Medium& m = *mp;
+    const float sigmaT = m.coefficients().sigmaT();
+    if (!(sigmaT > 0)) continue;
+    const IndexRay r = toIndex(m, org, dir);
+    walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
+      const float majorant = m.majorant(brick);
+      const float rate = sigmaT * majorant * r.length;
+      if (!(rate > 0)) return false;
+      float t = ta;
+      for (;;) {
+        t -= std::log1p(-rng()) / rate;
+        if (!(t < tb)) return false;
+        ++counts.lookups;
+        T *= std::max(0.0f, 1 - m.density(brick, r.org + r.dir * t) / majorant);
+        if (T < kRouletteWeight) {
+          if (T == 0 || rng() * kRouletteWeight >= T) {
+            T = 0;
+            return true;
+          }
+          T = kRouletteWeight;
+        }
+      }
+    });
+    if (T == 0) return 0;
+  }
+  return T;
+}
+
+float henyeyGreenstein(float cosInOut, float g) {
+  const float d = 1 + g * g - 2 * g * cosInOut;  // > 0 for |g| < 1
+  return (1 - g * g) / (4 * std::numbers::pi_v<float> * d * std::sqrt(d));
+}
+
+Vec3 sampleHenyeyGreenstein(Vec3 in, float g, float u1, float u2) {
+  float cosTheta;
+  if (std::fabs(g) < 1e-3f) {
+    cosTheta = 1 - 2 * u1;  // isotropic: the closed form below divides by g
+  } else {
+    const float s = (1 - g * g) / (1 - g + 2 * g * u1);
+    cosTheta = (1 + g * g - s * s) / (2 * g);
+  }
+  cosTheta = std::clamp(cosTheta, -1.0f, 1.0f);
+  const float sinTheta = std::sqrt(std::max(0.0f, 1 - cosTheta * cosTheta));
+  const float phi = 2 * std::numbers::pi_v<float> * u2;
+  const ShadingFrame frame(in);
+  return normalize(frame.toWorld({sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta}));
+}
+
+}  // namespace rayes
