@@ -223,7 +223,7 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
   if (sums.kind != uint32_t(SectionKind::Checksums) || sums.bytes != blocks * sizeof(uint32_t))
     bad("section checksums", "missing, or not one per block");
   crcs_.resize(blocks);
-  std::memcpy(crcs_.data(), base_ + sums.offset, sums.bytes);
+  if (sums.bytes != 0) std::memcpy(crcs_.data(), base_ + sums.offset, sums.bytes);
   if (crcOf(crcs_.data(), sums.bytes) != header_.checksumsCrc)
     bad("section checksums", "checksum mismatch: the checksum section is corrupt; compile the scene again");
 
@@ -311,7 +311,7 @@ void MappedFile::read(SectionKind kind, uint64_t at, uint64_t n, void* out, cons
     }
     use(g);
   }
-  std::memcpy(out, base_ + s.offset + at, n);
+  if (n != 0) std::memcpy(out, base_ + s.offset + at, n);
   unpin(b1);
 }
 

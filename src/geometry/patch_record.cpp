@@ -63,7 +63,7 @@ class Reader {
   std::vector<T> array(uint32_t n) {
     if (left() / sizeof(T) < n) throw std::invalid_argument("a count larger than the record");
     std::vector<T> v(n);
-    std::memcpy(v.data(), p_, size_t(n) * sizeof(T));
+    if (n != 0) std::memcpy(v.data(), p_, size_t(n) * sizeof(T));  // an empty vector's data() may be null
     p_ += size_t(n) * sizeof(T);
     return v;
   }

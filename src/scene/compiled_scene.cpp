@@ -114,7 +114,7 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     const std::vector<Vec3> points = shared.meshes()[k]->controlPoints();
     const size_t at = meshBytes.size();
     meshBytes.resize(at + points.size() * sizeof(Vec3));
-    std::memcpy(meshBytes.data() + at, points.data(), points.size() * sizeof(Vec3));
+    if (!points.empty()) std::memcpy(meshBytes.data() + at, points.data(), points.size() * sizeof(Vec3));
     meshes.push_back({shared.topologyOfMesh(uint32_t(k)), at, points.size() * sizeof(Vec3)});
   }
   for (const HeightMapDisplacement* d : shared.heightMaps())
