@@ -306,7 +306,10 @@ std::shared_ptr<const SubdivTopology> decodeSubdivTopology(const uint8_t* data, 
     c.sharpness = r.get<float>();
   }
   d.holes = ints();
-  const std::vector<float> uvs = r.array<float>(r.get<uint32_t>() * 2);
+  // Checked before doubling: a corrupt count of 2^31 + n would wrap to the 2n floats that follow.
+  const uint32_t uvCount = r.get<uint32_t>();
+  if (r.left() / 8 < uvCount) throw std::invalid_argument("a count larger than the record");
+  const std::vector<float> uvs = r.array<float>(uvCount * 2);
   d.uvs.resize(uvs.size() / 2);
   for (size_t k = 0; k < d.uvs.size(); ++k) d.uvs[k] = {uvs[2 * k], uvs[2 * k + 1]};
   d.uvIndices = ints();

@@ -168,6 +168,16 @@ TEST(PatchRecord, ATopologyRecordRefusesEveryTruncationAndExtension) {
   for (size_t n = 0; n < topo.size(); ++n) EXPECT_THROW(decodeSubdivTopology(topo.data(), n), std::invalid_argument) << n;
   topo.push_back(0);
   EXPECT_THROW(decodeSubdivTopology(topo.data(), topo.size()), std::invalid_argument);
+  topo.pop_back();
+  // The uv count (5 uvs, 24 uv indices after them) with its top bit set: doubled, it would wrap
+  // to exactly the floats that follow, so only a check of the count itself refuses it.
+  const size_t uvCountAt = topo.size() - 4 - 24 * 4 - 5 * 8 - 4;
+  uint32_t count;
+  std::memcpy(&count, topo.data() + uvCountAt, 4);
+  ASSERT_EQ(count, 5u);
+  count |= 0x80000000u;
+  std::memcpy(topo.data() + uvCountAt, &count, 4);
+  EXPECT_THROW(decodeSubdivTopology(topo.data(), topo.size()), std::invalid_argument);
 }
 
 TEST(PatchRecord, RefusesEveryTruncationAndExtension) {
