@@ -120,7 +120,6 @@ namespace {
 bool readPixels(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, OIIO::ImageBuf& pixels) {
   OIIO::ImageSpec layout = spec;
   layout.set_format(spec.format);  // one format for every channel (an EXR may mix half and float)
-  layout.channelformats.clear();
   pixels.reset(layout);
   return in.read_image(0, 0, 0, spec.nchannels, spec.format, pixels.localpixels());
 }
