@@ -1,4 +1,5 @@
 #include "app/pixel_cost.h"
+#include <algorithm>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 

@@ -45,7 +45,7 @@ void timeSection(std::ostringstream& o, const json& s) {
     threadPer.series[1].values.push_back(number(g, "/time_s/bottom"));
     threadPer.series[2].values.push_back(number(g, "/time_s/leaf_queries"));
   }
-  o << "<p>Per generation, the same two kinds of time kept apart: the wall clock of its trace (the top level, the "
+  o << "<p id=time-per-generation>Per generation, the same two kinds of time kept apart: the wall clock of its trace (the top level, the "
        "sort, and the rest of the trace, where dicing and intersection run) and of its shading; and the dicing, "
        "intersection and leaf queries summed over threads.</p>"
     << columnChart(wallPer) << columnChart(threadPer);
@@ -159,7 +159,7 @@ void memorySection(std::ostringstream& o, const json& s) {
       if (x.is_object()) l.points.push_back({number(x, "/t_s"), number(x, p.c_str()) / double(1 << 20), ""});
     c.lines.push_back(l);
   }
-  o << lineChart(c);
+  o << "<div id=memory-over-time>" << lineChart(c) << "</div>";
 }
 
 void tableOf(std::ostringstream& o, const json& section, const std::string& prefix) {
