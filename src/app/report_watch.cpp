@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <thread>
 #include <unistd.h>
@@ -147,7 +148,7 @@ int runReportWatch(const ReportArgs& a) {
   struct Restore {
     ~Restore() { setStopOnSignal(false); }
   } restore;
-  std::string written;
+  std::optional<std::string> written;  // what the page shows; none: no page yet
   for (;;) {
     const Look l = lookAt(a.watch, a.out);
     const bool complete = (a.watchUntil > 0 && int(l.runs.size()) >= a.watchUntil) || l.markerFound ||

@@ -62,7 +62,8 @@ TEST_F(CostLayers, DicingsLayerHoldsEveryDicingOfTheCameraPaths) {
 
 TEST_F(CostLayers, TimeLayerSharesTheMeasuredBatchTimes) {
   const json s = render("t", {"--cost-layers"});
-  const std::vector<float>& t = image("t").channels.at("time.Y");
+  const testing::ExrImage im = image("t");
+  const std::vector<float>& t = im.channels.at("time.Y");
   const double charged = s["cost_layers"]["time_charged_s"].get<double>();
   EXPECT_GT(charged, 0);
   EXPECT_LE(charged, s["totals"]["time_s"]["total"].get<double>());
@@ -91,7 +92,8 @@ TEST_F(CostLayers, EveryEngineAndBatchingChargesEveryDicing) {
     const double dicings = s["totals"]["leaves_diced"].get<double>();
     EXPECT_GT(dicings, 0) << name;
     EXPECT_EQ(s["cost_layers"]["dicings_charged"].get<double>(), dicings) << name;
-    const std::vector<float>& d = image(name).channels.at("dicings.Y");
+    const testing::ExrImage im = image(name);
+    const std::vector<float>& d = im.channels.at("dicings.Y");
     EXPECT_NEAR(sum(d), dicings, floatSumBound(dicings, d.size())) << name;
   }
 }

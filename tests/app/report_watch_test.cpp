@@ -37,6 +37,12 @@ TEST(ReportWatch, RewritesThePageAsTheJobsStatsAppearAndStopsRefreshingAtTheEnd)
     return testing::runRayes({"report", "--watch", temp.path("job"), "-o", page, "--watch-until", "2",
                               "--watch-interval", "0.05", "-q"}).code;
   });
+  // Whatever happens below, the watch ends (a failed assertion must not leave it waiting): destroyed
+  // before the future, whose destructor waits for the watch.
+  struct EndWatch {
+    std::string marker;
+    ~EndWatch() { std::ofstream(marker) << ""; }
+  } endWatch{temp.path("job/complete")};
   const auto waitFor = [&](int runs) {
     for (int i = 0; i < 600 && runsOnPage(temp.read("job.html")) != runs; ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -44,7 +50,7 @@ TEST(ReportWatch, RewritesThePageAsTheJobsStatsAppearAndStopsRefreshingAtTheEnd)
   };
   // Before any stats: a waiting page that reloads.
   std::string now = waitFor(0);
-  EXPECT_EQ(runsOnPage(now), 0);
+  ASSERT_EQ(runsOnPage(now), 0) << now.substr(0, 600) << (watch.wait_for(std::chrono::seconds(0)) == std::future_status::ready ? " (the watch ended)" : "");
   EXPECT_NE(now.find("http-equiv=refresh"), std::string::npos);
   fs::copy_file(temp.path("r1.json"), temp.path("job/part-1.json"));
   now = waitFor(1);
@@ -65,6 +71,24 @@ TEST(ReportWatch, RewritesThePageAsTheJobsStatsAppearAndStopsRefreshingAtTheEnd)
   EXPECT_NE(now.find("2 runs"), std::string::npos);
   // No temporary is left beside the page.
   for (const auto& e : fs::directory_iterator(temp.dir())) EXPECT_EQ(e.path().filename().string().find(".job.html.tmp"), std::string::npos);
+}
+
+// A farm job's folder holds .film parts, whose headers hold the stats: the page is made from
+// them, and the job is complete when every part 1..N is there.
+TEST(ReportWatch, AFarmSplitsPartsMakeThePageAndEndTheWatchWhenAllAreThere) {
+  testing::TempFolder temp;
+  fs::create_directories(temp.path("parts"));
+  for (const char* part : {"1", "2"})
+    ASSERT_EQ(testing::runRayes({"render", kScene, "--res", "16x12", "--spp", "1", "--part", std::string(part) + "/2", "-o",
+                                 temp.path(std::string("parts/part-") + part + ".film"), "-q"}).code, 0);
+  EXPECT_EQ(testing::runRayes({"report", "--watch", temp.path("parts"), "-o", temp.path("job.html"), "-q"}).code, 0);
+  const std::string page = temp.read("job.html");
+  EXPECT_NE(page.find("2 of 2 parts; the job is complete"), std::string::npos);
+  EXPECT_NE(page.find("2 runs"), std::string::npos);
+  // And `rayes report` takes the parts as it takes stats files.
+  EXPECT_EQ(testing::runRayes({"report", temp.path("parts/part-1.film"), temp.path("parts/part-2.film"), "-o",
+                               temp.path("parts.html"), "-q"}).code, 0);
+  EXPECT_NE(temp.read("parts.html").find("2 runs"), std::string::npos);
 }
 
 TEST(ReportWatch, AFileNamedCompleteEndsTheWatch) {
