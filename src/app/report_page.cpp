@@ -78,6 +78,11 @@ const char* kScript =
     "d.setAttribute('data-status',errors.length||empty.length||!charts.length?'fail':'ok');"
     "document.body.appendChild(d);"
     "try{drawPictures(d);}catch(x){d.setAttribute('data-status','fail');d.setAttribute('data-errors',String(x));}"
+    // #only=ID: the page's title and that part alone (a link to one chart; the docs' screenshots),
+    // hidden after the check above measured every chart.
+    "var only=/only=([a-z-]+)/.exec(location.hash),keep=only&&document.getElementById(only[1]);"
+    "if(keep)Array.prototype.forEach.call(document.body.children,function(c){"
+    "if(c!==keep&&c.tagName!='H1'&&c!==d)c.style.display='none';});"
     "var r=document.createElement('div');r.id='readout';document.body.appendChild(r);"
     "document.addEventListener('mousemove',function(e){var t=e.target;"
     "if(t&&t.classList&&t.classList.contains('mark')){var n=t.querySelector('title');"

@@ -45,10 +45,10 @@ void timeSection(std::ostringstream& o, const json& s) {
     threadPer.series[1].values.push_back(number(g, "/time_s/bottom"));
     threadPer.series[2].values.push_back(number(g, "/time_s/leaf_queries"));
   }
-  o << "<p id=time-per-generation>Per generation, the same two kinds of time kept apart: the wall clock of its trace (the top level, the "
+  o << "<div id=time-per-generation><p>Per generation, the same two kinds of time kept apart: the wall clock of its trace (the top level, the "
        "sort, and the rest of the trace, where dicing and intersection run) and of its shading; and the dicing, "
        "intersection and leaf queries summed over threads.</p>"
-    << columnChart(wallPer) << columnChart(threadPer);
+    << columnChart(wallPer) << columnChart(threadPer) << "</div>";
 }
 
 void generationSection(std::ostringstream& o, const json& s) {
