@@ -195,6 +195,7 @@ nlohmann::json combinedStats(const std::vector<nlohmann::json>& parts) {
       }
     p.erase("generations");
     p.erase("error_vs_time");  // a part's error against its own pixels: not the image's
+    p.erase("memory_over_time");  // a part's own process over its own time: each part's page has it
     if (out.empty()) out = std::move(p);
     else combineInto(out, p, "");
   }

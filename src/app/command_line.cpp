@@ -152,6 +152,10 @@ CLI::App* addRenderCommand(CLI::App& app, RenderArgs& a) {
   r->add_flag("--progressive", a.progressive, "render in passes of 1, 1, 2, 4, ... samples per pixel, a complete "
                                              "image after each (more dicings; the same final image). Implied by "
                                              "--reference");
+  r->add_flag("--cost-layers", a.costLayers, "add the per-pixel cost layers to the EXR: dicings.Y (dicings charged to "
+                                            "the pixel's camera paths, each dicing shared among the rays that caused "
+                                            "it) and time.Y (each batch's time shared by rays); the stats name the "
+                                            "image, and the report draws them as heat maps (docs/dashboard.md)");
   addSharedOptions(r, a);
   r->add_option("--progress", a.progress, "progress on stderr: human (default; a line redrawn on a terminal, plain "
                                           "lines otherwise), json (one JSON object per line: elapsed, phase, "
@@ -198,7 +202,14 @@ int runCommandLine(int argc, char** argv) {
   CLI::App* rep = app.add_subcommand("report", "the statistics of one render (--stats), a farm job's parts or a frame "
                                                "sequence as one self-contained HTML page of charts (docs/dashboard.md); "
                                                "with --compare, two runs side by side with ratios");
-  rep->add_option("stats", ra.stats, "the stats files (JSON, docs/stats.md)")->required();
+  rep->add_option("stats", ra.stats, "the stats files (JSON, docs/stats.md), or finished .film files (a farm part's "
+                                     "header holds its stats)");
+  rep->add_option("--watch", ra.watch, "DIR: a running job's folder: rewrite the page (atomically) as its parts write "
+                                       "their stats (*.json, finished *.film), the page reloading itself until the job "
+                                       "is complete (--watch-until, all parts of a farm split, or a file DIR/complete) "
+                                       "or a signal stops the watch");
+  rep->add_option("--watch-until", ra.watchUntil, "with --watch: the job is complete once this many stats were read");
+  rep->add_option("--watch-interval", ra.watchInterval, "with --watch: seconds between looks at the folder (default 1)");
   rep->add_option("-o,--output", ra.out, "the page, NAME.html")->required()->allow_extra_args(false);
   rep->add_flag("--compare", ra.compare, "two stats files of the same scene and resolution: times, memory, dicings "
                                          "and error side by side with ratios B / A");

@@ -25,6 +25,9 @@ struct ReportArgs {
   std::vector<std::string> stats;
   std::string out;
   bool compare = false, quiet = false;
+  std::string watch;          // --watch DIR: rewrite the page as the job's parts appear (report_watch.cpp)
+  int watchUntil = 0;         // --watch-until N: complete once N stats were read (0: no such bound)
+  double watchInterval = 1;   // --watch-interval S: seconds between looks
 };
 
 int runRender(const RenderArgs& a);    // render_command.cpp
@@ -32,6 +35,7 @@ int runCompile(const CompileArgs& a);  // compile_command.cpp
 int runConverge(const RenderArgs& a);  // converge_command.cpp
 int runMerge(const MergeArgs& a);      // merge_command.cpp
 int runReport(const ReportArgs& a);    // report_command.cpp
+int runReportWatch(const ReportArgs& a);  // report_watch.cpp (runReport with --watch)
 
 // An output's extension, lower case (".exr"); and the one check of an image output's name
 // (render's and merge's -o, farm submit's outputs): .exr, .png or .film, else InputError("-o").

@@ -152,29 +152,34 @@ void writeFilmFile(const std::string& path, const FilmFileHeader& header, const 
   if (err) throw FilmWriteError(err, std::strerror(err));
 }
 
-FilmFile readFilmFile(const std::string& path) {
+namespace {
+// Opens the file, reads its header and checks it (readFilmFile, readFilmFileHeader): `f` and `r`
+// are left after the header, `size` and `length` are the file's and the header's.
+FilmFileHeader readHeaderOf(const std::string& path, std::unique_ptr<FILE, Closer>& f, std::unique_ptr<Reader>& r,
+                            uint64_t& size, uint32_t& length) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path, "", "no such film file");
   if (!fs::is_regular_file(path, ec)) throw InputError(path, "", "not a regular file");
-  const uint64_t size = fs::file_size(path, ec);
-  std::unique_ptr<FILE, Closer> f(std::fopen(path.c_str(), "rb"));
+  size = fs::file_size(path, ec);
+  f.reset(std::fopen(path.c_str(), "rb"));
   if (!f) throw InputError(path, "", std::string("cannot read the film file: ") + std::strerror(errno));
-  Reader r(f.get(), path);
+  r = std::make_unique<Reader>(f.get(), path);
   char magic[8] = {};
   if (size < sizeof magic + 8) throw InputError(path, "", "not a .film file (too short)");
-  r.bytes(magic, sizeof magic);
+  r->bytes(magic, sizeof magic);
   if (std::memcmp(magic, kMagic, sizeof magic) != 0) throw InputError(path, "", "not a .film file");
-  uint32_t version = 0, length = 0;
-  r.value(version);
+  uint32_t version = 0;
+  length = 0;
+  r->value(version);
   if (version != kFilmFormatVersion)
     throw InputError(path, "", "film file format version " + std::to_string(version) + "; this rayes reads version " +
                                    std::to_string(kFilmFormatVersion));
-  r.value(length);
+  r->value(length);
   if (length > kMaxHeaderBytes || 16 + uint64_t(length) > size)
     throw InputError(path, "", "truncated or corrupt film file (its header does not fit the file)");
   std::string text(length, '\0');
-  r.bytes(text.data(), text.size());
+  r->bytes(text.data(), text.size());
   FilmFileHeader h;
   try {
     h = headerOf(nlohmann::json::parse(text));
@@ -185,6 +190,26 @@ FilmFile readFilmFile(const std::string& path) {
   if (h.width <= 0 || h.height <= 0 || w.x0 < 0 || w.y0 < 0 || w.x1 > h.width || w.y1 > h.height || w.x1 < w.x0 ||
       w.y1 < w.y0 || h.part < 1 || h.part > h.parts)
     throw InputError(path, "", "corrupt film file header: the window or the part is not in the image");
+  return h;
+}
+}  // namespace
+
+FilmFileHeader readFilmFileHeader(const std::string& path) {
+  std::unique_ptr<FILE, Closer> f;
+  std::unique_ptr<Reader> r;
+  uint64_t size = 0;
+  uint32_t length = 0;
+  return readHeaderOf(path, f, r, size, length);
+}
+
+FilmFile readFilmFile(const std::string& path) {
+  std::unique_ptr<FILE, Closer> f;
+  std::unique_ptr<Reader> reader;
+  uint64_t size = 0;
+  uint32_t length = 0;
+  const FilmFileHeader h = readHeaderOf(path, f, reader, size, length);
+  Reader& r = *reader;
+  const PixelWindow& w = h.window;
   const uint64_t expected = 16 + uint64_t(length) + w.pixels() * kBytesPerPixel + kTrailerBytes + sizeof(uint32_t);
   if (size < expected)
     throw InputError(path, "", "truncated film file: " + std::to_string(size) + " of " + std::to_string(expected) + " bytes");

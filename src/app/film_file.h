@@ -65,5 +65,8 @@ struct FilmFile {
   Film film;
 };
 FilmFile readFilmFile(const std::string& path);
+// The header alone, checked as readFilmFile checks it; the sums are neither read nor checked
+// (`rayes report` of a job's parts reads their stats from it).
+FilmFileHeader readFilmFileHeader(const std::string& path);
 
 }  // namespace rayes

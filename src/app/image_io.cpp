@@ -24,7 +24,7 @@ uint8_t toSrgb8(float v) {
 
 }  // namespace
 
-void writeExr(const std::string& path, const Film& film) {
+void writeExr(const std::string& path, const Film& film, const PixelCost* cost) {
   const int w = film.width(), h = film.height();
   const std::vector<float> rgba = film.beautyRgba(), depth = film.depth(), normal = film.normal(), lod = film.lod();
   const std::vector<float> albedo = film.albedo(), material = film.materialId(), samples = film.sampleCount();
@@ -58,6 +58,13 @@ void writeExr(const std::string& path, const Film& film) {
   fb.insert("albedo.B", slice(albedo.data() + 2, 3));
   fb.insert("materialId.Y", slice(material.data(), 1));
   fb.insert("samples.Y", slice(samples.data(), 1));
+  const std::vector<float> dicings = cost ? cost->dicings() : std::vector<float>{};
+  const std::vector<float> seconds = cost ? cost->seconds() : std::vector<float>{};
+  if (cost) {
+    for (const char* c : {"dicings.Y", "time.Y"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    fb.insert("dicings.Y", slice(dicings.data(), 1));
+    fb.insert("time.Y", slice(seconds.data(), 1));
+  }
   Imf::OutputFile file(path.c_str(), header);
   file.setFrameBuffer(fb);
   if (h > 0) file.writePixels(h);
@@ -150,6 +157,29 @@ std::vector<float> readExrRgb(const std::string& path, int& width, int& height) 
   dataWindowSize(*in, width, height);
   checkRgbChannels(*in, path, "reference image");
   return readRgb(*in, path);
+}
+
+ExrChannels readExrChannels(const std::string& path, const std::vector<std::string>& names, const std::string& what) {
+  const auto in = openExrInput(path, what);
+  ExrChannels out;
+  dataWindowSize(*in, out.width, out.height);
+  out.channels.resize(names.size());
+  try {
+    const Imath::Box2i dw = in->header().dataWindow();
+    const size_t w = size_t(out.width), f = sizeof(float);
+    Imf::FrameBuffer fb;
+    for (size_t c = 0; c < names.size(); ++c) {
+      if (!in->header().channels().findChannel(names[c])) continue;
+      out.channels[c].assign(w * size_t(out.height), 0.0f);
+      char* base = (char*)(out.channels[c].data()) - (ptrdiff_t(dw.min.x) + ptrdiff_t(dw.min.y) * ptrdiff_t(w)) * ptrdiff_t(f);
+      fb.insert(names[c], Imf::Slice(Imf::FLOAT, base, f, f * w));
+    }
+    in->setFrameBuffer(fb);
+    if (out.height > 0) in->readPixels(dw.min.y, dw.max.y);
+  } catch (const std::exception& e) {
+    throw InputError(path, "", std::string("cannot read EXR: ") + e.what());
+  }
+  return out;
 }
 
 std::vector<float> readExrRgbOfSize(const std::string& path, const std::string& what, int width, int height) {

@@ -113,6 +113,7 @@ RenderOptions checkedOptions(const RenderArgs& a) {
     throw InputError("--candidates-per-ray", "", "must be a whole number in [1, 1000]");
   options.candidatesPerRay = a.candidatesPerRay;
   options.progressive = a.progressive;
+  options.costLayers = a.costLayers;
   options.engine = a.engine == "embree" ? EngineKind::Embree : EngineKind::Rayes;
   if (!a.embreeLod.empty() && options.engine != EngineKind::Embree)
     throw InputError("--embree-lod", "", "only applies to --engine embree");

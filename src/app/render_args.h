@@ -29,6 +29,7 @@ struct RenderArgs {
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;
   int threads = 0, maxLod = 10;
   bool quiet = false, progressive = false;
+  bool costLayers = false;  // render: --cost-layers
   std::string progress = "human";  // --progress human|json|none (-q: none)
   // render: batch jobs (docs/batch-and-farm.md)
   std::string crop, part, checkpoint;

@@ -44,6 +44,15 @@ void checkOutputName(const std::string& out) {
 
 namespace {
 
+// `path` as seen from the folder of `statsFile` (how rayes report finds the image).
+std::string pathFromStatsFolder(const std::string& path, const std::string& statsFile) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path from = fs::absolute(fs::path(statsFile), ec).parent_path();
+  const fs::path rel = fs::absolute(fs::path(path), ec).lexically_relative(from);
+  return ec || rel.empty() ? fs::absolute(fs::path(path), ec).string() : rel.string();
+}
+
 std::string secondsText(double s) {
   char text[32];
   std::snprintf(text, sizeof text, "%g", s);
@@ -72,6 +81,12 @@ int runRender(const RenderArgs& a) {
   const std::string png = filmOut ? "" : pngOnly ? out : std::filesystem::path(out).replace_extension(".png").string();
   if (options.parts > 1 && !filmOut)
     throw InputError("--part", "", "a part is a partial film: give -o NAME.film (rayes merge makes the image of the parts)");
+  if (a.costLayers && exr.empty())
+    throw InputError("--cost-layers", "", "the cost layers are layers of the EXR: give -o NAME.exr (not " +
+                                              (filmOut ? std::string("a .film") : std::string("a .png")) + ")");
+  if (a.costLayers && a.resume)
+    throw InputError("--cost-layers", "", "a resumed render would lack the cost of the batches before its checkpoint: "
+                                          "render without --resume");
   const std::string checkpointPath =
       !a.checkpoint.empty() ? a.checkpoint : a.timeLimit || a.resume ? defaultCheckpointPath(out) : "";
   if (!checkpointPath.empty() &&
@@ -186,6 +201,7 @@ int runRender(const RenderArgs& a) {
     const RunInfo run{a.scene, ThreadLimit::active(), scene.width, scene.height, scene.samplesPerPixel, loadSeconds,
                       secondsSince(wall0)};
     stats = statsToJson(scene, options, renderer.stats(), run);
+    if (options.costLayers) stats["cost_layers"]["image"] = pathFromStatsFolder(exr, a.stats.empty() ? a.report : a.stats);
     if (checkpoint)
       stats["checkpoints"] = {{"file", checkpointPath}, {"written", checkpoint->written()},
                               {"time_s", checkpoint->seconds()}, {"resumed", resumedFrom}};
@@ -198,7 +214,7 @@ int runRender(const RenderArgs& a) {
     h.stats = stats;
     outputs->write(out, [&](const std::string& tmp) { writeFilmFile(tmp, h, film); });
   }
-  if (!exr.empty()) outputs->write(exr, [&](const std::string& tmp) { writeExr(tmp, film); });
+  if (!exr.empty()) outputs->write(exr, [&](const std::string& tmp) { writeExr(tmp, film, renderer.pixelCost()); });
   std::string previewPng;  // the report shows the preview inline: a page with no file beside it
   if (!png.empty())
     outputs->write(png, [&](const std::string& tmp) {
@@ -208,7 +224,11 @@ int runRender(const RenderArgs& a) {
   if (!a.stats.empty()) outputs->writeText(a.stats, stats.dump(2) + "\n");
   if (!a.report.empty()) {
     checkStats(stats, a.stats.empty() ? a.report : a.stats);  // what this program writes, it can draw
-    outputs->writeText(a.report, reportPage({StatsFile{a.stats.empty() ? a.scene : a.stats, stats}}, previewPng));
+    std::optional<CostPictures> pictures;
+    if (const PixelCost* cost = renderer.pixelCost())
+      pictures = CostPictures{film.width(), film.height(), film.beautyRgba(), film.lod(), cost->dicings(), cost->seconds(), exr};
+    outputs->writeText(a.report, reportPage({StatsFile{a.stats.empty() ? a.scene : a.stats, stats}}, previewPng,
+                                            pictures ? &*pictures : nullptr));
   }
   outputs->commit();
   progress.finish();

@@ -24,8 +24,8 @@ size_t defaultRayMemoryBytes() {
 }
 
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
-    : scene_(scene), options_(options), data_(scene) {
-  const auto t0 = Clock::now();
+    : scene_(scene), options_(options), data_(scene), began_(Clock::now()) {
+  const auto t0 = began_;
   // The tile cache's bound for this render (the cache is the scene's: its lookups give the same
   // values at any size).
   if (scene.textures) scene.textures->setMemoryBytes(options.textureMemoryBytes);
@@ -48,6 +48,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                                              : SortedEngine::bytesPerRaySlot();
   stats_.bytesPerPath =
       integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives()) + engineBytesPerRay);
+  if (options.costLayers) stats_.bytesPerPath += PixelCost::bytesPerPath(raysPerPath);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
   uint64_t perBatch = options.rayMemoryBytes / stats_.bytesPerPath;
@@ -96,6 +97,30 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   stats_.engine = engine_->engineStats();
   stats_.memory = memoryAtSetup(raysPerPath);
   stats_.timeSetup = secondsSince(t0);
+  sampleMemory(true);
+}
+
+void Renderer::sampleMemory(bool always) {
+  if (!always && ++sampleTick_ % sampleStride_ != 0) return;
+  std::vector<MemorySample>& v = stats_.memoryOverTime;
+  if (v.size() >= kMaxMemorySamples) {
+    // Thin out: keep every other sample (the first always), sample half as often from now on.
+    size_t kept = 0;
+    for (size_t i = 0; i < v.size(); i += 2) v[kept++] = v[i];
+    v.resize(kept);
+    sampleStride_ *= 2;
+  }
+  const EngineStats e = engine_->engineStats();
+  MemorySample m;
+  m.seconds = secondsSince(began_);
+  m.rayBuffers = stats_.memory.rayBuffers;
+  m.candidatesAndSort = stats_.memory.candidatesAndSort;
+  m.diceCache = e.cacheBytes;
+  m.borderBounds = e.borderBoundBytes;
+  m.diceBuffers = e.fixedBytes - e.cachePeakBytes - e.borderBoundBytes;
+  m.film = filmBytes_;
+  m.rss = currentRssBytes();
+  v.push_back(m);
 }
 
 MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
@@ -160,11 +185,26 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch, const Contro
 void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control) {
   for (int depth = 0;; ++depth) {
     checkStop(control);
-    GenerationRecord rec{pass, batch, depth, {}};
+    GenerationRecord rec{pass, batch, depth, {}, {}};
+    const TraceTimes& tt = stats_.trace;
+    GenerationTimes& gt = rec.time;
+    const GenerationTimes before{0, 0, tt.toplevel.seconds(), tt.sort.seconds(), stats_.shade.shade.seconds(),
+                                 tt.dice.seconds(), tt.bottom.seconds(), tt.leafQueries.seconds()};
+    const auto traceStart = Clock::now();
+    gt.start = std::chrono::duration<double>(traceStart - renderStart_).count();
     engine_->trace(rays, rec.stats, stats_.trace);
-    stats_.generations.push_back(std::move(rec));
+    gt.trace = secondsSince(traceStart);
+    if (pixelCost_ && !lightPaths) pixelCost_->afterTrace(rays);
     const size_t next = lightPaths ? integrator_->shadeLight(uint32_t(depth), rays, stats_.shade)
                                    : integrator_->shade(uint32_t(depth), rays, stats_.shade);
+    gt.toplevel = tt.toplevel.seconds() - before.toplevel;
+    gt.sort = tt.sort.seconds() - before.sort;
+    gt.shade = stats_.shade.shade.seconds() - before.shade;
+    gt.dice = tt.dice.seconds() - before.dice;
+    gt.bottom = tt.bottom.seconds() - before.bottom;
+    gt.leafQueries = tt.leafQueries.seconds() - before.leafQueries;
+    stats_.generations.push_back(std::move(rec));
+    sampleMemory(false);
     if (!lightPaths) liveProgress().afterGeneration(uint32_t(depth), rays, integrator_->raysPerPath());
     // Gathers posted at the last vertices still run: one more trace, with queries only.
     if (next == 0 && !(rays.queries && rays.queries->pending())) break;
@@ -173,7 +213,9 @@ void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPat
 
 void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film,
                               const Control& control) {
+  const auto t0 = Clock::now();
   liveProgress().startBatch(count);
+  if (pixelCost_) pixelCost_->startBatch(count, integrator_->raysPerPath());
   for (uint32_t round = 0, rounds = integrator_->roundsPerBatch(); round < rounds; ++round) {
     integrator_->startRound(round);
     integrator_->start(first, count, rays);
@@ -182,10 +224,13 @@ void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batc
   const auto tf = Clock::now();
   integrator_->finish(film, stats_.shade);
   stats_.timeFilm += secondsSince(tf);
+  if (pixelCost_)
+    pixelCost_->finishBatch(secondsSince(t0), [&](uint32_t k) { return integrator_->cameraPixelOf(first + k); });
 }
 
 Film Renderer::render(const Progress& progress, const Control& control) {
   const auto t0 = Clock::now();
+  renderStart_ = t0;
   liveProgress().setPhase(Phase::Rendering);
   const PixelWindow window = filmWindow();
   const bool lightIds = integrator_->traits().lightPathIds;
@@ -193,11 +238,16 @@ Film Renderer::render(const Progress& progress, const Control& control) {
     throw std::logic_error("the method cannot render a window of the image");
   Film film = resumeFilm_ ? std::move(*resumeFilm_) : Film(scene_.width, scene_.height, window);
   resumeFilm_.reset();
+  filmBytes_ = film.bytes();
   const Position start = position_;
   interrupted_ = false;
   RayBatch rays;
   rays.timed = raysTimed();
   rays.derivatives = raysKeepDerivatives();
+  if (options_.costLayers) {
+    pixelCost_ = std::make_unique<PixelCost>(window, scene_.width);
+    rays.chargeDicings = true;
+  }
   // Camera ids per sample: the window's pixels, or light tracing's paths over the whole image.
   const uint64_t pixels = lightIds ? uint64_t(scene_.width) * uint64_t(scene_.height) : window.pixels();
   const int spp = scene_.samplesPerPixel;
@@ -287,9 +337,12 @@ Film Renderer::render(const Progress& progress, const Control& control) {
   // bounds, which have their own owners (memory.by_owner), so the two figures agree.
   stats_.diceBufferBytes = options_.engine == EngineKind::Rayes ? stats_.memory.diceBuffers : 0;
   stats_.memory.film = film.bytes();
+  stats_.memory.costLayers = pixelCost_ ? pixelCost_->bytes() + stats_.pathsPerBatch * stats_.raysPerPath * sizeof(uint64_t) : 0;
   stats_.splatSaturations = film.splatSaturations();
   if (scene_.textures) stats_.textures = scene_.textures->stats();
+  if (pixelCost_) stats_.costLayers = RenderStats::CostLayerTotals{pixelCost_->dicingsCharged(), pixelCost_->secondsCharged()};
   stats_.timeTotal = secondsSince(t0);
+  sampleMemory(true);
   return film;
 }
 

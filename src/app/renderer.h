@@ -42,6 +42,7 @@
 // the pixels it renders.
 // Not thread-safe; render() uses all threads allowed by the caller's ThreadLimit.
 #pragma once
+#include <chrono>
 #include <optional>
 #include <functional>
 #include <memory>
@@ -50,6 +51,7 @@
 #include <vector>
 #include "app/render_data.h"
 #include "app/methods.h"
+#include "app/pixel_cost.h"
 #include "rays/caching_engine.h"
 #include "rays/embree_engine.h"
 #include "rays/sorted_engine.h"
@@ -92,6 +94,9 @@ struct RenderOptions {
   // Batches small enough to stop at often (--checkpoint, --time-limit): at least
   // kCheckpointBatchesPerPass per pass; the image does not change.
   bool frequentBatches = false;
+  // The per-pixel cost layers (--cost-layers, app/pixel_cost.h): dicings charged to pixels and
+  // time per pixel. Off: no shares per ray, no per-path counts, nothing measured per batch.
+  bool costLayers = false;
 };
 
 inline constexpr int kCheckpointBatchesPerPass = 16;
@@ -102,10 +107,31 @@ PixelWindow partBand(const PixelWindow& window, int part, int parts);
 // Part `part` of `parts` of the ids [0, total): [floor((part-1) total / parts), floor(part total / parts)).
 std::pair<uint64_t, uint64_t> partIds(uint64_t total, int part, int parts);
 
+// Where one generation's time went: wall clock (its start since the render's, its trace, and
+// inside the trace the top level and the sort; its shading) and time summed over threads
+// (dicing, bottom level, leaf queries: they run in parallel, so never added to wall time).
+struct GenerationTimes {
+  double start = 0, trace = 0, toplevel = 0, sort = 0, shade = 0;
+  double dice = 0, bottom = 0, leafQueries = 0;
+};
+
 struct GenerationRecord {
   int pass = 0, batch = 0, depth = 0;
   GenerationStats stats;
+  GenerationTimes time;
 };
+
+// Memory by owner at one moment of the render (docs/stats.md, `memory_over_time`): what the
+// engine holds now (its dice buffers, the grids it keeps, the border bounds), the fixed owners,
+// and the process's resident set. Read at setup's end, after every generation and at the end:
+// a few loads and one read of /proc/self/statm, nothing on the trace's hot path.
+struct MemorySample {
+  double seconds = 0;  // since the Renderer began (setup included)
+  size_t rayBuffers = 0, candidatesAndSort = 0, diceBuffers = 0, diceCache = 0, borderBounds = 0, film = 0;
+  uint64_t rss = 0;
+};
+// The most samples kept: beyond, every other one is dropped and the sampling stride doubles.
+inline constexpr size_t kMaxMemorySamples = 2048;
 
 struct ErrorSample {
   int spp;
@@ -126,6 +152,7 @@ struct MemoryByOwner {
   size_t film = 0;
   size_t uvSets = 0;             // the leaves' uv sets (scene/leaf_uv_table.h); 0 without any
   size_t sceneDescription = 0;   // the leaves (records, boxes, stored patches) and every per-leaf table
+  size_t costLayers = 0;         // --cost-layers: the per-pixel sums and the batch's per-path counts
   uint64_t leaves = 0;
 };
 
@@ -148,6 +175,12 @@ struct RenderStats {
   std::vector<std::pair<std::string, uint64_t>> leafKinds;
   MethodStats method;            // the method's own section (Integrator::methodStats)
   std::optional<TextureCacheStats> textures;  // the texture cache's figures; none: the scene reads no image
+  // --cost-layers: dicings charged to pixels (exact) and the seconds apportioned to them.
+  struct CostLayerTotals {
+    double dicingsCharged = 0, secondsCharged = 0;
+  };
+  std::optional<CostLayerTotals> costLayers;
+  std::vector<MemorySample> memoryOverTime;
 };
 
 class Renderer {
@@ -183,6 +216,8 @@ class Renderer {
   size_t bytesPerPath() const { return stats_.bytesPerPath; }
   // The method being rendered with (its own statistics: Integrator::methodStats).
   const Integrator& integrator() const { return *integrator_; }
+  // The per-pixel cost layers after render() (--cost-layers), or null.
+  const PixelCost* pixelCost() const { return pixelCost_.get(); }
 
  private:
   MemoryByOwner memoryAtSetup(uint64_t raysPerPath) const;
@@ -203,6 +238,12 @@ class Renderer {
   std::unique_ptr<RayEngine> engine_;
   RenderStats stats_;
   std::unique_ptr<Film> resumeFilm_;
+  std::unique_ptr<PixelCost> pixelCost_;
+  // memory over time: the Renderer's start, the film's bytes once made, the sampling stride.
+  std::chrono::steady_clock::time_point began_, renderStart_;
+  size_t filmBytes_ = 0;
+  uint64_t sampleStride_ = 1, sampleTick_ = 0;
+  void sampleMemory(bool always);
   Position position_;
   bool interrupted_ = false;
   // One camera batch: every round of the integrator, then its film.

@@ -6,6 +6,7 @@
 #include <sstream>
 #include "app/report_charts.h"
 #include "app/report_format.h"
+#include "app/report_pictures.h"
 #include "app/report_sections.h"
 
 namespace rayes {
@@ -27,9 +28,44 @@ const char* kStyle =
     ".runs{display:flex;gap:2em;overflow-x:auto;align-items:flex-start}.run{flex:0 0 auto;border-left:3px solid #ddd;padding-left:1em}"
     ".run.outlier{border-left-color:#d03030}img.preview{min-width:24em;max-width:48em;image-rendering:pixelated;border:1px solid #ccc}"
     "#readout{position:fixed;pointer-events:none;background:#222;color:#fff;padding:2px 6px;border-radius:3px;"
-    "font-size:12px;display:none}td.ratio{font-weight:600}";
+    "font-size:12px;display:none}td.ratio{font-weight:600}"
+    ".pictures{display:flex;flex-wrap:wrap;gap:1em}canvas.picture{image-rendering:pixelated;border:1px solid #ccc;cursor:crosshair}"
+    ".legendrow{display:flex;gap:.4em;align-items:center;font-size:12px}.pixel-readout{font:12px monospace;min-height:1.3em}"
+    "figure.heatfigure{max-width:40em}figure.heatfigure .note{font-size:12px}";
 const char* kScript =
     "(function(){var errors=[];"
+    // The heat maps (app/report_pictures.h): a viridis ramp, values as little-endian float32.
+    "var V=[[68,1,84],[72,40,120],[62,74,137],[49,104,142],[38,130,142],[31,158,137],[53,183,121],[109,205,89],"
+    "[180,222,44],[253,231,37]];"
+    "function ramp(t){t=Math.max(0,Math.min(1,t));var x=t*(V.length-1),i=Math.min(V.length-2,Math.floor(x)),f=x-i;"
+    "return [0,1,2].map(function(c){return Math.round(V[i][c]+(V[i+1][c]-V[i][c])*f)});}"
+    "function bytesOf(b){var s=atob(b),a=new Uint8Array(s.length);for(var i=0;i<s.length;i++)a[i]=s.charCodeAt(i);return a;}"
+    "function fmt(v){return isNaN(v)?'no surface':String(Number(v.toPrecision(6)));}"
+    "function drawPictures(check){var pics=document.querySelectorAll('canvas.picture'),bad=[];"
+    "pics.forEach(function(cv){var w=cv.width,h=cv.height,raw=bytesOf(cv.getAttribute('data-values')),"
+    "ctx=cv.getContext('2d'),img=ctx.createImageData(w,h),d=img.data,n=w*h,ok;"
+    "if(cv.classList.contains('beauty')){ok=raw.length==3*n;for(var i=0;ok&&i<n;i++){d[4*i]=raw[3*i];"
+    "d[4*i+1]=raw[3*i+1];d[4*i+2]=raw[3*i+2];d[4*i+3]=255;}}"
+    "else{var v=new Float32Array(raw.buffer,0,raw.length>>2),hi=+cv.getAttribute('data-max');cv.values=v;ok=v.length==n;"
+    "for(var i=0;ok&&i<n;i++){var c=isNaN(v[i])?[200,200,200]:ramp(hi>0?v[i]/hi:0);"
+    "d[4*i]=c[0];d[4*i+1]=c[1];d[4*i+2]=c[2];d[4*i+3]=255;}}"
+    "if(ok)ctx.putImageData(img,0,0);else bad.push(cv.getAttribute('data-layer'));"
+    "cv.addEventListener('mousemove',function(e){var r=cv.getBoundingClientRect(),"
+    "x=Math.floor((e.clientX-r.left)*w/r.width),y=Math.floor((e.clientY-r.top)*h/r.height);"
+    "if(x<0||y<0||x>=w||y>=h)return;"
+    "cv.closest('.pictures').querySelectorAll('canvas.picture').forEach(function(o){"
+    "var t=o.closest('figure').querySelector('.pixel-readout');"
+    "t.textContent='x '+x+', y '+y+(o.values?': '+fmt(o.values[y*w+x])+(o.getAttribute('data-unit')||''):'');});});});"
+    "document.querySelectorAll('canvas.legend').forEach(function(l){var c=l.getContext('2d');"
+    "for(var x=0;x<l.width;x++){var k=ramp(x/(l.width-1));c.fillStyle='rgb('+k.join(',')+')';c.fillRect(x,0,1,l.height);}});"
+    "check.setAttribute('data-pictures',String(pics.length));"
+    "if(bad.length){check.setAttribute('data-status','fail');check.setAttribute('data-empty',"
+    "check.getAttribute('data-empty')+' pictures: '+bad.join(','));}"
+    // #probe=LAYER,X,Y: a mousemove over pixel (X, Y) of that picture, as a user's (the browser test).
+    "var m=/probe=([a-z]+),([0-9]+),([0-9]+)/.exec(location.hash);"
+    "if(m){var cv=document.querySelector('canvas.picture[data-layer='+m[1]+']');if(cv){var r=cv.getBoundingClientRect();"
+    "cv.dispatchEvent(new MouseEvent('mousemove',{bubbles:true,clientX:r.left+(+m[2]+0.5)*r.width/cv.width,"
+    "clientY:r.top+(+m[3]+0.5)*r.height/cv.height}));}}}"
     "window.addEventListener('error',function(e){errors.push(String(e.message||e))});"
     "window.addEventListener('load',function(){"
     "var charts=document.querySelectorAll('svg.chart'),empty=[];"
@@ -41,27 +77,17 @@ const char* kScript =
     "d.setAttribute('data-errors',errors.join('; '));"
     "d.setAttribute('data-status',errors.length||empty.length||!charts.length?'fail':'ok');"
     "document.body.appendChild(d);"
+    "try{drawPictures(d);}catch(x){d.setAttribute('data-status','fail');d.setAttribute('data-errors',String(x));}"
+    // #only=ID: the page's title and that part alone (a link to one chart; the docs' screenshots),
+    // hidden after the check above measured every chart.
+    "var only=/only=([a-z-]+)/.exec(location.hash),keep=only&&document.getElementById(only[1]);"
+    "if(keep)Array.prototype.forEach.call(document.body.children,function(c){"
+    "if(c!==keep&&c.tagName!='H1'&&c!==d)c.style.display='none';});"
     "var r=document.createElement('div');r.id='readout';document.body.appendChild(r);"
     "document.addEventListener('mousemove',function(e){var t=e.target;"
     "if(t&&t.classList&&t.classList.contains('mark')){var n=t.querySelector('title');"
     "r.textContent=n?n.textContent:'';r.style.display='block';r.style.left=(e.clientX+12)+'px';"
     "r.style.top=(e.clientY+12)+'px';}else r.style.display='none';});});})();";
-
-std::string base64(const std::string& bytes) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-    if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-    if (i + 2 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 2]));
-    out += table[(v >> 18) & 63];
-    out += table[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? table[v & 63] : '=';
-  }
-  return out;
-}
 
 std::string shortName(const StatsFile& f) { return std::filesystem::path(f.path).filename().string(); }
 
@@ -139,12 +165,15 @@ std::string pageSkeleton(const std::string& title, const std::string& body) {
          "</title><style>" + kStyle + "</style><script>" + kScript + "</script></head><body>" + body + "</body></html>\n";
 }
 
-std::string reportPage(const std::vector<StatsFile>& runs, const std::string& previewPng) {
+std::string reportPage(const std::vector<StatsFile>& runs, const std::string& previewPng, const CostPictures* pictures,
+                       const std::string& picturesNote) {
   std::ostringstream o;
   if (runs.size() == 1) {
     const json& s = runs[0].stats;
     o << "<h1>rayes report: " << htmlEscape(methodTitle(s)) << "</h1>" << runSummary(s);
-    if (!previewPng.empty()) o << "<p><img class=preview alt=preview src=\"data:image/png;base64," << base64(previewPng) << "\"></p>";
+    if (pictures) o << picturesSection(*pictures);
+    else if (!previewPng.empty()) o << "<p><img class=preview alt=preview src=\"data:image/png;base64," << base64(previewPng) << "\"></p>";
+    if (!picturesNote.empty()) o << "<p class=warn>" << htmlEscape(picturesNote) << "</p>";
     o << runSections(s);
     return pageSkeleton("rayes report: " + methodTitle(s) + ", " + s["scene"]["file"].get<std::string>(), o.str());
   }

@@ -24,6 +24,31 @@ void timeSection(std::ostringstream& o, const json& s) {
   for (const StageTime& t : wallStages(s)) wall.push_back({t.name, t.seconds, t.note});
   for (const StageTime& t : threadStages(s)) thread.push_back({t.name, t.seconds, t.note});
   o << barChart("Wall clock (seconds)", wall, " s") << barChart("Thread time, summed over threads (seconds)", thread, " s");
+  // Per generation (stats written since the per-generation times: older files lack them).
+  const json& gens = s["generations"];
+  bool timed = !gens.empty();
+  for (const json& g : gens) timed = timed && g.contains("time_s") && g["time_s"].is_object();
+  if (!timed) return;
+  ColumnChart wallPer{"Wall clock per generation (seconds, stacked)", " s", {}, {{"toplevel", {}}, {"sort", {}},
+                      {"dice + bottom + rest of the trace", {}}, {"shade", {}}}};
+  ColumnChart threadPer{"Thread time per generation (seconds summed over threads, stacked)", " s", {},
+                        {{"dice", {}}, {"bottom", {}}, {"leaf queries", {}}}};
+  for (const json& g : gens) {
+    const double trace = number(g, "/time_s/trace"), top = number(g, "/time_s/toplevel"), sort = number(g, "/time_s/sort");
+    wallPer.categories.push_back(generationName(g));
+    threadPer.categories.push_back(generationName(g));
+    wallPer.series[0].values.push_back(top);
+    wallPer.series[1].values.push_back(sort);
+    wallPer.series[2].values.push_back(std::max(0.0, trace - top - sort));
+    wallPer.series[3].values.push_back(number(g, "/time_s/shade"));
+    threadPer.series[0].values.push_back(number(g, "/time_s/dice"));
+    threadPer.series[1].values.push_back(number(g, "/time_s/bottom"));
+    threadPer.series[2].values.push_back(number(g, "/time_s/leaf_queries"));
+  }
+  o << "<div id=time-per-generation><p>Per generation, the same two kinds of time kept apart: the wall clock of its trace (the top level, the "
+       "sort, and the rest of the trace, where dicing and intersection run) and of its shading; and the dicing, "
+       "intersection and leaf queries summed over threads.</p>"
+    << columnChart(wallPer) << columnChart(threadPer) << "</div>";
 }
 
 void generationSection(std::ostringstream& o, const json& s) {
@@ -117,9 +142,24 @@ void memorySection(std::ostringstream& o, const json& s) {
   if (s.contains("textures"))
     b.push_back({"texture cache", number(s, "/textures/cache_memory_bytes"), "tiles resident (--texture-memory)"});
   b.push_back({"peak resident", number(s, "/totals/peak_rss_bytes"), "the whole process at its peak"});
-  o << "<h2>Memory by owner</h2><p>Each owner at its largest. The stats do not sample memory during the render, "
-       "so there is no chart of memory over time.</p>"
-    << barChart("Memory by owner", b, " B");
+  o << "<h2>Memory by owner</h2><p>Each owner at its largest.</p>" << barChart("Memory by owner", b, " B");
+  const json& samples = s.contains("memory_over_time") && s["memory_over_time"].is_array() ? s["memory_over_time"] : json::array();
+  if (samples.size() < 2) {
+    o << "<p>No samples of memory during the render in these stats: no chart of memory over time.</p>";
+    return;
+  }
+  static const std::pair<const char*, const char*> sampled[] = {
+      {"rss_bytes", "resident (process)"}, {"ray_buffers", "ray buffers"}, {"candidates_and_sort", "candidates and sort"},
+      {"dice_buffers", "dice buffers"}, {"dice_cache", "grid cache"}, {"border_bounds", "border bounds"}, {"film", "film"}};
+  LineChart c{"Memory over the render (MiB; sampled after setup and every generation)", "seconds since setup began", "MiB"};
+  for (const auto& [key, name] : sampled) {
+    Line l{name, {}};
+    const std::string p = std::string("/") + key;
+    for (const json& x : samples)
+      if (x.is_object()) l.points.push_back({number(x, "/t_s"), number(x, p.c_str()) / double(1 << 20), ""});
+    c.lines.push_back(l);
+  }
+  o << "<div id=memory-over-time>" << lineChart(c) << "</div>";
 }
 
 void tableOf(std::ostringstream& o, const json& section, const std::string& prefix) {

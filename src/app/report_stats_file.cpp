@@ -1,5 +1,7 @@
 #include "app/report_stats_file.h"
+#include <cctype>
 #include <filesystem>
+#include "app/film_file.h"
 #include "app/stats_json.h"
 #include "core/error.h"
 #include "core/text_file.h"
@@ -110,6 +112,17 @@ void checkStats(const json& s, const std::string& path) {
 }
 
 StatsFile readStatsFile(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".film") {
+    // A part, or a complete render's film: its header holds the run's stats.
+    const FilmFileHeader h = readFilmFileHeader(path);
+    if (!h.stats.is_object())
+      throw InputError(path, "", "a " + h.kind + " film without statistics (a checkpoint has none): give a finished part or its stats file");
+    StatsFile f{path, h.stats};
+    checkStats(f.stats, path);
+    return f;
+  }
   const std::string text = readTextFile(path, "the stats file");
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw InputError(path, "", "the stats file is empty (was its render stopped before it wrote it?)");

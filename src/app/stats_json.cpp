@@ -48,7 +48,11 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                     {"shadow_rays", g.stats.shadowRays}, {"iterations", its},
                     {"leaves_diced", g.stats.leavesDiced}, {"grid_cache_hits", g.stats.gridCacheHits},
                     {"origin_leaf_dicings", g.stats.originLeafDicings},
-                    {"micropolygons_created", g.stats.micropolygonsCreated}});
+                    {"micropolygons_created", g.stats.micropolygonsCreated},
+                    {"start_s", g.time.start},
+                    {"time_s", {{"trace", g.time.trace}, {"toplevel", g.time.toplevel}, {"sort", g.time.sort},
+                                {"shade", g.time.shade}, {"dice", g.time.dice}, {"bottom", g.time.bottom},
+                                {"leaf_queries", g.time.leafQueries}}}});
     diced += g.stats.leavesDiced;
     created += g.stats.micropolygonsCreated;
     rays += g.stats.rays;
@@ -115,10 +119,22 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
       {"film", m.film},
       {"scene_description", m.sceneDescription},
       {"uv_sets", m.uvSets},
+      {"cost_layers", m.costLayers},
       // lbt: the --beam-memory account's peak (beams.peak_bytes), the grids kept while beams
       // are traced included; 0 for the other methods and when no beams were built.
       {"beams", s.method.section == "beams" ? uint64_t(s.method.number("peak_bytes")) : uint64_t(0)},
   };
+  json overTime = json::array();
+  for (const MemorySample& x : s.memoryOverTime)
+    overTime.push_back({{"t_s", x.seconds},
+                        {"ray_buffers", x.rayBuffers},
+                        {"candidates_and_sort", x.candidatesAndSort},
+                        {"dice_buffers", x.diceBuffers},
+                        {"dice_cache", x.diceCache},
+                        {"border_bounds", x.borderBounds},
+                        {"film", x.film},
+                        {"rss_bytes", x.rss}});
+  j["memory_over_time"] = overTime;
   j["memory"]["scene_bytes_per_leaf"] = m.leaves ? double(m.sceneDescription) / double(m.leaves) : 0.0;
   j["memory"]["peak_rss_bytes"] = peakRssBytes();
   const EngineStats& e = s.engine;
@@ -221,6 +237,15 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                      {"io_time_s", t.ioSeconds}};
   } else {
     skipped["textures"] = "no image texture, environment map or height map: no texture cache";
+  }
+  if (s.costLayers) {
+    j["cost_layers"] = {{"image", ""},
+                        {"layers", {"lod.Y", "dicings.Y", "time.Y"}},
+                        {"dicings_charged", s.costLayers->dicingsCharged},
+                        {"dicings_not_charged", std::max(0.0, double(diced) - s.costLayers->dicingsCharged)},
+                        {"time_charged_s", s.costLayers->secondsCharged}};
+  } else {
+    skipped["cost_layers"] = "no --cost-layers: no dicings or time per pixel";
   }
   j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {

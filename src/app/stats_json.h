@@ -20,6 +20,8 @@ struct RunInfo {
   double wallSeconds = 0;  // whole program run, load to outputs
 };
 
+// With --cost-layers the caller sets `cost_layers.image` (the EXR holding them, relative to the
+// stats file's folder, as `rayes report` finds it).
 nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, const RenderStats& stats,
                            const RunInfo& run);
 

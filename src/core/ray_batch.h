@@ -9,6 +9,7 @@
 // per generation slot and allocates nothing once warmed up. Not thread-safe as a whole, but
 // distinct indices may be written from distinct threads.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -91,6 +92,15 @@ struct RayBatch {
   // Meaningful only where hit[i] is a closest hit; shadow rays get none.
   std::vector<HitDerivatives> dpd;
   bool derivatives = false;
+  // Dicings charged to each ray (`--cost-layers`, app/pixel_cost.h), only when `chargeDicings`
+  // (set before resize()): fixed point, kDicingShareOne per dicing. The engine splits each
+  // dicing among the rays that caused it (the rays of its leaf's run) into integer shares that
+  // sum to exactly kDicingShareOne, so per-pixel sums are exact and their order does not
+  // matter; the engine only adds (atomically: a ray is in several leaves' runs at once), the
+  // render takes and clears them after each trace. A render without the layers pays nothing.
+  static constexpr uint64_t kDicingShareOne = uint64_t(1) << 32;
+  std::vector<uint64_t> dicingShare;
+  bool chargeDicings = false;
   // Queries the engine runs per leaf during trace(), besides the rays (core/leaf_queries.h):
   // the poster's (not owned), or none.
   LeafQueries* queries = nullptr;
@@ -101,6 +111,11 @@ struct RayBatch {
     time.resize(timed ? n : 0);
     hit.resize(n);
     dpd.resize(derivatives ? n : 0);
+    dicingShare.resize(chargeDicings ? n : 0);
+  }
+  // Adds `share` to ray i's dicings (thread-safe for distinct or equal i).
+  void chargeDicing(size_t i, uint64_t share) {
+    std::atomic_ref<uint64_t>(dicingShare[i]).fetch_add(share, std::memory_order_relaxed);
   }
   // The derivatives at ray i's hit, or null when the batch keeps none.
   const HitDerivatives* derivativesOf(size_t i) const { return derivatives ? &dpd[i] : nullptr; }

@@ -89,6 +89,7 @@ class BeamIntegrator final : public Integrator {
   void finish(Film& film, ShadeStats& stats) override;
   bool setPixelBlock(uint32_t n) override { return pt_->setPixelBlock(n); }
   bool setPixelWindow(const PixelWindow& window) override { return pt_->setPixelWindow(window); }
+  int64_t cameraPixelOf(uint64_t id) const override { return pt_->cameraPixelOf(id); }
   MethodStats methodStats() const override;
 
   // The beams built by prepare() (null when none were, or when they are in batches:

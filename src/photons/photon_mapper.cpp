@@ -49,6 +49,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override { return pt_.shade(bounce, rays, stats); }
   void finish(Film& film, ShadeStats& stats) override { pt_.finish(film, stats); }
   bool setPixelWindow(const PixelWindow& window) override { return pt_.setPixelWindow(window); }
+  int64_t cameraPixelOf(uint64_t id) const override { return pt_.cameraPixelOf(id); }
 
   IdRange lightPaths(int s0, int s1) const override {
     const uint64_t n = options_.photonsPerSample;

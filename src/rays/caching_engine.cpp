@@ -26,7 +26,11 @@ void CachingEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& t
   // times.bottom includes the dicing; times.dice holds the dicing alone.
   {
     ScopedTimer timer(times.bottom);
-    for (uint32_t i : active_) sorted_.traceRayAlone(batch, i, source, scratch_);
+    for (uint32_t i : active_) {
+      const uint64_t missesBefore = misses_;  // a miss is a dicing for this ray alone
+      sorted_.traceRayAlone(batch, i, source, scratch_);
+      if (batch.chargeDicings && misses_ > missesBefore) batch.chargeDicing(i, (misses_ - missesBefore) * RayBatch::kDicingShareOne);
+    }
   }
   stats.iterations.push_back({active_.size(), 0.0, 0});
   // No per-leaf stage: the leaf queries grouped by leaf, in a plain loop.
@@ -90,6 +94,7 @@ EngineStats CachingEngine::engineStats() const {
   s.cacheHits = hits_;
   s.cacheMisses = misses_;
   s.cachePeakBytes = peakBytes_;
+  s.cacheBytes = bytes_;
   return s;
 }
 

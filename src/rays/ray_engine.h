@@ -46,6 +46,7 @@ struct EngineStats {
   // The dice cache (CachingEngine; zero otherwise). Misses are dicings.
   uint64_t cacheEntries = 0, cacheHits = 0, cacheMisses = 0;
   size_t cachePeakBytes = 0;
+  size_t cacheBytes = 0;        // the grids kept now (the grid cache or the dice cache)
   size_t borderBoundBytes = 0;  // Rayes: the shared table of border bounds (part of fixedBytes)
 };
 

@@ -24,14 +24,20 @@ void SortedEngine::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& t
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
     auto& scratch = scratch_.local();
     DiceBuffer& dice = localDiceBuffer();
+    uint64_t dicedForThisRay = 0;  // each dicing here is one ray's alone (RayBatch::chargeDicings)
     const GridSource diceForThisRay = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
       dice.diceInterval(*patch, interval, level, sharedBorders(leaf));
+      ++dicedForThisRay;
       diced.fetch_add(1, std::memory_order_relaxed);
       micropolygons.fetch_add(uint64_t(dice.moving() ? 2 : 1) << (2 * level), std::memory_order_relaxed);
       if (dice.moving()) moving.fetch_add(1, std::memory_order_relaxed);
       return dice;
     };
-    for (size_t a = r.begin(); a != r.end(); ++a) traceRayAlone(b, active_[a], diceForThisRay, scratch);
+    for (size_t a = r.begin(); a != r.end(); ++a) {
+      dicedForThisRay = 0;
+      traceRayAlone(b, active_[a], diceForThisRay, scratch);
+      if (b.chargeDicings && dicedForThisRay) b.chargeDicing(active_[a], dicedForThisRay * RayBatch::kDicingShareOne);
+    }
   });
   stats.leavesDiced += diced.load();
   stats.micropolygonsCreated += micropolygons.load();

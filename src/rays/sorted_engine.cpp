@@ -74,6 +74,7 @@ EngineStats SortedEngine::engineStats() const {
   s.maxLevel = settings_.maxLod;
   s.cacheHits = cache_.hits();
   s.cachePeakBytes = cache_.peakBytes();
+  s.cacheBytes = cache_.bytes();
   s.borderBoundBytes = borderBounds_.bytes();
   return s;
 }
@@ -372,7 +373,7 @@ int SortedEngine::runLevel(const RayBatch& b, const uint32_t* slots, size_t coun
   return m;
 }
 
-void SortedEngine::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+void SortedEngine::diceRun(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                            const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
   {
     ScopedTimer timer(times.dice);
@@ -386,6 +387,14 @@ void SortedEngine::diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* 
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
   if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.ray[rayOfSlot(s)].originLeaf == leaf; }))
     counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
+  if (b.chargeDicings) chargeRun(b, slots, count);
+}
+
+// The dicing shared among the run's rays: integer shares summing to exactly one dicing, the
+// remainder to the first rays of the run (its order is the sort's, the same at any thread count).
+void SortedEngine::chargeRun(RayBatch& b, const uint32_t* slots, size_t count) const {
+  const uint64_t share = RayBatch::kDicingShareOne / count, extra = RayBatch::kDicingShareOne % count;
+  for (size_t k = 0; k < count; ++k) b.chargeDicing(rayOfSlot(slots[k]), share + (k < extra ? 1 : 0));
 }
 
 // A leaf with many rays (a wall seen by most of the image) would serialise the iteration on one

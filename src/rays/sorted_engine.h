@@ -153,8 +153,10 @@ class SortedEngine : public RayEngine {
   // The finest level the run's rays need on `leaf` (the level the leaf is diced at).
   // With `entryBits`, also each slot's leafEntry there (as float bits), for the intersection.
   int runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const;
-  void diceRun(const RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+  void diceRun(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters);
+  // With RayBatch::chargeDicings: one dicing split among the run's rays (RayBatch::dicingShare).
+  void chargeRun(RayBatch& b, const uint32_t* slots, size_t count) const;
   // Every slot of the run against the diced leaf (rays at their own level <= m); entryBits as
   // runLevel wrote them, or null (then computed here).
   void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,

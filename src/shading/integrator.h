@@ -119,6 +119,10 @@ class Integrator {
   // Camera path ids cover `window`'s pixels only (PathTracer::setPixelWindow); false: the
   // integrator cannot (then only the whole image may be rendered, unless traits().lightPathIds).
   virtual bool setPixelWindow(const PixelWindow& /*window*/) { return false; }
+  // The full-image pixel camera path `id` (of the current layout: block, window) lands on, or -1
+  // when camera ids are not pixels (traits().lightPathIds). For charging a path's cost to its
+  // pixel (app/pixel_cost.h).
+  virtual int64_t cameraPixelOf(uint64_t /*id*/) const { return -1; }
 
   struct IdRange { uint64_t first = 0, end = 0; };
   virtual IdRange lightPaths(int /*s0*/, int /*s1*/) const { return {}; }

@@ -183,6 +183,7 @@ class PathTracer final : public Integrator {
   // A path's full-image pixel and its sample.
   struct PathIds { uint32_t pixel, sample; };
   PathIds idsOf(uint64_t id) const;
+  int64_t cameraPixelOf(uint64_t id) const override { return idsOf(id).pixel; }
 
   // The kernels on an explicit PathBatch (the tests drive them directly).
 

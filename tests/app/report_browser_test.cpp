@@ -5,6 +5,8 @@
 // ran, fails here. Skipped with a message when chromium is absent, unless
 // RAYES_REQUIRE_CHROMIUM is set (as CI should), when its absence fails.
 // `ctest -L browser` runs these alone (their label, CMakeLists.txt).
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +14,7 @@
 #include <regex>
 #include <gtest/gtest.h>
 #include <gmock/gmock.h>
+#include "support/exr_image.h"
 #include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
@@ -90,6 +93,33 @@ TEST_F(ReportBrowser, ASingleRenderAJobAndAComparisonOpenWithEveryChartDrawn) {
   EXPECT_GE(expectPagePasses(path("single.html")), 10);
   EXPECT_GE(expectPagePasses(path("job.html")), 3 * 9 + 7);
   EXPECT_GE(expectPagePasses(path("cmp.html")), 5);
+}
+
+// The heat maps: a mousemove over a known pixel (the page's #probe=LAYER,X,Y dispatches it as the
+// cursor would) makes every read-out show its layer's value there. The value read back is the
+// EXR's float printed to 6 significant digits: within half a unit of the 6th digit.
+TEST_F(ReportBrowser, TheHeatMapsReadOutTheValueUnderTheCursor) {
+  render("cost.json", {"--spp", "2", "--cost-layers", "--report", path("rendered.html")});
+  ASSERT_EQ(testing::runRayes({"report", path("cost.json"), "-o", path("reported.html"), "-q"}).code, 0);
+  const testing::ExrImage im = testing::readExrImage(path("cost.json.exr"));
+  const std::vector<float>& d = im.channels.at("dicings.Y");
+  const size_t at = size_t(std::max_element(d.begin(), d.end()) - d.begin());
+  const int x = int(at % size_t(im.width)), y = int(at / size_t(im.width));
+  ASSERT_GT(d[at], 0);
+  for (const char* page : {"rendered.html", "reported.html"}) {
+    EXPECT_GE(expectPagePasses(path(page)), 10) << page;
+    const std::string dom = dumpDom(chromium_, path(page) + "#probe=dicings," + std::to_string(x) + "," + std::to_string(y),
+                                    path("profile"));
+    for (const auto& [layer, channel] : {std::pair<std::string, std::string>{"dicings", "dicings.Y"}, {"time", "time.Y"}}) {
+      std::smatch m;
+      const std::regex readout("<div class=\"pixel-readout\" data-layer=\"" + layer + "\">x ([0-9]+), y ([0-9]+): ([-0-9.e+]+)");
+      ASSERT_TRUE(std::regex_search(dom, m, readout)) << page << ": no read-out of " << layer;
+      EXPECT_EQ(std::stoi(m[1].str()), x);
+      EXPECT_EQ(std::stoi(m[2].str()), y);
+      const double shown = std::stod(m[3].str()), value = im.at(channel, x, y);
+      EXPECT_NEAR(shown, value, 5e-6 * std::fabs(value)) << page << " " << layer;
+    }
+  }
 }
 
 // The check itself: a page with a script error, or with a chart that draws nothing, fails.
