@@ -43,9 +43,17 @@ namespace {
 
 struct StackEntry {
   uint32_t node;  // Z-order index within its level
+  uint32_t xy;    // its (x, y) on its level as (y << 16) | x, carried down rather than decoded
+                  // from node (detail::mortonX/Y were 5 % of a traversal's instructions)
   int level;
   float tEntry;
 };
+
+// Child c (Z-order) of the node at xy: (2x + (c & 1), 2y + (c >> 1)). x, y < 2^12, so shifting
+// the packed pair moves each half alone.
+constexpr uint32_t kChildXY[4] = {0, 1, 1u << 16, (1u << 16) | 1};
+constexpr uint32_t childXY(uint32_t xy, int c) { return (xy << 1) | kChildXY[c]; }
+
 
 // 1 + 3 per level: a step pops one node and pushes at most 3 (the 4th is visited at once).
 constexpr int kStackSize = 1 + 3 * 12 + 3;
@@ -180,6 +188,11 @@ struct DiceBuffer::Best {
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha,
                           const BorderRegions& regions, GridHit* out) const {
+  static_assert([] {
+    for (int i = 0; i < 14; ++i)
+      if (kLevelGroups[i] != detail::levelOffset(i)) return false;
+    return true;
+  }());
   if (!(tmin < tmax)) return false;
   WatertightRay wray;
   if (!makeWatertightRay(org, dir, wray)) return false;
@@ -215,7 +228,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   int sp = 0;
   // The node being visited: its entry distance is <= bestT (tested against it when it was
   // reached, or on popping).
-  uint32_t node = 0;
+  uint32_t node = 0, xy = 0;
   int level = 0;
   float tNode, tExit;
   {
@@ -230,7 +243,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   }
   for (;;) {
     if (level == k) {
-      const uint32_t x = detail::mortonX(node), y = detail::mortonY(node);
+      const uint32_t x = xy & 0xffffu, y = xy >> 16;
       const size_t i00 = size_t(y) * stride * res + size_t(x) * stride;
       const Vec3* p = &positions_[i00];
       Vec3 p00 = p[0], p10 = p[stride], p01 = p[stride * res], p11 = p[stride * res + stride];
@@ -292,7 +305,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         }
       } else {
         // The children are micro-quads: fetch the 3 grid rows of their corners.
-        const size_t x0 = 2 * size_t(detail::mortonX(node)) * stride, y0 = 2 * size_t(detail::mortonY(node)) * stride;
+        const size_t x0 = 2 * size_t(xy & 0xffffu) * stride, y0 = 2 * size_t(xy >> 16) * stride;
         for (size_t r = 0; r <= 2; ++r) {
           const Vec3* row = &positions_[(y0 + r * stride) * res + x0];
           _mm_prefetch(reinterpret_cast<const char*>(row), _MM_HINT_T0);
@@ -318,6 +331,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         if ((mask & (mask - 1)) == 0) {  // one child: visit it, no stack
           const int c = __builtin_ctz(unsigned(mask));
           node = first + uint32_t(c);
+          xy = childXY(xy, c);
           tNode = t[c];
           continue;
         }
@@ -325,7 +339,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         int n = 0;
         for (; mask != 0; mask &= mask - 1) {
           const int c = __builtin_ctz(unsigned(mask));
-          hit[n++] = {first + uint32_t(c), level, t[c]};
+          hit[n++] = {first + uint32_t(c), childXY(xy, c), level, t[c]};
         }
         if constexpr (!AnyHit) {
           // Nearest first: it is visited now, the others are pushed far first.
@@ -334,6 +348,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         }
         for (int c = n - 1; c > 0; --c) stack[sp++] = hit[c];
         node = hit[0].node;
+        xy = hit[0].xy;
         tNode = hit[0].tEntry;
         continue;
       }
@@ -345,6 +360,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
       const StackEntry& e = stack[--sp];
       if (e.tEntry > bestT) continue;
       node = e.node;
+      xy = e.xy;
       level = e.level;
       tNode = e.tEntry;
       break;
