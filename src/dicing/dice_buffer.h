@@ -192,6 +192,7 @@ class DiceBuffer {
   void diceSample(const Patch& patch, int sample, int level, Sample& out);
   void buildTree(const GridArray<Vec3>& positions, GridArray<float>& nodes) const;
   void buildBorders(int sample, const Sample& s, GridArray<float>& borders) const;  // reads patch_
+  void buildThinBounds();  // thinBounds_ of a static dicing with borders
   // The borders a query tests: bit e of `mask` for border e, of `thin` for a thin region
   // (BottomQuery::thinBorders) of radius thinRadius[e].
   struct BorderRegions {
@@ -256,6 +257,11 @@ class DiceBuffer {
   const float* nodeGroup(int level, uint32_t g) const { return a_.nodes.data() + groupOffset(level, g); }
   const float* rootBox() const { return a_.nodes.data() + groupOffset(maxLevel_, 0); }
   Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
+  // A static dicing with borders: per border e and level k <= min(level(), kMaxThinLevel), the
+  // bounds of its level-k border vertices. It contains every thin segment box of (e, k) (grown
+  // and padded alike, rounding being monotone), so a ray that misses it grown skips the linear
+  // walk over the 2^k segments (traverseBorders).
+  Box3 thinBounds_[4][BottomQuery::kMaxThinLevel + 1];
 };
 
 // Level of detail, per ray: the smallest m with patchSize / 2^m <= footprintWidth, clamped to

@@ -541,11 +541,20 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
       // k <= BottomQuery::kMaxThinLevel, which the SortedEngine keeps to.
       const double radius = regions.thinRadius[e];
       const float grow = float(radius) * (1.0f + 1e-6f);
-      for (uint32_t j = 0; j <= last; ++j) {
-        size_t v0, v1;
-        chordEnds(e, k, j, level_, v0, v1);
+      const Vec3 g{grow, grow, grow};
+      if (!moving_ && k <= BottomQuery::kMaxThinLevel) {
+        // All of the border's segment boxes at once (thinBounds_): most rays cross none, and
+        // the walk below was a third of the bottom level's instructions on teapot-field
+        // (bench/history/2026-11.md, "Where the bottom level's instructions go").
+        const Box3& all = thinBounds_[e][k];
+        float t0, t1;
+        if (!intersectBox(q, all.lo - g - pad, all.hi + g + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
+      }
+      size_t v0, v1;
+      chordEnds(e, k, 0, level_, v0, v1);
+      const size_t step = v1 - v0;  // segment j + 1 starts where j ends
+      for (uint32_t j = 0; j <= last; ++j, v0 = v1, v1 += step) {
         const Vec3 a = vertex(v0), b = vertex(v1);
-        const Vec3 g{grow, grow, grow};
         float t0, t1;
         if (!intersectBox(q, vmin(a, b) - g - pad, vmax(a, b) + g + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
         if (region(e, j, t0, t1, radius) && AnyHit) return true;
