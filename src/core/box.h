@@ -70,18 +70,24 @@ struct RayBoxQuery {
 // Conservative slab test. Returns true and the entry distance (clamped to tmin) when the ray
 // segment [tmin, tmax] crosses the box. Never NaN: a 0*inf slab (origin on a slab plane of a
 // zero direction component) yields NaN which the max/min ordering below discards.
+// The axes are written out (x, then y, then z: the same operations in the same order as a loop
+// over them): a loop indexing Vec3 by axis compiled to compare-and-select chains, most of this
+// test's instructions in the border-region walks (callgrind, bench/history/2026-11.md, "Where the
+// bottom level's instructions go").
 inline bool intersectBox(const RayBoxQuery& q, const Vec3& lo, const Vec3& hi, float tmin,
                          float tmax, float& tEntry, float& tExit) {
-  const Vec3 b[2] = {lo, hi};
   float t0 = tmin, t1 = tmax;
-  for (int a = 0; a < 3; ++a) {
-    float tn = (b[q.sign[a]][a] - q.org[a]) * q.invDir[a];
-    float tf = (b[1 - q.sign[a]][a] - q.org[a]) * q.invDir[a];
+  auto slab = [&](float l, float h, float org, float invDir, int sign) {
+    float tn = ((sign ? h : l) - org) * invDir;
+    float tf = ((sign ? l : h) - org) * invDir;
     tf *= 1.0f + 2.0f * gammaBound(3);
     // Written so that a NaN tn/tf leaves t0/t1 unchanged.
     t0 = tn > t0 ? tn : t0;
     t1 = tf < t1 ? tf : t1;
-  }
+  };
+  slab(lo.x, hi.x, q.org.x, q.invDir.x, q.sign[0]);
+  slab(lo.y, hi.y, q.org.y, q.invDir.y, q.sign[1]);
+  slab(lo.z, hi.z, q.org.z, q.invDir.z, q.sign[2]);
   tEntry = t0;
   tExit = t1;
   return t0 <= t1;

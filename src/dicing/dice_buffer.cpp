@@ -58,6 +58,21 @@ void DiceBuffer::dice(const Patch& patch, int level, SharedBorderBounds shared) 
   patchBounds_ = patch.bounds();
   newStamp();
   diceSample(patch, 0, level, a_);
+  if (borders_) buildThinBounds();
+}
+
+void DiceBuffer::buildThinBounds() {
+  for (int e = 0; e < 4; ++e)
+    for (int k = 0; k <= std::min(level_, BottomQuery::kMaxThinLevel); ++k) {
+      Box3 b;
+      for (uint32_t j = 0; j < (1u << k); ++j) {
+        size_t v0, v1;
+        chordEnds(e, k, j, level_, v0, v1);
+        b.extend(a_.positions[v0]);
+        b.extend(a_.positions[v1]);
+      }
+      thinBounds_[e][k] = b;
+    }
 }
 
 void DiceBuffer::diceInterval(const Patch& patch, int interval, int level, SharedBorderBounds shared) {

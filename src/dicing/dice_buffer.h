@@ -192,6 +192,7 @@ class DiceBuffer {
   void diceSample(const Patch& patch, int sample, int level, Sample& out);
   void buildTree(const GridArray<Vec3>& positions, GridArray<float>& nodes) const;
   void buildBorders(int sample, const Sample& s, GridArray<float>& borders) const;  // reads patch_
+  void buildThinBounds();  // thinBounds_ of a static dicing with borders
   // The borders a query tests: bit e of `mask` for border e, of `thin` for a thin region
   // (BottomQuery::thinBorders) of radius thinRadius[e].
   struct BorderRegions {
@@ -248,12 +249,19 @@ class DiceBuffer {
   // largest level. One traversal step is then one 4-wide slab test on 96 contiguous bytes.
   // Same size as one Box3 per node: sum_{i<=maxLevel} 4^i boxes.
   static constexpr size_t kNodeGroupFloats = 24;
-  static size_t groupOffset(int level, uint32_t g) {
-    return kNodeGroupFloats * (((size_t(1) << (2 * level)) - 1) / 3 + g);
-  }
+  // Groups before level i, (4^i - 1) / 3, from a table: the division was 5 % of a traversal's
+  // instructions (callgrind, bench/history/2026-11.md, "Where the bottom level's instructions go").
+  static constexpr uint32_t kLevelGroups[14] = {0, 1, 5, 21, 85, 341, 1365, 5461, 21845, 87381, 349525,
+                                                1398101, 5592405, 22369621};
+  static size_t groupOffset(int level, uint32_t g) { return kNodeGroupFloats * (size_t(kLevelGroups[level]) + g); }
   const float* nodeGroup(int level, uint32_t g) const { return a_.nodes.data() + groupOffset(level, g); }
   const float* rootBox() const { return a_.nodes.data() + groupOffset(maxLevel_, 0); }
   Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
+  // A static dicing with borders: per border e and level k <= min(level(), kMaxThinLevel), the
+  // bounds of its level-k border vertices. It contains every thin segment box of (e, k) (grown
+  // and padded alike, rounding being monotone), so a ray that misses it grown skips the linear
+  // walk over the 2^k segments (traverseBorders).
+  Box3 thinBounds_[4][BottomQuery::kMaxThinLevel + 1];
 };
 
 // Level of detail, per ray: the smallest m with patchSize / 2^m <= footprintWidth, clamped to

@@ -26,6 +26,11 @@
 // grid exceed L2). Tried and dropped as no faster: a branch-free SIMD sort of the children,
 // visiting micro-quads straight from their parent's test instead of via the stack, nearest-first
 // order for shadow rays, a sqrt-free normal check for shadow rays, skipping the root box test.
+// Instruction counts (callgrind, bench/history/2026-11.md, "Where the bottom level's instructions
+// go"): group offsets from a table and (x, y) carried with each node rather than decoded from
+// its Morton index, the micro-quad projection on template axes: 5,305 -> 4,390 per ray on
+// bench_dicing_embree's grid; the thin regions' walk is skipped whole when the ray misses the
+// border's bounds.
 #include <xmmintrin.h>
 #include <algorithm>
 #include <cmath>
@@ -43,9 +48,17 @@ namespace {
 
 struct StackEntry {
   uint32_t node;  // Z-order index within its level
+  uint32_t xy;    // its (x, y) on its level as (y << 16) | x, carried down rather than decoded
+                  // from node (detail::mortonX/Y were 5 % of a traversal's instructions)
   int level;
   float tEntry;
 };
+
+// Child c (Z-order) of the node at xy: (2x + (c & 1), 2y + (c >> 1)). x, y < 2^12, so shifting
+// the packed pair moves each half alone.
+constexpr uint32_t kChildXY[4] = {0, 1, 1u << 16, (1u << 16) | 1};
+constexpr uint32_t childXY(uint32_t xy, int c) { return (xy << 1) | kChildXY[c]; }
+
 
 // 1 + 3 per level: a step pops one node and pushes at most 3 (the 4th is visited at once).
 constexpr int kStackSize = 1 + 3 * 12 + 3;
@@ -180,6 +193,11 @@ struct DiceBuffer::Best {
 template <bool AnyHit, bool Moving>
 bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLevel, float alpha,
                           const BorderRegions& regions, GridHit* out) const {
+  static_assert([] {
+    for (int i = 0; i < 14; ++i)
+      if (kLevelGroups[i] != detail::levelOffset(i)) return false;
+    return true;
+  }());
   if (!(tmin < tmax)) return false;
   WatertightRay wray;
   if (!makeWatertightRay(org, dir, wray)) return false;
@@ -215,7 +233,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   int sp = 0;
   // The node being visited: its entry distance is <= bestT (tested against it when it was
   // reached, or on popping).
-  uint32_t node = 0;
+  uint32_t node = 0, xy = 0;
   int level = 0;
   float tNode, tExit;
   {
@@ -230,7 +248,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
   }
   for (;;) {
     if (level == k) {
-      const uint32_t x = detail::mortonX(node), y = detail::mortonY(node);
+      const uint32_t x = xy & 0xffffu, y = xy >> 16;
       const size_t i00 = size_t(y) * stride * res + size_t(x) * stride;
       const Vec3* p = &positions_[i00];
       Vec3 p00 = p[0], p10 = p[stride], p01 = p[stride * res], p11 = p[stride * res + stride];
@@ -292,7 +310,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         }
       } else {
         // The children are micro-quads: fetch the 3 grid rows of their corners.
-        const size_t x0 = 2 * size_t(detail::mortonX(node)) * stride, y0 = 2 * size_t(detail::mortonY(node)) * stride;
+        const size_t x0 = 2 * size_t(xy & 0xffffu) * stride, y0 = 2 * size_t(xy >> 16) * stride;
         for (size_t r = 0; r <= 2; ++r) {
           const Vec3* row = &positions_[(y0 + r * stride) * res + x0];
           _mm_prefetch(reinterpret_cast<const char*>(row), _MM_HINT_T0);
@@ -318,6 +336,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         if ((mask & (mask - 1)) == 0) {  // one child: visit it, no stack
           const int c = __builtin_ctz(unsigned(mask));
           node = first + uint32_t(c);
+          xy = childXY(xy, c);
           tNode = t[c];
           continue;
         }
@@ -325,7 +344,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         int n = 0;
         for (; mask != 0; mask &= mask - 1) {
           const int c = __builtin_ctz(unsigned(mask));
-          hit[n++] = {first + uint32_t(c), level, t[c]};
+          hit[n++] = {first + uint32_t(c), childXY(xy, c), level, t[c]};
         }
         if constexpr (!AnyHit) {
           // Nearest first: it is visited now, the others are pushed far first.
@@ -334,6 +353,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         }
         for (int c = n - 1; c > 0; --c) stack[sp++] = hit[c];
         node = hit[0].node;
+        xy = hit[0].xy;
         tNode = hit[0].tEntry;
         continue;
       }
@@ -345,6 +365,7 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
       const StackEntry& e = stack[--sp];
       if (e.tEntry > bestT) continue;
       node = e.node;
+      xy = e.xy;
       level = e.level;
       tNode = e.tEntry;
       break;
@@ -525,11 +546,20 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
       // k <= BottomQuery::kMaxThinLevel, which the SortedEngine keeps to.
       const double radius = regions.thinRadius[e];
       const float grow = float(radius) * (1.0f + 1e-6f);
-      for (uint32_t j = 0; j <= last; ++j) {
-        size_t v0, v1;
-        chordEnds(e, k, j, level_, v0, v1);
+      const Vec3 g{grow, grow, grow};
+      if (!moving_ && k <= BottomQuery::kMaxThinLevel) {
+        // All of the border's segment boxes at once (thinBounds_): most rays cross none, and
+        // the walk below was a third of the bottom level's instructions on teapot-field
+        // (bench/history/2026-11.md, "Where the bottom level's instructions go").
+        const Box3& all = thinBounds_[e][k];
+        float t0, t1;
+        if (!intersectBox(q, all.lo - g - pad, all.hi + g + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
+      }
+      size_t v0, v1;
+      chordEnds(e, k, 0, level_, v0, v1);
+      const size_t step = v1 - v0;  // segment j + 1 starts where j ends
+      for (uint32_t j = 0; j <= last; ++j, v0 = v1, v1 += step) {
         const Vec3 a = vertex(v0), b = vertex(v1);
-        const Vec3 g{grow, grow, grow};
         float t0, t1;
         if (!intersectBox(q, vmin(a, b) - g - pad, vmax(a, b) + g + pad, tmin, tmax, t0, t1) || t0 > best.t) continue;
         if (region(e, j, t0, t1, radius) && AnyHit) return true;

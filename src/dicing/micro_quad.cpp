@@ -16,6 +16,10 @@ bool makeWatertightRay(Vec3 org, Vec3 dir, WatertightRay& ray) {
   ray.kx = kx;
   ray.ky = ky;
   ray.kz = kz;
+  ray.ox = org[kx];
+  ray.oy = org[ky];
+  ray.oz = org[kz];
+  ray.axes = 2 * kz + (kx != (kz + 1) % 3 ? 1 : 0);
   ray.sx = dir[kx] / dir[kz];
   ray.sy = dir[ky] / dir[kz];
   ray.sz = 1.0f / dir[kz];

@@ -16,6 +16,7 @@
 // Every division happens only after the sign tests pass and is guarded: no NaN or Inf leaves
 // this file. Stateless, thread-safe.
 #pragma once
+#include <algorithm>
 #include "core/vec.h"
 #include "geometry/patch_math.h"
 
@@ -26,6 +27,8 @@ struct WatertightRay {
   Vec3 org;
   int kx = 0, ky = 1, kz = 2;  // axis permutation: kz is the dominant direction axis
   float sx = 0, sy = 0, sz = 1;  // shear
+  float ox = 0, oy = 0, oz = 0;  // org[kx], org[ky], org[kz]: project() subtracts only these
+  int axes = 4;                  // (kx, ky, kz) as one of six: 2 * kz + (kx != (kz + 1) % 3)
 };
 
 // False (no hit possible) for a non-finite origin or a zero, non-finite or denormal direction.
@@ -44,10 +47,16 @@ struct Projected {
   float x, y, z;
 };
 
+// The axes are template arguments (intersectMicroQuad switches once per quad on ray.axes): the
+// per-ray index through Vec3::operator[] compiled to compare-and-select chains that were 17 % of
+// the bottom level's instructions (callgrind on bench_dicing_embree, bench/history/2026-11.md,
+// "Where the bottom level's instructions go"). Subtracting the origin per picked axis is the
+// same operation, so the same bits, as subtracting it whole and picking after.
+template <int KX, int KY, int KZ>
 inline Projected project(const WatertightRay& ray, Vec3 p) {
-  const Vec3 a = p - ray.org;
-  const float az = a[ray.kz];
-  return {a[ray.kx] - ray.sx * az, a[ray.ky] - ray.sy * az, ray.sz * az};
+  const float c[3] = {p.x, p.y, p.z};
+  const float az = c[KZ] - ray.oz;
+  return {(c[KX] - ray.ox) - ray.sx * az, (c[KY] - ray.oy) - ray.sy * az, ray.sz * az};
 }
 
 inline float edgeFunction(const Projected& p, const Projected& q) { return q.x * p.y - q.y * p.x; }
@@ -73,6 +82,25 @@ inline bool hitTriangle(const Projected& a, const Projected& b, const Projected&
   if (!(t > tmin && t < tmax)) return false;
   wb = V / det;
   wc = W / det;
+  return true;
+}
+
+// intersectMicroQuad for the ray's axes (KX, KY, KZ) = (ray.kx, ray.ky, ray.kz).
+template <int KX, int KY, int KZ>
+[[gnu::always_inline]] inline bool intersectMicroQuadOn(const WatertightRay& ray, Vec3 p00, Vec3 p10, Vec3 p01,
+                                                        Vec3 p11, float tmin, float tmax, MicroQuadHit& hit) {
+  const Projected a = project<KX, KY, KZ>(ray, p00), b = project<KX, KY, KZ>(ray, p10),
+                  c = project<KX, KY, KZ>(ray, p01), d = project<KX, KY, KZ>(ray, p11);
+  float t1, b1, c1, t2, b2, c2;
+  const bool h1 = hitTriangle(a, b, d, tmin, tmax, t1, b1, c1);
+  const bool h2 = hitTriangle(a, d, c, tmin, tmax, t2, b2, c2);
+  if (!h1 && !h2) return false;
+  const bool first = h1 && (!h2 || t1 <= t2);
+  if (first) hit = {t1, std::min(1.0f, b1 + c1), c1, Vec3{}};
+  else hit = {t2, b2, std::min(1.0f, b2 + c2), Vec3{}};
+  if (!unitTriangleNormal(p00, first ? p10 : p11, first ? p11 : p01, hit.ng) &&
+      !unitTriangleNormal(p00, first ? p11 : p10, first ? p01 : p11, hit.ng))
+    hit.ng = Vec3{0, 0, 0};
   return true;
 }
 
@@ -109,22 +137,17 @@ inline void quadPartials(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11, float s, float 
 // it, so rejecting it would open a hole. Its ng is then the other triangle's normal, or zero
 // when both are degenerate (the caller falls back to the vertex normals). Coincident vertices
 // (poles) project to identical points and never claim anything.
-inline bool intersectMicroQuad(const WatertightRay& ray, Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11,
+[[gnu::always_inline]] inline bool intersectMicroQuad(const WatertightRay& ray, Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11,
                                float tmin, float tmax, MicroQuadHit& hit) {
-  using namespace detail;
-  const Projected a = project(ray, p00), b = project(ray, p10), c = project(ray, p01),
-                  d = project(ray, p11);
-  float t1, b1, c1, t2, b2, c2;
-  const bool h1 = hitTriangle(a, b, d, tmin, tmax, t1, b1, c1);
-  const bool h2 = hitTriangle(a, d, c, tmin, tmax, t2, b2, c2);
-  if (!h1 && !h2) return false;
-  const bool first = h1 && (!h2 || t1 <= t2);
-  if (first) hit = {t1, std::min(1.0f, b1 + c1), c1, Vec3{}};
-  else hit = {t2, b2, std::min(1.0f, b2 + c2), Vec3{}};
-  if (!unitTriangleNormal(p00, first ? p10 : p11, first ? p11 : p01, hit.ng) &&
-      !unitTriangleNormal(p00, first ? p11 : p10, first ? p01 : p11, hit.ng))
-    hit.ng = Vec3{0, 0, 0};
-  return true;
+  using detail::intersectMicroQuadOn;
+  switch (ray.axes) {
+    case 0: return intersectMicroQuadOn<1, 2, 0>(ray, p00, p10, p01, p11, tmin, tmax, hit);
+    case 1: return intersectMicroQuadOn<2, 1, 0>(ray, p00, p10, p01, p11, tmin, tmax, hit);
+    case 2: return intersectMicroQuadOn<2, 0, 1>(ray, p00, p10, p01, p11, tmin, tmax, hit);
+    case 3: return intersectMicroQuadOn<0, 2, 1>(ray, p00, p10, p01, p11, tmin, tmax, hit);
+    case 4: return intersectMicroQuadOn<0, 1, 2>(ray, p00, p10, p01, p11, tmin, tmax, hit);
+    default: return intersectMicroQuadOn<1, 0, 2>(ray, p00, p10, p01, p11, tmin, tmax, hit);
+  }
 }
 
 }  // namespace rayes

@@ -96,7 +96,7 @@ std::vector<std::array<uint32_t, 4>> SortedEngine::borderNeighbours(const LeafSo
 }
 
 void SortedEngine::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
-                                             BottomQuery& query) const {
+                                             const DiceBuffer& dice, BottomQuery& query) const {
   if (borderNeighbour_.empty()) return;
   const RayBoxQuery q(b.ray[i].org, b.ray[i].dir);
   for (int e = 0; e < 4; ++e) {
@@ -112,7 +112,7 @@ void SortedEngine::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint
     if (!(borderSide_[leaf][e] & kDisplacedSeam)) {
       if (other <= level) query.skipBorders |= uint8_t(1u << e);
     } else if (other == level && level <= BottomQuery::kMaxThinLevel) {
-      const double gap = seamGap(leaf, patch, e, level);
+      const double gap = seamGap(leaf, patch, dice, e, level);
       if (!std::isfinite(gap)) continue;  // a vertex that is not finite: the full region stays
       query.thinBorders |= uint8_t(1u << e);
       query.thinRadius[e] = gap;
@@ -132,7 +132,7 @@ std::pair<float, float> borderPoint(int e, float t) {
 }
 }  // namespace
 
-double SortedEngine::seamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+double SortedEngine::seamGap(uint32_t leaf, const Patch& patch, const DiceBuffer& dice, int e, int k) const {
   SeamGapMemo& memo = seamGapMemo_.local();
   if (memo.leaf != leaf) {
     memo.leaf = leaf;
@@ -144,27 +144,54 @@ double SortedEngine::seamGap(uint32_t leaf, const Patch& patch, int e, int k) co
   double gap;
   const bool cached = settings_.borderBoundEntries > 0;
   if (!(cached && borderBounds_.find(key, gap))) {
-    gap = measuredSeamGap(leaf, patch, e, k);
-    if (cached) borderBounds_.insert(key, gap);
+    gap = measuredSeamGap(leaf, patch, dice, e, k);
+    if (cached) {
+      borderBounds_.insert(key, gap);
+      // The neighbour's gap across this seam at level k is the same number: the same pairs of
+      // points, each difference rounded alike (round-to-nearest is symmetric) and the maximum
+      // (NaN included) independent of the order. Measuring each seam once halved the seam
+      // gaps' cost, which was half the bottom stage of teapot-field (bench/history/2026-11.md,
+      // "Where the bottom level's instructions go").
+      const BorderBoundCache::Key across{borderNeighbour_[leaf][size_t(e)], BorderBoundCache::Kind::SeamGap,
+                                         borderSide_[leaf][size_t(e)] & 3, k, 0};
+      borderBounds_.insert(across, gap);
+    }
   }
   memo.gap[e][k] = gap;
   memo.known |= bit;
   return gap;
 }
 
-double SortedEngine::measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const {
+double SortedEngine::measuredSeamGap(uint32_t leaf, const Patch& patch, const DiceBuffer& dice, int e, int k) const {
   const uint32_t nb = borderNeighbour_[leaf][size_t(e)];
   const uint8_t side = borderSide_[leaf][size_t(e)];
   const int eb = side & 3;
   const bool reversed = (side & kReversedSeam) != 0;
   const PatchPtr other = leaves_.patch(nb);
   const uint32_t n = 1u << k;
+  // This side's level-k border vertices are the grid's, which is evaluate() bit for bit (its
+  // parameters v / 2^k are exact at any level m >= k): evaluating them again was half of this
+  // function's cost (a displaced point costs ~4,900 instructions).
+  const bool fromGrid = !dice.moving() && k <= dice.level();
+  const int last = fromGrid ? (1 << dice.level()) : 0, step = fromGrid ? 1 << (dice.level() - k) : 0;
   double worst = 0;
   for (uint32_t v = 0; v <= n; ++v) {
     const float t = float(v) / float(n), tb = reversed ? float(n - v) / float(n) : t;  // exact: n is a power of two
     const auto [u0, v0] = borderPoint(e, t);
     const auto [u1, v1] = borderPoint(eb, tb);
-    const Vec3 a = patch.evaluate(u0, v0).p, c = other->evaluate(u1, v1).p;
+    Vec3 a;
+    if (fromGrid) {
+      const int s = int(v) * step;
+      switch (e) {
+        case 0: a = dice.position(s, 0); break;
+        case 1: a = dice.position(last, s); break;
+        case 2: a = dice.position(s, last); break;
+        default: a = dice.position(0, s); break;
+      }
+    } else {
+      a = patch.evaluate(u0, v0).p;
+    }
+    const Vec3 c = other->evaluate(u1, v1).p;
     const double dx = double(a.x) - c.x, dy = double(a.y) - c.y, dz = double(a.z) - c.z;
     const double d2 = dx * dx + dy * dy + dz * dz;
     worst = d2 > worst || std::isnan(d2) ? d2 : worst;  // a NaN stays: the caller keeps the full region

@@ -66,7 +66,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
       BottomQuery query;
       query.alpha = when.alpha;
       query.closeBorders = closeBordersFor(b, i, leaf);
-      if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, query);
+      if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, dice, query);
       if (b.ray[i].kind == RayKind::Shadow) {
         if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);

@@ -141,7 +141,7 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
-  if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, query);
+  if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, dice, query);
   if (shadow) {
     if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
       RayHit occluder;

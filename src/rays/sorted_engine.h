@@ -184,14 +184,17 @@ class SortedEngine : public RayEngine {
   // nearly G1). A border is treated so only when its neighbour is known (borderNeighbour_),
   // reachable by the ray and tests its own regions (not the ray's origin or ignored leaf).
   void bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
-                                 BottomQuery& query) const;
-  // The largest distance between the level-k vertices of border e of `leaf` (its `patch`) and
-  // those of its displaced neighbour across it at the same parameters, from both patches'
-  // evaluate(), which their dicings equal bit for bit (Patch contract): a pure function of
-  // (leaf, e, k), kept in the border-bound table. The neighbour's patch is made for it. Not
-  // finite when a vertex is not (then the seam keeps its full region).
-  double seamGap(uint32_t leaf, const Patch& patch, int e, int k) const;
-  double measuredSeamGap(uint32_t leaf, const Patch& patch, int e, int k) const;  // seamGap without the table
+                                 const DiceBuffer& dice, BottomQuery& query) const;
+  // The largest distance between the level-k vertices of border e of `leaf` (its `patch`, diced
+  // in `dice`) and those of its displaced neighbour across it at the same parameters, from both
+  // patches' evaluate(), which their dicings equal bit for bit (Patch contract): this side's are
+  // read from `dice` when it holds level k, the neighbour's evaluated (its patch is made for it).
+  // A pure function of the seam and k: kept in the border-bound table under both sides' keys
+  // (the neighbour's gap is the same number). Not finite when a vertex is not (then the seam
+  // keeps its full region).
+  double seamGap(uint32_t leaf, const Patch& patch, const DiceBuffer& dice, int e, int k) const;
+  double measuredSeamGap(uint32_t leaf, const Patch& patch, const DiceBuffer& dice, int e,
+                         int k) const;  // seamGap without the table
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
