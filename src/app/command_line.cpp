@@ -29,6 +29,10 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
                 "memory for the texture cache's tiles, e.g. 64M (default " +
                     std::to_string(kDefaultTextureMemoryBytes >> 20) +
                     "M; > 0); a smaller cache means more tile reads, never a different image");
+  c->add_option("--volume-memory", a.volumeMemory,
+                "memory for the volumes' brick cache (8^3 voxels read from the .vdb on demand), e.g. 64M "
+                "(default: every brick, at most an eighth of the memory limit; > 0); a smaller cache means "
+                "more reads, never a different image");
   c->add_option("--texture-cache-dir", a.textureCacheDir,
                 "folder for plain images converted to tiled MIP-mapped textures (default: "
                 "$XDG_CACHE_HOME/rayes/textures or ~/.cache/rayes/textures)");

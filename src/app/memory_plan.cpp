@@ -1,7 +1,9 @@
 #include "app/memory_plan.h"
+#include <algorithm>
 #include <utility>
 #include <vector>
 #include "app/renderer.h"
+#include "core/error.h"
 #include "core/memory.h"
 
 namespace rayes {
@@ -9,6 +11,36 @@ namespace rayes {
 uint64_t diceBufferEstimate(int maxLod, int threads) {
   const uint64_t side = (uint64_t(1) << maxLod) + 1;
   return side * side * kDiceBytesPerVertex * uint64_t(threads > 0 ? threads : 1);
+}
+
+uint64_t storedBricks(const Scene& scene) {
+  uint64_t stored = 0;
+  for (const auto& m : scene.media) {
+    stored += m->densityGrid().storedBricks();
+    if (m->emission().intensity) stored += m->emission().intensity->storedBricks();
+    if (m->emission().temperature) stored += m->emission().temperature->storedBricks();
+  }
+  return stored;
+}
+
+namespace {
+// The slots of every brick the scene's volumes read from files: the most the cache can hold.
+uint64_t storedBrickBytes(const Scene& scene) { return storedBricks(scene) * BrickCache::kSlotBytes; }
+}  // namespace
+
+uint64_t volumeCacheBytes(const Scene& scene, const RenderOptions& options, int threads) {
+  const uint64_t all = storedBrickBytes(scene), minimum = BrickCache::minimumBytes(threads);
+  if (all == 0) return 0;
+  if (options.volumeMemoryBytes == RenderOptions::kVolumeMemoryDefault) {
+    const uint64_t limit = processMemoryLimit().bytes;
+    return limit == 0 ? all : std::max(std::min(all, limit / 8), std::min(all, minimum));
+  }
+  if (options.volumeMemoryBytes < minimum && options.volumeMemoryBytes < all)
+    throw InputError("--volume-memory", "", "a brick cache of " + std::to_string(options.volumeMemoryBytes) +
+                                                " bytes is too small for " + std::to_string(threads) +
+                                                " threads: at least " + std::to_string(minimum) + " bytes (" +
+                                                std::to_string(BrickCache::kSlotBytes) + " per brick, six per thread and one more)");
+  return options.volumeMemoryBytes;
 }
 
 RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& options, uint64_t rayBytes, int threads) {
@@ -28,13 +60,15 @@ RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& optio
   }
   p.beams = methodBudgetBytes(options.method);
   if (scene.textures) p.textures = options.textureMemoryBytes;
+  p.volumes = std::min(volumeCacheBytes(scene, options, threads), storedBrickBytes(scene));
   return p;
 }
 
 namespace {
 std::vector<std::pair<const char*, uint64_t>> byOption(const RenderMemoryPlan& p) {
   return {{"--res", p.film + p.outputs}, {"--ray-memory", p.rays}, {"--max-lod", p.diceBuffers},
-          {"--grid-cache", p.gridCache}, {"--beam-memory", p.beams}, {"--texture-memory", p.textures}};
+          {"--grid-cache", p.gridCache}, {"--beam-memory", p.beams}, {"--texture-memory", p.textures},
+          {"--volume-memory", p.volumes}};
 }
 }  // namespace
 
@@ -56,6 +90,7 @@ std::string RenderMemoryPlan::parts() const {
                   " (--max-lod, --threads), grid cache " + readableBytes(gridCache) + " (--grid-cache)";
   if (beams) s += ", beams " + readableBytes(beams) + " (--beam-memory)";
   if (textures) s += ", texture cache " + readableBytes(textures) + " (--texture-memory)";
+  if (volumes) s += ", brick cache " + readableBytes(volumes) + " (--volume-memory)";
   return s;
 }
 

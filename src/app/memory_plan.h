@@ -28,7 +28,8 @@ struct RenderMemoryPlan {
   // lbt's larger dice buffers are in diceBuffers, its camera batch's gathers in rays.
   uint64_t beams = 0;
   uint64_t textures = 0;           // --texture-memory, when the scene reads an image
-  uint64_t total() const { return film + outputs + rays + diceBuffers + gridCache + beams + textures; }
+  uint64_t volumes = 0;            // --volume-memory, when a volume reads bricks from a file (at most all of them)
+  uint64_t total() const { return film + outputs + rays + diceBuffers + gridCache + beams + textures + volumes; }
   // The option whose part is largest, and the parts for a message.
   std::string largestOption() const;
   std::string parts() const;
@@ -38,6 +39,14 @@ struct Scene;
 struct RenderOptions;
 // The plan of a render of `scene` with `options`, whose ray batches take `rayBytes`, on `threads` threads.
 RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& options, uint64_t rayBytes, int threads);
+
+// The brick cache's bound for `scene` (0: no volume reads bricks from a file): --volume-memory,
+// by default every stored brick's slot but at most an eighth of the memory limit. Throws
+// InputError naming --volume-memory when a given bound is below what `threads` threads need and
+// does not hold every brick anyway.
+uint64_t volumeCacheBytes(const Scene& scene, const RenderOptions& options, int threads);
+// The bricks the scene's volumes read from files (the brick cache's keys).
+uint64_t storedBricks(const Scene& scene);
 
 // The dice buffers of `threads` threads at level `maxLod`.
 uint64_t diceBufferEstimate(int maxLod, int threads);

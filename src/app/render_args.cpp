@@ -109,6 +109,15 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   else if (const uint64_t limit = processMemoryLimit().bytes; limit > 0)
     options.gridCacheBytes = std::min<size_t>(options.gridCacheBytes, size_t(limit / 8));
   options.textureMemoryBytes = textureCacheOptions(a).memoryBytes;
+  if (!a.volumeMemory.empty()) {
+    if (a.volumeMemory == "0") throw InputError("--volume-memory", "", "must be > 0 (the brick cache cannot hold nothing)");
+    options.volumeMemoryBytes = parseBytes(a.volumeMemory, "--volume-memory");
+    // A cache larger than the memory that can be had is a resource limit, not a typo.
+    if (const uint64_t limit = processMemoryLimit().bytes; limit > 0 && options.volumeMemoryBytes > limit)
+      throw ResourceError("--volume-memory", "a brick cache of " + readableBytes(options.volumeMemoryBytes) +
+                                                 " exceeds the memory limit of " + readableBytes(limit) +
+                                                 " (docs/memory-limits.md); lower --volume-memory");
+  }
   if (a.candidatesPerRay < 1 || a.candidatesPerRay > 1000)
     throw InputError("--candidates-per-ray", "", "must be a whole number in [1, 1000]");
   options.candidatesPerRay = a.candidatesPerRay;

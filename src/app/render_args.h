@@ -17,6 +17,7 @@ struct RenderArgs {
               method = MethodOptions{}.name, causticPaths = "all";
   std::string engine = "rayes", embreeLod, memoryLimit, beamMemory = "1G", gridCache;
   std::string textureMemory, textureCacheDir;  // --texture-memory, --texture-cache-dir
+  std::string volumeMemory;                    // --volume-memory
   std::string sceneMemory;  // --scene-memory: a compiled scene's resident budget (empty: none)
   int beamResolution = 128, beamDepth = 4, beamSplitDepth = 4, beamAreaSamples = 2;
   std::optional<int> spp;

@@ -30,8 +30,9 @@ void countScene(SceneFeatures& f, const Scene& scene) {
   f.volumes = scene.media.size();
   for (const auto& m : scene.media) {
     f.volumeBricks += m->bricks();
-    f.volumeVoxels += m->voxels();
+    f.volumeVoxels += uint64_t(m->densityGrid().storedBricks()) * Medium::kBrickVoxels;  // read once at load
     f.volumeBytes += m->bytes();
+    f.emittingVolumes += m->emits() ? 1 : 0;
   }
   f.volumeLoadSeconds = scene.volumeLoadSeconds;
 }
@@ -98,6 +99,7 @@ RenderData::RenderData(const Scene& scene) {
   shading.materials = scene.materials;
   shading.leafMaterial = scene.leafMaterial;
   shading.media = scene.media;
+  for (const auto& m : scene.media) shading.mediaEmit = shading.mediaEmit || m->emits();
   shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
   shading.leafSide.resize(n);
   const std::span<const Box3> boxes = top.leafBoxes();

@@ -38,6 +38,7 @@ struct SceneFeatures {
   uint64_t lowPrecisionLeaves = 0;
   // Volumes (Scene::media): their bricks, the voxels read into them, their bytes, and the load time.
   uint64_t volumes = 0, volumeBricks = 0, volumeVoxels = 0, volumeBytes = 0;
+  uint64_t emittingVolumes = 0;  // with an emission or temperature grid
   double volumeLoadSeconds = 0;
 };
 

@@ -29,6 +29,9 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   // The tile cache's bound for this render (the cache is the scene's: its lookups give the same
   // values at any size).
   if (scene.textures) scene.textures->setMemoryBytes(options.textureMemoryBytes);
+  // The volumes' brick cache, shared by every shading thread (none when no volume reads a file).
+  if (const uint64_t bytes = volumeCacheBytes(scene, options, ThreadLimit::active()); bytes > 0)
+    data_.shading.volumeCache = std::make_shared<BrickCache>(bytes, ThreadLimit::active(), storedBricks(scene));
   integrator_ = makeMethod(options.method, scene, data_);
   // Some methods are defined by their passes (a photon map and a radius per pass).
   if (integrator_->traits().progressive) options_.progressive = true;
@@ -341,6 +344,7 @@ Film Renderer::render(const Progress& progress, const Control& control) {
   stats_.splatSaturations = film.splatSaturations();
   if (scene_.textures) stats_.textures = scene_.textures->stats();
   if (pixelCost_) stats_.costLayers = RenderStats::CostLayerTotals{pixelCost_->dicingsCharged(), pixelCost_->secondsCharged()};
+  if (data_.shading.volumeCache) stats_.volumeCache = data_.shading.volumeCache->stats();
   stats_.timeTotal = secondsSince(t0);
   sampleMemory(true);
   return film;

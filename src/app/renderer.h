@@ -85,6 +85,10 @@ struct RenderOptions {
   // The texture cache's bound (--texture-memory), set on the scene's cache when it has one; any
   // size gives the same image.
   uint64_t textureMemoryBytes = kDefaultTextureMemoryBytes;
+  // The volumes' brick cache bound (--volume-memory); kVolumeMemoryDefault: every stored brick,
+  // at most an eighth of the memory limit (volumeCacheBytes). Any size gives the same image.
+  uint64_t volumeMemoryBytes = kVolumeMemoryDefault;
+  static constexpr uint64_t kVolumeMemoryDefault = 0;
   bool sortByLeaf = true;
   bool progressive = false;      // passes of 1, 1, 2, 4, ... spp (implied by a reference)
   MethodOptions method;          // --method and the options of each method
@@ -181,6 +185,7 @@ struct RenderStats {
   };
   std::optional<CostLayerTotals> costLayers;
   std::vector<MemorySample> memoryOverTime;
+  std::optional<BrickCacheStats> volumeCache;  // the brick cache's; none: no volume reads a file
 };
 
 class Renderer {

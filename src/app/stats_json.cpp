@@ -220,7 +220,25 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                     {"transmittance_estimates", s.shade.transmittanceEstimates.load()},
                     {"density_lookups", s.shade.densityLookups.load()},
                     {"brick_cells_walked", s.shade.brickCellsWalked.load()},
+                    {"emitting_volumes", f.emittingVolumes},
                     {"time_s", {{"load", f.volumeLoadSeconds}, {"tracking", s.shade.volume.seconds()}}}};
+    if (f.emittingVolumes == 0) skipped["volume_emission"] = "no volume has an emission or temperature grid: no emission work";
+    else j["volumes"]["emission_lookups"] = s.shade.emissionLookups.load();
+    if (s.volumeCache) {
+      const BrickCacheStats& c = *s.volumeCache;
+      j["volumes"]["cache"] = {{"budget_bytes", c.budgetBytes},
+                               {"slots", c.slots},
+                               {"peak_bytes", c.slotsUsed * BrickCache::kSlotBytes},
+                               {"bricks_loaded", c.loads},
+                               {"hits", c.hits},
+                               {"hit_rate", c.hitRate()},
+                               {"evictions", c.evictions},
+                               {"voxels_read", c.voxelsRead},
+                               {"bytes_read", c.bytesRead}};
+      j["volumes"]["time_s"]["brick_reads"] = c.loadSeconds;
+    } else {
+      skipped["volume_cache"] = "no volume reads bricks from a file";
+    }
   }
   if (s.textures) {
     const TextureCacheStats& t = *s.textures;

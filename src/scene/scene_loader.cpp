@@ -61,7 +61,12 @@ void readFilm(const JsonReader& r, const json& j, Scene& scene) {
 
 void readIntegrator(const JsonReader& r, const json& j, Scene& scene) {
   const std::string p = "/integrator";
-  r.object(j, p, {"max_depth", "seed", "roulette_depth"});
+  r.object(j, p, {"max_depth", "seed", "roulette_depth", "transmittance"});
+  if (j.contains("transmittance")) {
+    const std::string t = r.string(j["transmittance"], p + "/transmittance");
+    if (t != "ratio" && t != "delta") r.fail(p + "/transmittance", "must be \"ratio\" or \"delta\"");
+    scene.integrator.deltaTransmittance = t == "delta";
+  }
   if (j.contains("max_depth")) {
     scene.integrator.maxDepth = r.integer(j["max_depth"], p + "/max_depth");
     if (scene.integrator.maxDepth < 0 || scene.integrator.maxDepth > 1000) r.fail(p + "/max_depth", "must be in [0, 1000]");

@@ -74,6 +74,7 @@ struct ShadeStats {
   // through media), density lookups and brick cells walked by both trackings; time summed over
   // threads inside shade.
   std::atomic<uint64_t> mediumCollisions{0}, transmittanceEstimates{0}, densityLookups{0}, brickCellsWalked{0};
+  std::atomic<uint64_t> emissionLookups{0};  // density lookups of emissionAlong (0: no medium emits)
   TimeAccumulator volume;
   TimeAccumulator shade, sort;  // wall clock; sort is the (material, leaf) sort, inside shade
 };

@@ -1,19 +1,11 @@
-// A heterogeneous participating medium as shading sees it: a density grid cut into bricks of
-// 8³ voxels (an OpenVDB leaf node each; scene/volume_shape_reader.cpp fills them), each with a
-// conservative majorant, placed in the world by an affine transform, and the coefficients per
-// unit density (σ_a, σ_s, Henyey-Greenstein g). Owned by the ShadingScene, immutable after the
-// loader built it, read concurrently by every shading thread (no mutable state).
+// A heterogeneous participating medium as shading sees it: a density grid of 8³-voxel bricks
+// (shading/brick_grid.h: index space, interpolation, majorants; scene/volume_shape_reader.cpp
+// fills it from an OpenVDB grid), placed in the world by an affine transform, and the
+// coefficients per unit density (σ_a, σ_s, Henyey-Greenstein g). Owned by the ShadingScene,
+// immutable after the loader built it, read concurrently by every shading thread (no mutable
+// state: stored bricks' voxels are read through the render's BrickCache).
 //
-// Index space: voxel (i, j, k)'s value sits at the point (i, j, k) (OpenVDB's convention). Brick
-// cell c covers [8c − ½, 8c + 7.5)³, so voxel v lies in cell floor(v / 8). The density at a point
-// of a cell with a brick is the trilinear interpolation of the eight voxels around it (absent
-// voxels read 0); in a cell without a brick it is 0. A brick's majorant is the largest voxel of
-// it and of its 26 neighbours, which bounds that interpolation anywhere in its cell: the bound
-// delta and ratio tracking need (shading/volume_tracking.h).
-//
-// Costs: 2 KiB of voxels and 16 bytes per brick, 4 bytes per cell of the bricks' bounding grid
-// (a dense table: O(1) lookup; the next step, a bounded brick cache, replaces the voxels by
-// bricks loaded on demand). density() is O(1).
+// Costs: the grid's (brick_grid.h); density() and voxel() are the tests' uncached route.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -21,6 +13,7 @@
 #include "core/box.h"
 #include "core/transform.h"
 #include "core/vec.h"
+#include "shading/brick_grid.h"
 
 namespace rayes {
 
@@ -32,48 +25,58 @@ struct MediumCoefficients {
   float albedo() const { return sigmaT() > 0 ? sigmaS / sigmaT() : 0.0f; }
 };
 
-struct BrickCoord {
-  int32_t x = 0, y = 0, z = 0;  // brick cell coordinate: voxel origin / 8
+// Emission (optional): the radiance a unit of absorption emits, Le(x) = color · e(x) +
+// blackbodyScale · blackbodyRgb(temperatureScale · T(x)) from an emission grid e and a
+// temperature grid T (each optional, in the density grid's index space); the medium's source
+// term is σ_a(x) · Le(x) (pbrt's convention: where nothing absorbs, nothing emits).
+struct MediumEmission {
+  std::unique_ptr<BrickGrid> intensity;    // e; null: no emission grid
+  Rgb color{1, 1, 1};
+  std::unique_ptr<BrickGrid> temperature;  // T in kelvin / temperatureScale; null: none
+  float temperatureScale = 1, blackbodyScale = 1;
 };
 
 class Medium {
  public:
-  static constexpr int kBrickSide = 8, kBrickVoxels = kBrickSide * kBrickSide * kBrickSide;
-  using BrickVoxels = std::array<float, kBrickVoxels>;  // x-major: index (x·8 + y)·8 + z, as an OpenVDB leaf
+  static constexpr int kBrickSide = BrickGrid::kBrickSide, kBrickVoxels = BrickGrid::kBrickVoxels;
+  using BrickVoxels = BrickGrid::BrickVoxels;
 
-  // `indexToWorld` must be invertible (the reader checks). Bricks are added with addBrick, then
-  // finish() builds the cell table and the majorants.
-  Medium(const Transform& indexToWorld, MediumCoefficients c);
-  void addBrick(BrickCoord c, const BrickVoxels& voxels);
+  // `indexToWorld` must be invertible (the reader checks). Bricks are added to density(), or
+  // with addBrick (resident), then finish() builds the cell table and the majorants.
+  Medium(const Transform& indexToWorld, MediumCoefficients c, std::shared_ptr<const BrickSource> source = nullptr);
+  void addBrick(BrickCoord c, const BrickVoxels& voxels) { density_.addResident(c, voxels); }
+  BrickGrid& densityGrid() { return density_; }
+  void setEmission(MediumEmission e) { emission_ = std::move(e); }
   void finish();
 
   const MediumCoefficients& coefficients() const { return coefficients_; }
   const Transform& worldToIndex() const { return worldToIndex_; }
   // The bricks' union in world space (conservative: the transformed corners of the cells).
   const Box3& worldBounds() const { return worldBounds_; }
-  size_t bricks() const { return coords_.size(); }
+  const BrickGrid& densityGrid() const { return density_; }
+  const MediumEmission& emission() const { return emission_; }
+  bool emits() const { return emission_.intensity || emission_.temperature; }
+  size_t bricks() const { return density_.bricks(); }
   uint64_t voxels() const { return uint64_t(bricks()) * kBrickVoxels; }
-  size_t bytes() const;
+  size_t bytes() const {
+    return density_.bytes() + (emission_.intensity ? emission_.intensity->bytes() : 0) +
+           (emission_.temperature ? emission_.temperature->bytes() : 0);
+  }
 
-  // The grid of cells [cellLo, cellLo + cellCount): the bricks' bounding grid in cell units.
-  BrickCoord cellLo() const { return cellLo_; }
-  BrickCoord cellCount() const { return cellCount_; }
-  // The brick in cell c, or −1 (outside the grid or empty).
-  int32_t brickAt(int32_t cx, int32_t cy, int32_t cz) const;
-  float majorant(int32_t brick) const { return majorant_[size_t(brick)]; }
-  // The density (unscaled voxel units) at an index-space point inside cell `brick`'s cell.
+  BrickCoord cellLo() const { return density_.cellLo(); }
+  BrickCoord cellCount() const { return density_.cellCount(); }
+  int32_t brickAt(int32_t cx, int32_t cy, int32_t cz) const { return density_.brickAt(cx, cy, cz); }
+  float majorant(int32_t brick) const { return density_.majorant(brick); }
+  // The density (unscaled voxel units) at an index-space point inside cell `brick`'s cell, and
+  // voxel v's value (0 where no brick holds it): uncached reads, for tests.
   float density(int32_t brick, Vec3 index) const;
-  // The voxel v's value (0 where no brick holds it).
   float voxel(int32_t x, int32_t y, int32_t z) const;
 
  private:
   MediumCoefficients coefficients_;
   Transform worldToIndex_, indexToWorld_;
-  std::vector<BrickCoord> coords_;
-  std::vector<BrickVoxels> voxels_;
-  std::vector<float> majorant_;
-  BrickCoord cellLo_, cellCount_;
-  std::vector<int32_t> cells_;  // brick per cell, x-major
+  BrickGrid density_;
+  MediumEmission emission_;
   Box3 worldBounds_;
 };
 

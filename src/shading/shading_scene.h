@@ -16,6 +16,10 @@ struct IntegratorSettings {
   int maxDepth = 8;          // path vertices after the camera; 1 = direct lighting only
   int rouletteDepth = 1;     // first bounce at which Russian roulette may end a path
   uint64_t seed = 0;
+  // Shadow segments through media: ratio tracking (false, the default) or delta tracking's
+  // binary estimate (true: 1 when no real collision, for comparing the two; scene key
+  // integrator.transmittance).
+  bool deltaTransmittance = false;
 };
 
 struct ShadingScene {
@@ -31,6 +35,10 @@ struct ShadingScene {
   std::shared_ptr<const TexCoordSource> texCoords;
   // Participating media (shading/medium.h; empty: rays travel in vacuum and no tracking runs).
   std::vector<std::shared_ptr<const Medium>> media;
+  // The render's cache of the media's stored bricks (`--volume-memory`; null: no medium reads a
+  // file). Shared, internally synchronised: its state never changes a value read through it.
+  std::shared_ptr<BrickCache> volumeCache;
+  bool mediaEmit = false;  // some medium has an emission or temperature grid
 };
 
 // Where a hit's material reads its textures: the patch parameters, the leaf's uv set when it

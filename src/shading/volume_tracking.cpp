@@ -2,7 +2,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include "shading/blackbody.h"
 #include "shading/bsdf.h"
+#include "shading/grid_reader.h"
 
 namespace rayes {
 namespace {
@@ -71,10 +74,12 @@ void walkCells(const Medium& m, const IndexRay& r, float t0, float t1, TrackingC
 }
 
 // The first real collision in one medium within (0, tEnd), or kInf.
-float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts) {
+float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                     BrickCache* cache) {
   const float sigmaT = m.coefficients().sigmaT();
   if (!(sigmaT > 0)) return kInf;
   const IndexRay r = toIndex(m, org, dir);
+  GridReader reader(m.densityGrid(), cache);
   float found = kInf;
   walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
     const float majorant = m.majorant(brick);
@@ -85,7 +90,8 @@ float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRn
       t -= std::log1p(-rng()) / rate;  // rng() < 1: the logarithm is finite
       if (!(t < tb)) return false;     // memoryless: the next cell starts afresh at tb
       ++counts.lookups;
-      const float rho = m.density(brick, r.org + r.dir * t);
+      reader.enter(brick);  // voxels are read only where a tentative collision lands
+      const float rho = reader.sample(r.org + r.dir * t);
       if (rng() * majorant < rho) {
         found = t;
         return true;
@@ -97,11 +103,12 @@ float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRn
 
 }  // namespace
 
-Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts) {
+Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                          BrickCache* cache) {
   Collision c;
   float limit = tEnd;
   for (size_t i = 0; i < media.size(); ++i) {
-    const float t = firstCollision(*media[i], org, dir, limit, rng, counts);
+    const float t = firstCollision(*media[i], org, dir, limit, rng, counts, cache);
     if (t < limit) {
       limit = t;
       c = {t, int32_t(i)};
@@ -110,13 +117,15 @@ Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, Trac
   return c;
 }
 
-float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts) {
+float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                         BrickCache* cache) {
   float T = 1;
   for (const auto& mp : media) {
     const Medium& m = *mp;
     const float sigmaT = m.coefficients().sigmaT();
     if (!(sigmaT > 0)) continue;
     const IndexRay r = toIndex(m, org, dir);
+    GridReader reader(m.densityGrid(), cache);
     walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
       const float majorant = m.majorant(brick);
       const float rate = sigmaT * majorant * r.length;
@@ -126,7 +135,8 @@ float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, Track
         t -= std::log1p(-rng()) / rate;
         if (!(t < tb)) return false;
         ++counts.lookups;
-        T *= std::max(0.0f, 1 - m.density(brick, r.org + r.dir * t) / majorant);
+        reader.enter(brick);
+        T *= std::max(0.0f, 1 - reader.sample(r.org + r.dir * t) / majorant);
         if (T < kRouletteWeight) {
           if (T == 0 || rng() * kRouletteWeight >= T) {
             T = 0;
@@ -139,6 +149,42 @@ float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, Track
     if (T == 0) return 0;
   }
   return T;
+}
+
+Rgb emissionAlong(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                  BrickCache* cache) {
+  Rgb L{};
+  for (const auto& mp : media) {
+    const Medium& m = *mp;
+    const float sigmaT = m.coefficients().sigmaT(), sigmaA = m.coefficients().sigmaA;
+    if (!m.emits() || !(sigmaA > 0)) continue;
+    const MediumEmission& e = m.emission();
+    const IndexRay r = toIndex(m, org, dir);
+    GridReader density(m.densityGrid(), cache);
+    std::optional<GridReader> intensity, temperature;
+    if (e.intensity) intensity.emplace(*e.intensity, cache);
+    if (e.temperature) temperature.emplace(*e.temperature, cache);
+    walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
+      const float majorant = m.majorant(brick);
+      const float rate = sigmaT * majorant * r.length;
+      if (!(rate > 0)) return false;
+      float t = ta;
+      for (;;) {
+        t -= std::log1p(-rng()) / rate;
+        if (!(t < tb)) return false;
+        ++counts.lookups;
+        density.enter(brick);
+        const Vec3 p = r.org + r.dir * t;
+        const float rho = density.sample(p);
+        if (!(rho > 0)) continue;
+        Rgb Le{};
+        if (intensity) Le += e.color * intensity->at(p);
+        if (temperature) Le += blackbodyRgb(e.temperatureScale * temperature->at(p)) * e.blackbodyScale;
+        L += Le * (sigmaA * rho / (sigmaT * majorant));
+      }
+    });
+  }
+  return L;
 }
 
 float henyeyGreenstein(float cosInOut, float g) {

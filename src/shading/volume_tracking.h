@@ -45,11 +45,25 @@ struct Collision {
 
 // The first real collision along org + t·dir for t in (0, tEnd) (tEnd may be infinite); the
 // rates are per world unit, so t counts in units of |dir|.
-Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts);
+// Stored bricks' voxels come through `cache` (null: read from their source at every visit).
+Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                          BrickCache* cache = nullptr);
 // An unbiased estimate of the transmittance of org + t·dir, t in (0, tEnd), in [0, 1]. Below a
 // weight of 1/16 a path survives a Russian roulette (weight raised back to 1/16), so a dense
 // medium costs a bounded number of steps on average, not its optical depth.
-float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts);
+float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                         BrickCache* cache = nullptr);
+
+// An unbiased estimate of the emitted radiance gathered along org + t·dir for t in (0, tEnd),
+// ∫ σ_a ρ Le ds without the transmittance: called with tEnd the ray's free-flight distance
+// (sampleCollision's collision, or the surface), whose expectation over that distance supplies
+// the transmittance, E[∫₀^tEnd f] = ∫ T(s) f(s) ds. Points at the density's majorant rate
+// σ_t·m (so where ρ = 0 nothing is looked up), each adding σ_a ρ(x) Le(x) / (σ_t m). Zero
+// without work for media that do not emit.
+Rgb emissionAlong(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                  BrickCache* cache = nullptr);
+// Dimension base of emissionAlong's stream.
+constexpr uint32_t kEmissionDimensions = 3u << 20;
 
 // Henyey-Greenstein phase function over propagation directions: `in` the direction the light
 // travelled to the scattering point, `out` the one it leaves along (unit vectors); g > 0 scatters

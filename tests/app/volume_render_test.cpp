@@ -75,6 +75,154 @@ TEST(VolumeRender, ScatteringVolumeWithASurfaceInsideIsTheSameForAnyThreadsAndBa
   EXPECT_GT(sum, 0);
 }
 
+// A heterogeneous cloud of 64³ voxels (512 leaves, 1 MiB of voxels): a ball of hashed densities.
+fs::path writeCloud(const fs::path& dir) {
+  openvdb::initialize();
+  openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+  g->setName("density");
+  g->setTransform(openvdb::math::Transform::createLinearTransform(3.0 / 64));
+  auto acc = g->getAccessor();
+  for (int x = 0; x < 64; ++x)
+    for (int y = 0; y < 64; ++y)
+      for (int z = 0; z < 64; ++z) {
+        const uint32_t h = (uint32_t(x) * 73856093u) ^ (uint32_t(y) * 19349663u) ^ (uint32_t(z) * 83492791u);
+        acc.setValue({x, y, z}, float(h % 1000) / 500.0f);
+      }
+  const fs::path p = dir / "cloud.vdb";
+  openvdb::io::File(p.string()).write({g});
+  return p;
+}
+
+TEST(VolumeRender, ACloudEightTimesTheBrickCacheRendersTheSameBitsAsWithEveryBrickInMemory) {
+  testing::TempFolder dir;
+  const fs::path vdb = writeCloud(dir.dir());
+  std::string text = slabScene(vdb, R"(, "sigma_a": 0.1, "sigma_s": 2, "g": 0.3)", true, 2);
+  const Scene s = parseScene(text, "cloud.json");
+  ASSERT_EQ(s.media.size(), 1u);
+  ASSERT_EQ(s.media[0]->densityGrid().storedBricks(), 512u);
+  const uint64_t cloudBytes = 512 * BrickCache::kSlotBytes;
+  auto render = [&](uint64_t budget, int threads, BrickCacheStats& cache) {
+    ThreadLimit limit(threads);
+    RenderOptions o;
+    o.volumeMemoryBytes = budget;
+    Renderer r(s, o);
+    const Film film = r.render();
+    cache = r.stats().volumeCache.value();
+    return film.beautyRgba();
+  };
+  BrickCacheStats all, small, smallOneThread;
+  const std::vector<float> ref = render(RenderOptions::kVolumeMemoryDefault, 2, all);
+  EXPECT_EQ(all.evictions, 0u);
+  EXPECT_LE(all.loads, 512u);
+  EXPECT_EQ(render(cloudBytes / 8, 2, small), ref) << "a cache of an eighth of the cloud, 2 threads";
+  EXPECT_EQ(render(cloudBytes / 8, 1, smallOneThread), ref) << "a cache of an eighth of the cloud, 1 thread";
+  // The small cache really was small: it evicted, re-read bricks, and held no more than its budget.
+  EXPECT_GT(small.evictions, 0u);
+  EXPECT_GT(small.loads, all.loads);
+  EXPECT_LE(small.slotsUsed * BrickCache::kSlotBytes, cloudBytes / 8);
+}
+
+TEST(VolumeRender, VolumeMemoryZeroTooSmallOrBeyondMemoryIsRefusedNamingTheOption) {
+  testing::TempFolder dir;
+  const fs::path vdb = writeCloud(dir.dir());
+  const fs::path scene = dir.dir() / "cloud.json";
+  std::ofstream(scene) << slabScene(vdb, "", false, 1);
+  const fs::path out = dir.dir() / "out.exr";
+  for (const char* bytes : {"0", "1K"}) {
+    const testing::RunResult r =
+        testing::runRayes({"render", scene.string(), "--volume-memory", bytes, "-o", out.string()});
+    EXPECT_EQ(r.code, 2) << bytes;
+    EXPECT_THAT(r.err, HasSubstr("--volume-memory")) << bytes;
+  }
+  const testing::RunResult r =
+      testing::runRayes({"render", scene.string(), "--volume-memory", "900000G", "-o", out.string()});
+  EXPECT_EQ(r.code, 3);
+  EXPECT_THAT(r.err, HasSubstr("--volume-memory"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// The mean of an image's red channel and its standard error (the pixels are independent
+// estimates of the same value: their spread over √pixels).
+struct MeanAndError {
+  double mean, se;
+};
+MeanAndError redMean(const std::vector<float>& rgba) {
+  const double n = double(rgba.size() / 4);
+  double sum = 0, sq = 0;
+  for (size_t i = 0; i < rgba.size(); i += 4) sum += rgba[i], sq += double(rgba[i]) * rgba[i];
+  const double mean = sum / n;
+  return {mean, std::sqrt(std::max(0.0, sq / n - mean * mean) / (n - 1))};
+}
+
+// The slab of writeSlab, and an emission grid of 1 on voxels [−8, 40)³ (covering every point
+// where the slab's density is not 0), in one file.
+fs::path writeEmittingSlab(const fs::path& dir) {
+  openvdb::initialize();
+  auto transform = openvdb::math::Transform::createLinearTransform(0.1);
+  openvdb::FloatGrid::Ptr density = openvdb::FloatGrid::create(0.0f), emission = openvdb::FloatGrid::create(0.0f);
+  density->setName("density");
+  density->setTransform(transform);
+  density->denseFill(openvdb::CoordBBox({0, 0, 0}, {31, 31, 15}), 1.0f, true);
+  emission->setName("emission");
+  emission->setTransform(transform->copy());
+  emission->denseFill(openvdb::CoordBBox({-8, -8, -8}, {39, 39, 39}), 1.0f, true);
+  const fs::path p = dir / "emitting_slab.vdb";
+  openvdb::io::File(p.string()).write({density, emission});
+  return p;
+}
+
+// A purely absorbing, emitting slab in front of black: along a ray the radiance L(s) (s from
+// the far side toward the camera) obeys dL/ds = −σ_a ρ(s) L + σ_a ρ(s) Le, with L = 0 behind
+// the slab (nothing there emits or reflects). With τ(s) = ∫₀^s σ_a ρ, d/ds (L e^τ) = σ_a ρ Le e^τ,
+// so L = Le ∫ σ_a ρ e^(τ(s) − τ) ds = Le (1 − e^(−τ)) whatever the profile ρ, τ the slab's whole
+// optical depth (0.6 × 0.1 × 15.75 along z: the test above). Le = 2 (the emission colour times
+// a grid of 1 wherever ρ > 0).
+TEST(VolumeRender, EmittingAbsorbingSlabGivesLeTimesOneMinusExpOfMinusOpticalDepth) {
+  testing::TempFolder dir;
+  const fs::path vdb = writeEmittingSlab(dir.dir());
+  const std::string scene = R"({"camera": {"position": [0, 0, -10], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 4},
+  "film": {"resolution": [32, 32], "spp": 64},
+  "materials": {"black": {"type": "diffuse", "albedo": [0, 0, 0]}},
+  "shapes": [{"type": "bilinear", "material": "black", "quads": [[[-1, -1, 50], [1, -1, 50], [-1, 1, 50], [1, 1, 50]]]},
+             {"type": "volume", "file": ")" + vdb.string() + R"(", "transform": [{"translate": [-1.55, -1.55, -0.75]}],
+              "sigma_a": 0.6, "sigma_s": 0, "emission_grid": "emission", "emission": [2, 2, 2]}],
+  "lights": [{"type": "point", "position": [0, 0, -20], "intensity": [1, 1, 1]}]})";
+  const Scene s = parseScene(scene, "emitting_slab.json");
+  const MeanAndError m = redMean(testing::renderBeauty(s, {}, 2));
+  const double expected = 2 * (1 - std::exp(-0.6 * 0.1 * 15.75));
+  // Rays off the axis by at most 2.9° travel at most 1.0013 times as far: τ at most 0.0013 τ
+  // larger, L at most 2 e^(−τ) · 0.0013 τ = 9e-4 larger.
+  EXPECT_NEAR(m.mean, expected, 4 * m.se + 9e-4);
+  EXPECT_GT(m.se, 0);
+  // The test can see a 3 % error (an emission term off by a factor, a lost transmittance would be far more).
+  EXPECT_LT(4 * m.se + 9e-4, 0.03 * expected) << "se " << m.se;
+}
+
+// A furnace: inside a uniform environment of radiance 1, a non-absorbing medium (albedo 1) and a
+// white diffuse quad (albedo 1) change nothing: every point sees radiance 1 from every direction,
+// so every pixel's expectation is exactly 1 (energy is conserved through any number of
+// scatterings). Russian roulette is unbiased; the depth cap of 200 vertices leaves out paths of
+// more scatterings than the slab's optical depth (2 × 1.575 along z) makes likely at all.
+TEST(VolumeRender, ScatteringMediumOfAlbedoOneInAUniformEnvironmentConservesEnergy) {
+  testing::TempFolder dir;
+  const fs::path vdb = writeSlab(dir.dir());
+  for (const char* g : {"0", "0.6"}) {
+    const std::string scene = R"({"camera": {"position": [0, 0, -4], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 40},
+    "film": {"resolution": [24, 24], "spp": 16},
+    "integrator": {"max_depth": 200},
+    "materials": {"white": {"type": "diffuse", "albedo": [1, 1, 1]}},
+    "shapes": [{"type": "bilinear", "material": "white", "quads": [[[-1, -1, 0.3], [1, -1, 0.3], [-1, 1, 0.9], [1, 1, 0.9]]]},
+               {"type": "volume", "file": ")" + vdb.string() + R"(", "transform": [{"translate": [-1.55, -1.55, -0.75]}],
+                "sigma_a": 0, "sigma_s": 2, "g": )" + g + R"(}],
+    "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})";
+    const Scene s = parseScene(scene, "furnace.json");
+    const MeanAndError m = redMean(testing::renderBeauty(s, {}, 2));
+    EXPECT_NEAR(m.mean, 1.0, 4 * m.se) << "g " << g;
+    EXPECT_GT(m.se, 0) << "g " << g;  // something scattered: the pixels are not all exactly 1
+    EXPECT_LT(4 * m.se, 0.03) << "g " << g << ": the test can see a 3 % loss or gain of energy";
+  }
+}
+
 TEST(VolumeRender, OtherMethodsRefuseAVolumeWithExitCode2AndNoOutput) {
   testing::TempFolder dir;
   const fs::path vdb = writeSlab(dir.dir());

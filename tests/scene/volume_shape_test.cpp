@@ -134,6 +134,84 @@ TEST_F(VolumeShape, BadInputIsOneInputErrorNamingFileAndGrid) {
   expectRefused(volumeScene(bg), "background.vdb", "background");
 }
 
+TEST_F(VolumeShape, LeavesAreStoredBricksReadOnDemandWithTheirLargestVoxelKnown) {
+  const fs::path vdb = writeGrid(folder.dir(), "stored.vdb");
+  const Scene s = parseScene(volumeScene(vdb), "scene.json");
+  const BrickGrid& g = s.media[0]->densityGrid();
+  EXPECT_EQ(g.storedBricks(), 8u);
+  // The brick at the far corner holds voxels up to (11, 11, 11): 0.01 · 66 + 0.1; its majorant
+  // is the largest of it and its neighbours, the same voxel.
+  const int32_t far = g.brickAt(1, 1, 1);
+  ASSERT_GE(far, 0);
+  EXPECT_EQ(g.kind(far), BrickGrid::Kind::Stored);
+  EXPECT_FLOAT_EQ(g.majorant(far), 0.01f * 66 + 0.1f);
+  EXPECT_FLOAT_EQ(g.majorant(g.brickAt(0, 0, 0)), 0.01f * 66 + 0.1f);
+}
+
+TEST_F(VolumeShape, WhatStaysResidentIsFarLessThanTheVoxels) {
+  openvdb::initialize();
+  openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+  g->setName("density");
+  g->denseFill(openvdb::CoordBBox({0, 0, 0}, {127, 127, 127}), 0.5f, true);  // 4096 leaves, 8 MiB of voxels
+  const fs::path p = folder.dir() / "big.vdb";
+  openvdb::io::File(p.string()).write({g});
+  const Scene s = parseScene(volumeScene(p), "scene.json");
+  const BrickGrid& grid = s.media[0]->densityGrid();
+  ASSERT_EQ(grid.storedBricks(), 4096u);
+  // The brick table and OpenVDB's tree with every leaf out of core (its internal nodes' dense
+  // child tables, about 150 bytes per leaf), not the voxels: those are the brick cache's.
+  EXPECT_LT(grid.bytes(), grid.storedBricks() * sizeof(BrickGrid::BrickVoxels) / 4) << grid.bytes();
+}
+
+TEST_F(VolumeShape, EmissionAndTemperatureGridsOfTheSameFile) {
+  openvdb::initialize();
+  const auto transform = openvdb::math::Transform::createLinearTransform(0.25);
+  openvdb::GridPtrVec grids;
+  for (const char* name : {"density", "heat", "glow"}) {
+    openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+    g->setName(name);
+    g->setTransform(transform->copy());
+    g->denseFill(openvdb::CoordBBox({0, 0, 0}, {7, 7, 7}), name[0] == 'h' ? 1500.0f : 1.0f, true);
+    grids.push_back(g);
+  }
+  const fs::path p = folder.dir() / "fire.vdb";
+  openvdb::io::File(p.string()).write(grids);
+  const Scene s = parseScene(volumeScene(p, R"(, "temperature_grid": "heat", "temperature_scale": 2, "blackbody_scale": 3,
+      "emission_grid": "glow", "emission": [1, 0.5, 0.25])"), "scene.json");
+  const Medium& m = *s.media[0];
+  ASSERT_TRUE(m.emits());
+  EXPECT_EQ(m.emission().temperature->bricks(), 1u);
+  EXPECT_EQ(m.emission().intensity->bricks(), 1u);
+  EXPECT_FLOAT_EQ(m.emission().temperatureScale, 2.0f);
+  EXPECT_FLOAT_EQ(m.emission().blackbodyScale, 3.0f);
+  EXPECT_FLOAT_EQ(m.emission().color.y, 0.5f);
+  EXPECT_FALSE(parseScene(volumeScene(p), "scene.json").media[0]->emits());
+  // Keys of an absent grid, a missing grid and a grid elsewhere are refused naming the place.
+  expectRefused(volumeScene(p, R"(, "emission": [1, 1, 1])"), "/emission", "emission_grid");
+  expectRefused(volumeScene(p, R"(, "temperature_scale": 2)"), "/temperature_scale", "temperature_grid");
+  expectRefused(volumeScene(p, R"(, "emission_grid": "smoke")"), "fire.vdb", "no grid named 'smoke'");
+  openvdb::FloatGrid::Ptr moved = openvdb::FloatGrid::create(0.0f);
+  moved->setName("glow");
+  moved->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
+  moved->tree().setValue({0, 0, 0}, 1.0f);
+  openvdb::GridPtrVec two{grids[0], moved};
+  const fs::path q = folder.dir() / "moved.vdb";
+  openvdb::io::File(q.string()).write(two);
+  expectRefused(volumeScene(q, R"(, "emission_grid": "glow")"), "moved.vdb", "transform other than the density grid's");
+}
+
+TEST_F(VolumeShape, TransmittanceEstimatorIsAnIntegratorSwitch) {
+  const std::string base = test::minimalScene();
+  EXPECT_FALSE(parseScene(base, "scene.json").integrator.deltaTransmittance);
+  const auto with = [&](const std::string& value) {
+    std::string t = base;
+    return t.insert(1, R"("integrator": {"transmittance": )" + value + "}, ");
+  };
+  EXPECT_TRUE(parseScene(with("\"delta\""), "scene.json").integrator.deltaTransmittance);
+  EXPECT_FALSE(parseScene(with("\"ratio\""), "scene.json").integrator.deltaTransmittance);
+  expectRefused(with("\"both\""), "/integrator/transmittance", "\"ratio\" or \"delta\"");
+}
+
 TEST_F(VolumeShape, SceneWithoutVolumesHasNoMedia) {
   EXPECT_TRUE(parseScene(test::minimalScene(), "scene.json").media.empty());
 }
