@@ -8,7 +8,7 @@
 
 namespace rayes {
 
-BeamIntegrator::BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+BeamIntegrator::BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top, GatedSpan<Box3> leafBoxes,
                                std::vector<ScattererSurface> scatterers, BeamLights lights, const BeamOptions& options,
                                CausticPaths causticPaths, float laterGatherProbability)
     : scene_(scene), top_(top), leafBoxes_(leafBoxes), scatterers_(std::move(scatterers)), lights_(std::move(lights)),

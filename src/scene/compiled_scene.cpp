@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <tbb/parallel_for.h>
 #include "core/error.h"
 #include "core/version.h"
@@ -70,8 +71,10 @@ bool isCompiledSceneName(const std::string& path) {
 }
 
 void writeCompiledScene(const Scene& scene, const std::string& jsonText, const std::string& jsonPath,
-                        const std::string& outPath, const std::function<void(size_t, size_t)>& progress) {
+                        const std::string& outPath, const compiled::StoredTopLevel& top,
+                        const std::function<void(size_t, size_t)>& progress) {
   const size_t n = scene.shapeLeaves;
+  if (top.leafCount != scene.leaves.size()) throw std::logic_error("writeCompiledScene: the top level is not over the scene's leaves");
   // What records share (meshes, their topologies, height maps), numbered in leaf order.
   RecordTableIndex shared;
   for (size_t i = 0; i < n; ++i) shared.add(*scene.leaves.patch(i));
@@ -172,6 +175,16 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     w.write(meshBytes.data(), meshBytes.size());
   }
   if (scene.uvs) writeUvSets(*scene.uvs, n, shared, w);
+  w.beginSection(SectionKind::TopLevel);
+  compiled::TopLevelHeader th;
+  th.nodeCount = top.nodeCount;
+  th.leafCount = top.leafCount;
+  th.root = top.root;
+  th.nodeBytes = top.nodeBytes;
+  w.write(&th, sizeof th);
+  w.write(top.nodes, top.nodeCount * top.nodeBytes);
+  w.beginSection(SectionKind::LeafBoxes);
+  w.write(top.leafBoxes, top.leafCount * sizeof(Box3));
   w.finish();
 }
 
@@ -239,7 +252,8 @@ void loadHeightMaps(const std::string& path, const nlohmann::json& section, cons
 
 Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const TextureCacheOptions& textures) {
   auto file = std::make_shared<const MappedFile>(path, residentBudget);
-  for (SectionKind k : {SectionKind::Scene, SectionKind::Materials, SectionKind::Leaves, SectionKind::Records})
+  for (SectionKind k : {SectionKind::Scene, SectionKind::Materials, SectionKind::Leaves, SectionKind::Records,
+                        SectionKind::TopLevel, SectionKind::LeafBoxes})
     if (!file->has(k)) throw InputError(path, "header", std::string("no ") + compiled::sectionName(k) + " section");
   const uint64_t sceneBytes = file->sectionBytes(SectionKind::Scene);
   std::string sceneText(sceneBytes, '\0');
