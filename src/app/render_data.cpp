@@ -1,6 +1,7 @@
 #include "app/render_data.h"
 #include <algorithm>
 #include <limits>
+#include <cstring>
 #include <map>
 #include <stdexcept>
 #include "core/error.h"
@@ -89,6 +90,19 @@ bool adoptStoredTopLevel(const Scene& scene, TopLevelBvh& top) {
   return true;
 }
 
+// A compiled scene's LeafShading rows, gated; an ungated (empty) span for a scene without them.
+GatedSpan<LeafShadingRow> storedShadingRows(const Scene& scene) {
+  using compiled::SectionKind;
+  if (!scene.compiled || !scene.compiled->has(SectionKind::LeafShading)) return {};
+  const MappedFile& file = *scene.compiled;
+  const size_t n = scene.leaves.size();
+  if (file.sectionBytes(SectionKind::LeafShading) != n * sizeof(LeafShadingRow))
+    throw InputError(file.path(), "section leaf_shading", "not one 16-byte row per leaf of the scene (" + std::to_string(n) +
+                                                              "): the file is corrupt");
+  const MappedFile::GatedSection rows = file.gated(SectionKind::LeafShading);
+  return GatedSpan<LeafShadingRow>(reinterpret_cast<const LeafShadingRow*>(rows.data), n, rows.gate);
+}
+
 }  // namespace
 
 RenderData::RenderData(const Scene& scene) {
@@ -96,9 +110,12 @@ RenderData::RenderData(const Scene& scene) {
   // A compiled scene's top level is adopted (nothing built, no box kept); otherwise it is
   // built over the boxes gathered below.
   const bool adopted = adoptStoredTopLevel(scene, top);
+  // ... and its per-leaf shading tables read in place, not made.
+  shading.leafRows = storedShadingRows(scene);
+  const bool rowsStored = shading.leafRows.gated();
   std::vector<Box3> leafBoxes(adopted ? 0 : n);  // kept by the top level (TopLevelBvh::leafBoxes), not copied
-  shading.leafDicingError.resize(n);
-  if (adopted) shading.leafSide.resize(n);
+  if (!rowsStored) shading.leafDicingError.resize(n);
+  if (adopted && !rowsStored) shading.leafSide.resize(n);
   // The facts are gathered once (a generated leaf's patch is made and dropped again), a chunk
   // of leaves at a time, so that they never take 32 bytes a leaf at once (10 M leaves: 326 MB
   // beside the top level's build); only the dicing error is kept per leaf.
@@ -117,6 +134,17 @@ RenderData::RenderData(const Scene& scene) {
         chunkBoxes[i - c0] = scene.leaves.bounds(i);
         if (!adopted) leafBoxes[i] = chunkBoxes[i - c0];
         facts[i - c0] = scene.leaves.facts(i);
+        // Stored rows are read at hits without checks: each is checked here, once, against the
+        // leaf table and the scene's materials (its CRC only says it is what was written).
+        if (rowsStored) {
+          const LeafShadingRow row = shading.leafRows[i];
+          const float side = chunkBoxes[i - c0].longestSide();
+          if (row.material != scene.leafMaterial[i] || row.shadeRank >= n ||
+              std::memcmp(&row.side, &side, sizeof(float)) != 0 ||
+              std::memcmp(&row.dicingError, &facts[i - c0].dicingError, sizeof(float)) != 0)
+            throw InputError(scene.compiled->path(), "section leaf_shading (leaf " + std::to_string(i) + ")",
+                             "disagrees with the leaf table: the file is corrupt");
+        }
       }
     });
     for (size_t i = c0; i < c1; ++i) {
@@ -124,8 +152,8 @@ RenderData::RenderData(const Scene& scene) {
       if (kind != f.kind) kind = f.kind;  // leaves of a kind come in runs: no string made per leaf
       ++kinds[kind];
       countLeaf(features, f, chunkBoxes[i - c0]);
-      shading.leafDicingError[i] = f.dicingError;
-      if (adopted) shading.leafSide[i] = chunkBoxes[i - c0].longestSide();
+      if (!rowsStored) shading.leafDicingError[i] = f.dicingError;
+      if (adopted && !rowsStored) shading.leafSide[i] = chunkBoxes[i - c0].longestSide();
       all.extend(chunkBoxes[i - c0]);
     }
   }
@@ -145,10 +173,10 @@ RenderData::RenderData(const Scene& scene) {
   shading.samplesPerPixel = scene.samplesPerPixel;
   shading.integrator = scene.integrator;
   shading.materials = scene.materials;
-  shading.leafMaterial = scene.leafMaterial;
+  if (!rowsStored) shading.leafMaterial = scene.leafMaterial;
   shading.media = scene.media;
   shading.texCoords = scene.uvs;  // null when no leaf has a uv set: lookups read (u, v) alone
-  if (!adopted) {
+  if (!adopted && !rowsStored) {
     const GatedSpan<Box3> boxes = top.leafBoxes();
     shading.leafSide.resize(n);
     for (size_t i = 0; i < n; ++i) shading.leafSide[i] = boxes[i].longestSide();

@@ -27,6 +27,7 @@ const char* compiled::sectionName(SectionKind kind) {
     case SectionKind::UvSets: return "uv_sets";
     case SectionKind::TopLevel: return "top_level";
     case SectionKind::LeafBoxes: return "leaf_boxes";
+    case SectionKind::LeafShading: return "leaf_shading";
   }
   return "unknown";
 }

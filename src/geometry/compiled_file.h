@@ -42,8 +42,8 @@ namespace compiled {
 
 constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
 // Version 3: sections Scene, Materials, Records, Leaves, Meshes (when a leaf is a subdivision
-// face), UvSets (when a leaf has a uv set that a texture reads), TopLevel and LeafBoxes,
-// Checksums. Version 2 had no top level (the render built it); version 1 no subdivision faces,
+// face), UvSets (when a leaf has a uv set that a texture reads), TopLevel, LeafBoxes and
+// LeafShading, Checksums. Version 2 had no top level (the render built it); version 1 no subdivision faces,
 // height maps or uv sets. A new section kind or a changed record is a new version; readers
 // refuse others.
 constexpr uint32_t kFormatVersion = 3;
@@ -61,6 +61,7 @@ enum class SectionKind : uint32_t {
   UvSets = 7,     // the leaves' uv sets (scene/leaf_uv_table.h): a UvRef per leaf, then UvCorners
   TopLevel = 8,   // the top-level BVH's 128-byte nodes (toplevel/toplevel_node.h), depth first; its root in the Scene section
   LeafBoxes = 9,  // Box3 per leaf of the render (the shapes' leaves, then the lights'): what the top level was built over
+  LeafShading = 10,  // 16 bytes per leaf of the render: material, box side, dicing error, shading rank (shading/shading_scene.h)
 };
 const char* sectionName(SectionKind kind);
 

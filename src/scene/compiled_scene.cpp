@@ -11,6 +11,7 @@
 #include "scene/json_document.h"
 #include "scene/scene_loader.h"
 #include "scene/shape_kinds.h"
+#include "shading/shading_scene.h"
 
 namespace rayes {
 
@@ -59,6 +60,23 @@ void writeUvSets(const LeafUvTable& uvs, size_t n, const RecordTableIndex& share
   for (size_t k = 0; k < uvs.cornerCount(); ++k) {
     const UvCorners c = uvs.corners(uint32_t(k));
     w.write(&c, sizeof c);
+  }
+}
+
+// What shading reads per hit, for every leaf of the render (the lights' too), as RenderData
+// and the PathTracer make it for the JSON route.
+void writeLeafShading(const Scene& scene, CompiledFileWriter& w) {
+  const size_t total = scene.leaves.size();
+  const std::vector<uint32_t> ranks = shadeRanks(scene.leafMaterial);
+  w.beginSection(SectionKind::LeafShading);
+  std::vector<LeafShadingRow> rows;
+  for (size_t c0 = 0; c0 < total; c0 += kChunkLeaves) {
+    const size_t c1 = std::min(total, c0 + kChunkLeaves);
+    rows.resize(c1 - c0);
+    tbb::parallel_for(c0, c1, [&](size_t i) {
+      rows[i - c0] = {scene.leafMaterial[i], scene.leaves.bounds(i).longestSide(), scene.leaves.facts(i).dicingError, ranks[i]};
+    });
+    w.write(rows.data(), rows.size() * sizeof(LeafShadingRow));
   }
 }
 
@@ -185,6 +203,7 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   w.write(top.nodes, top.nodeCount * top.nodeBytes);
   w.beginSection(SectionKind::LeafBoxes);
   w.write(top.leafBoxes, top.leafCount * sizeof(Box3));
+  writeLeafShading(scene, w);
   w.finish();
 }
 
@@ -253,7 +272,7 @@ void loadHeightMaps(const std::string& path, const nlohmann::json& section, cons
 Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const TextureCacheOptions& textures) {
   auto file = std::make_shared<const MappedFile>(path, residentBudget);
   for (SectionKind k : {SectionKind::Scene, SectionKind::Materials, SectionKind::Leaves, SectionKind::Records,
-                        SectionKind::TopLevel, SectionKind::LeafBoxes})
+                        SectionKind::TopLevel, SectionKind::LeafBoxes, SectionKind::LeafShading})
     if (!file->has(k)) throw InputError(path, "header", std::string("no ") + compiled::sectionName(k) + " section");
   const uint64_t sceneBytes = file->sectionBytes(SectionKind::Scene);
   std::string sceneText(sceneBytes, '\0');

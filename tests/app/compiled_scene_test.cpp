@@ -237,6 +237,8 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
       {"version-2", bytes, "header: format version 2, written by rayes"},
       // The stored top level: every node is checked at load.
       {"top-level-block", bytes, "section top_level, block 0"},
+      // Shading's per-leaf rows: every row is checked at load.
+      {"shading-block", bytes, "section leaf_shading, block 0"},
       {"mesh-block", uvBytes, "section meshes, block 0 (topology 0)"},
       {"uv-block", uvBytes, "section uv_sets, block 0 (leaf "},
       {"uv-truncated", uvBytes.substr(0, uvSets + 100), "header: truncated or extended"},
@@ -247,8 +249,9 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   cases[5].content[8] = 1;
   cases[6].content[8] = 2;
   cases[7].content[sectionOffset(good, compiled::SectionKind::TopLevel) + 200] ^= 1;
-  cases[8].content[meshes + 5] ^= 1;
-  cases[9].content[uvSets + 3] ^= 1;
+  cases[8].content[sectionOffset(good, compiled::SectionKind::LeafShading) + 5] ^= 1;
+  cases[9].content[meshes + 5] ^= 1;
+  cases[10].content[uvSets + 3] ^= 1;
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     testing::TempFolder t;
