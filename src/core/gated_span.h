@@ -7,9 +7,12 @@
 // tables, which own their memory), at the cost of a predictable branch per read.
 //
 // What the gate does not promise: a block released by the owner between a reader's fast-path
-// check and its load is mapped again by the kernel without being counted, until the next touch
-// of that block counts it. The data are read-only and never change, so only the count can be
-// off, by such blocks, never the values read. Thread-safe: any thread may read any element.
+// check and its load is mapped again by the kernel without being counted (there is no pin on
+// this path). The data are read-only and never change, so only the count can be off, never the
+// values read; the owner releases such a block again when its clock next passes it, and before
+// it reports (geometry/compiled_file.cpp, kMaybeStray), so strays do not accumulate. (A
+// re-check of the ready byte after the read, re-admitting the block, would close the window
+// itself: not done yet.) Thread-safe: any thread may read any element.
 #pragma once
 #include <atomic>
 #include <cstddef>

@@ -52,6 +52,10 @@ uint32_t headerCrcOf(FileHeader h) {
 
 uint64_t blocksOf(uint64_t bytes) { return (bytes + kBlockBytes - 1) / kBlockBytes; }
 
+// A bit of a block's `verified_` byte (bit 0: verified): released by the clock, and not counted
+// resident since, so a gated read may have mapped it again uncounted.
+constexpr uint8_t kMaybeStray = 2;
+
 }  // namespace
 
 // ---- writing
@@ -305,7 +309,10 @@ void MappedFile::admit(const SectionEntry& s, uint64_t block) const {
     ::madvise(const_cast<uint8_t*>(base_) + blockStart_[g], windowBytes(g), MADV_WILLNEED);
   if (!verified_[g].load(std::memory_order_acquire)) verify(s, block, "", 0);
   use(g);
-  ready_[g].store(1, std::memory_order_relaxed);
+  // Under the lock, and only while it is still counted: a release between use() and this store
+  // would otherwise leave the block ready, read on the fast path, and never counted again.
+  std::lock_guard lock(residency_);
+  if (resident_[g].load(std::memory_order_relaxed)) ready_[g].store(1, std::memory_order_relaxed);
 }
 
 void MappedFile::release(uint64_t h) const {
@@ -370,6 +377,7 @@ void MappedFile::use(uint64_t g) const {
   referenced_[g].store(1, std::memory_order_relaxed);
   if (resident_[g].load(std::memory_order_seq_cst)) return;
   resident_[g].store(1, std::memory_order_seq_cst);
+  verified_[g].fetch_and(uint8_t(~kMaybeStray), std::memory_order_relaxed);  // counted again
   residentBytes_ += windowBytes(g);
   bytesRead_.fetch_add(windowBytes(g), std::memory_order_relaxed);
   // The clock: a block touched since the hand last passed gets a second chance; the first
@@ -379,7 +387,16 @@ void MappedFile::use(uint64_t g) const {
   for (uint64_t step = 0; budget_ > 0 && residentBytes_ > budget_ && step < 2 * blocks; ++step) {
     hand_ = hand_ + 1 < blocks ? hand_ + 1 : 0;
     const uint64_t h = hand_;
-    if (h == g || !resident_[h].load(std::memory_order_relaxed)) continue;
+    if (h == g) continue;
+    if (!resident_[h].load(std::memory_order_relaxed)) {
+      // A released block a gated read may have mapped again uncounted (core/gated_span.h):
+      // released again as the hand passes, so such pages never outlive a turn of the clock.
+      if (verified_[h].load(std::memory_order_relaxed) & kMaybeStray) {
+        verified_[h].fetch_and(uint8_t(~kMaybeStray), std::memory_order_relaxed);
+        release(h);
+      }
+      continue;
+    }
     if (referenced_[h].exchange(0, std::memory_order_relaxed)) {
       ready_[h].store(0, std::memory_order_relaxed);  // a gated read marks it again
       continue;
@@ -391,6 +408,7 @@ void MappedFile::use(uint64_t g) const {
     }
     ready_[h].store(0, std::memory_order_seq_cst);
     release(h);
+    verified_[h].fetch_or(kMaybeStray, std::memory_order_relaxed);
     residentBytes_ -= windowBytes(h);
     blocksReleased_.fetch_add(1, std::memory_order_relaxed);
   }
@@ -398,6 +416,16 @@ void MappedFile::use(uint64_t g) const {
 }
 
 MappedFileStats MappedFile::stats() const {
+  {
+    // Strays a gated read mapped again after their release, and the hand has not passed
+    // since, are released now: what the kernel counts below is what the budget counted.
+    std::lock_guard lock(residency_);
+    for (uint64_t h = 0; h < crcs_.size(); ++h)
+      if (!resident_[h].load(std::memory_order_relaxed) && (verified_[h].load(std::memory_order_relaxed) & kMaybeStray)) {
+        verified_[h].fetch_and(uint8_t(~kMaybeStray), std::memory_order_relaxed);
+        release(h);
+      }
+  }
   MappedFileStats s;
   s.bytesMapped = size_;
   s.residentPeak = residentPeak_.load();

@@ -21,7 +21,9 @@
 // the data, and the render, never change. (MADV_PAGEOUT is not used: it skips the pages of a
 // file the process may not write, so it cannot be what bounds the resident set.) The budget
 // bounds what the mapping keeps; blocks being read at that moment (pinned: one record per
-// thread) are not released, and may exceed it by a block or two per thread. The mapping is placed at an address aligned
+// thread) are not released, and may exceed it by a block or two per thread; a block a gated
+// read maps again just after its release is released again when the clock next passes it and
+// before stats() measures (core/gated_span.h). The mapping is placed at an address aligned
 // to a block, so that the kernel's fault-around (which maps the cached pages of the 64 KiB
 // window around a fault) maps pages of the touched block only, never strays of its neighbours
 // that the budget would not count.
