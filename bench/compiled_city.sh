@@ -43,5 +43,5 @@ for route in ("json", "rayes"):
           "dice_buffers", mib(m["dice_buffers"]), "dice_cache", mib(m["dice_cache"]),
           "setup_s", round(s["totals"]["time_s"].get("setup", 0), 1) if "setup" in s["totals"]["time_s"] else "",
           *(["mapped", mib(c["bytes_mapped"]), "resident_peak", mib(c["resident_peak_bytes"]), "read", mib(c["bytes_read"]),
-             "at_end", mib(c["resident_at_end_bytes"])] if c else []))
+             "at_end", mib(c["resident_at_end_bytes"]), "top_level", c.get("top_level", "built")] if c else []))
 PY

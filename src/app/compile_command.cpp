@@ -1,6 +1,8 @@
 // `rayes compile SCENE.json -o SCENE.rayes`: the scene loaded as `render` loads it (bad input
 // fails the same way, exit code 2), its leaves written to a compiled scene (scene/
-// compiled_scene.h) through an OutputSet: the file appears whole or not at all.
+// compiled_scene.h) through an OutputSet: the file appears whole or not at all. The top level
+// is built here, as a render builds it (toplevel/, Embree's builder), and stored with them: the
+// render of the .rayes adopts it instead of building it.
 #include <cstdio>
 #include <filesystem>
 #include "app/commands.h"
@@ -8,6 +10,9 @@
 #include "core/error.h"
 #include "core/text_file.h"
 #include "core/timer.h"
+#include "toplevel/toplevel_bvh.h"
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include "scene/compiled_scene.h"
 #include "scene/scene_loader.h"
 
@@ -23,12 +28,30 @@ int runCompile(const CompileArgs& a) {
   const std::string text = readTextFile(a.scene, "scene file");
   const Scene scene = parseScene(text, a.scene);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "rayes: warning: %s\n", w.c_str());
+  // Over every leaf of the render (the shapes' and the lights'), by leaf id, as RenderData
+  // builds it for the JSON route.
+  TopLevelBvh top;
+  {
+    std::vector<Box3> boxes(scene.leaves.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, boxes.size(), 1024), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) boxes[i] = scene.leaves.bounds(i);
+    });
+    top.build(std::move(boxes));
+  }
+  const TopLevelBvh::Stored tree = top.stored();
+  compiled::StoredTopLevel stored;
+  stored.nodes = tree.nodes;
+  stored.nodeCount = tree.nodeCount;
+  stored.nodeBytes = uint32_t(TopLevelBvh::kNodeBytes);
+  stored.root = tree.root;
+  stored.leafBoxes = top.leafBoxes().data();
+  stored.leafCount = top.leafBoxes().size();
   OutputSet outputs;
   outputs.addInput(a.scene);
   outputs.add(out, "compiled scene");
   outputs.write(out, [&](const std::string& tmp) {
     try {
-      writeCompiledScene(scene, text, a.scene, tmp);
+      writeCompiledScene(scene, text, a.scene, tmp, stored);
     } catch (const ResourceError&) {
       throw;
     } catch (const InputError& e) {

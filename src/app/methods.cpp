@@ -25,7 +25,7 @@ std::unique_ptr<Integrator> makeBeamIntegrator(const MethodOptions& options, con
   const ShadingScene& shading = data.shading;
   std::vector<ScattererSurface> scatterers;
   for (size_t l = 0; l < data.top.leafBoxes().size(); ++l)
-    if (isCausticScatterer(shading.materials[shading.leafMaterial[l]]) && !data.top.leafBoxes()[l].empty()) {
+    if (isCausticScatterer(shading.materials[shading.materialOf(uint32_t(l))]) && !data.top.leafBoxes()[l].empty()) {
       PatchPtr patch = scene.leaves.patch(l);
       scatterers.push_back({uint32_t(l), [patch](float u, float v) { return patch->evaluate(u, v).p; }});
     }

@@ -21,7 +21,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
     j["scene"]["compiled"] = {{"bytes_mapped", m.bytesMapped},     {"resident_peak_bytes", m.residentPeak},
                               {"bytes_read", m.bytesRead},         {"blocks_verified", m.blocksVerified},
                               {"blocks_released", m.blocksReleased}, {"scene_memory_bytes", m.budget},
-                              {"resident_at_end_bytes", m.residentAtEnd}};
+                              {"resident_at_end_bytes", m.residentAtEnd},
+                              {"top_level", scene.compiled->has(compiled::SectionKind::TopLevel) ? "stored" : "built"}};
   }
   j["settings"] = {{"threads", run.threads}, {"method", options.method.name}, {"max_lod", options.maxLod},
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},

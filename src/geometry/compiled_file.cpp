@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -24,6 +25,9 @@ const char* compiled::sectionName(SectionKind kind) {
     case SectionKind::Checksums: return "checksums";
     case SectionKind::Meshes: return "meshes";
     case SectionKind::UvSets: return "uv_sets";
+    case SectionKind::TopLevel: return "top_level";
+    case SectionKind::LeafBoxes: return "leaf_boxes";
+    case SectionKind::LeafShading: return "leaf_shading";
   }
   return "unknown";
 }
@@ -47,6 +51,10 @@ uint32_t headerCrcOf(FileHeader h) {
 }
 
 uint64_t blocksOf(uint64_t bytes) { return (bytes + kBlockBytes - 1) / kBlockBytes; }
+
+// A bit of a block's `verified_` byte (bit 0: verified): released by the clock, and not counted
+// resident since, so a gated read may have mapped it again uncounted.
+constexpr uint8_t kMaybeStray = 2;
 
 }  // namespace
 
@@ -152,6 +160,16 @@ void CompiledFileWriter::finish() {
 
 // ---- reading
 
+class MappedFile::SectionGate final : public BlockGate {
+ public:
+  SectionGate(const MappedFile& file, const SectionEntry& s) : BlockGate(&file.ready_[s.firstBlock]), file_(file), s_(s) {}
+  void admit(uint64_t block) const override { file_.admit(s_, block); }
+
+ private:
+  const MappedFile& file_;
+  const SectionEntry& s_;
+};
+
 MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_(path), budget_(residentBudget) {
   const auto bad = [&](const std::string& place, const std::string& why) { throw InputError(path_, place, why); };
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -231,6 +249,7 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
   resident_.reset(new std::atomic<uint8_t>[blocks]());
   referenced_.reset(new std::atomic<uint8_t>[blocks]());
   pinned_.reset(new std::atomic<uint32_t>[blocks]());
+  ready_.reset(new std::atomic<uint8_t>[blocks]());
   blockStart_.resize(blocks);
   blockLength_.resize(blocks);
   for (uint32_t k = 0; k + 1 < header_.sectionCount; ++k) {
@@ -240,6 +259,7 @@ MappedFile::MappedFile(const std::string& path, uint64_t residentBudget) : path_
       blockLength_[s.firstBlock + b] = uint32_t(std::min<uint64_t>(kBlockBytes, s.bytes - b * kBlockBytes));
     }
   }
+  for (uint32_t k = 0; k + 1 < header_.sectionCount; ++k) gates_.push_back(std::make_unique<SectionGate>(*this, header_.sections[k]));
   // Pages are read when a block is touched, not ahead of it (a render touches leaves in the
   // order of its rays, not of the file); what was read for the header goes back.
   ::madvise(const_cast<uint8_t*>(base_), size_, MADV_RANDOM);
@@ -257,6 +277,7 @@ uint64_t MappedFile::windowBytes(uint64_t g) const {
 }
 
 MappedFile::~MappedFile() {
+  gates_.clear();
   if (base_) ::munmap(const_cast<uint8_t*>(base_), size_);
 }
 
@@ -273,6 +294,34 @@ bool MappedFile::has(SectionKind kind) const {
 }
 
 uint64_t MappedFile::sectionBytes(SectionKind kind) const { return section(kind).bytes; }
+
+MappedFile::GatedSection MappedFile::gated(SectionKind kind) const {
+  const SectionEntry& s = section(kind);
+  return {base_ + s.offset, s.bytes, gates_[size_t(&s - header_.sections)].get()};
+}
+
+// As read(), without the pin: a reader in place holds no pin (see core/gated_span.h for what
+// that leaves uncounted).
+void MappedFile::admit(const SectionEntry& s, uint64_t block) const {
+  const uint64_t g = s.firstBlock + block;
+  if (block >= blocksOf(s.bytes)) throw std::logic_error("MappedFile: a gated read past its section");
+  if (!resident_[g].load(std::memory_order_relaxed))
+    ::madvise(const_cast<uint8_t*>(base_) + blockStart_[g], windowBytes(g), MADV_WILLNEED);
+  if (!verified_[g].load(std::memory_order_acquire)) verify(s, block, "", 0);
+  use(g);
+  // Under the lock, and only while it is still counted: a release between use() and this store
+  // would otherwise leave the block ready, read on the fast path, and never counted again.
+  std::lock_guard lock(residency_);
+  if (resident_[g].load(std::memory_order_relaxed)) ready_[g].store(1, std::memory_order_relaxed);
+}
+
+void MappedFile::release(uint64_t h) const {
+  uint8_t* p = const_cast<uint8_t*>(base_) + blockStart_[h];
+#ifdef MADV_COLD
+  ::madvise(p, windowBytes(h), MADV_COLD);  // EINVAL before Linux 5.4: the hint is lost, nothing else
+#endif
+  ::madvise(p, windowBytes(h), MADV_DONTNEED);
+}
 
 void MappedFile::verify(const SectionEntry& s, uint64_t block, const char* what, uint64_t whatIndex) const {
   const uint64_t g = s.firstBlock + block;
@@ -328,6 +377,7 @@ void MappedFile::use(uint64_t g) const {
   referenced_[g].store(1, std::memory_order_relaxed);
   if (resident_[g].load(std::memory_order_seq_cst)) return;
   resident_[g].store(1, std::memory_order_seq_cst);
+  verified_[g].fetch_and(uint8_t(~kMaybeStray), std::memory_order_relaxed);  // counted again
   residentBytes_ += windowBytes(g);
   bytesRead_.fetch_add(windowBytes(g), std::memory_order_relaxed);
   // The clock: a block touched since the hand last passed gets a second chance; the first
@@ -337,14 +387,28 @@ void MappedFile::use(uint64_t g) const {
   for (uint64_t step = 0; budget_ > 0 && residentBytes_ > budget_ && step < 2 * blocks; ++step) {
     hand_ = hand_ + 1 < blocks ? hand_ + 1 : 0;
     const uint64_t h = hand_;
-    if (h == g || !resident_[h].load(std::memory_order_relaxed)) continue;
-    if (referenced_[h].exchange(0, std::memory_order_relaxed)) continue;
+    if (h == g) continue;
+    if (!resident_[h].load(std::memory_order_relaxed)) {
+      // A released block a gated read may have mapped again uncounted (core/gated_span.h):
+      // released again as the hand passes, so such pages never outlive a turn of the clock.
+      if (verified_[h].load(std::memory_order_relaxed) & kMaybeStray) {
+        verified_[h].fetch_and(uint8_t(~kMaybeStray), std::memory_order_relaxed);
+        release(h);
+      }
+      continue;
+    }
+    if (referenced_[h].exchange(0, std::memory_order_relaxed)) {
+      ready_[h].store(0, std::memory_order_relaxed);  // a gated read marks it again
+      continue;
+    }
     resident_[h].store(0, std::memory_order_seq_cst);
     if (pinned_[h].load(std::memory_order_seq_cst) > 0) {
       resident_[h].store(1, std::memory_order_seq_cst);
       continue;
     }
-    ::madvise(const_cast<uint8_t*>(base_) + blockStart_[h], windowBytes(h), MADV_DONTNEED);
+    ready_[h].store(0, std::memory_order_seq_cst);
+    release(h);
+    verified_[h].fetch_or(kMaybeStray, std::memory_order_relaxed);
     residentBytes_ -= windowBytes(h);
     blocksReleased_.fetch_add(1, std::memory_order_relaxed);
   }
@@ -352,6 +416,16 @@ void MappedFile::use(uint64_t g) const {
 }
 
 MappedFileStats MappedFile::stats() const {
+  {
+    // Strays a gated read mapped again after their release, and the hand has not passed
+    // since, are released now: what the kernel counts below is what the budget counted.
+    std::lock_guard lock(residency_);
+    for (uint64_t h = 0; h < crcs_.size(); ++h)
+      if (!resident_[h].load(std::memory_order_relaxed) && (verified_[h].load(std::memory_order_relaxed) & kMaybeStray)) {
+        verified_[h].fetch_and(uint8_t(~kMaybeStray), std::memory_order_relaxed);
+        release(h);
+      }
+  }
   MappedFileStats s;
   s.bytesMapped = size_;
   s.residentPeak = residentPeak_.load();

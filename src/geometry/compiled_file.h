@@ -12,12 +12,18 @@
 //
 // MappedFile: it owns the mapping (munmap on destruction) and hands out copies of ranges.
 // Thread-safe: any thread may read any range at once.
-// Residency (`--scene-memory`): read() marks the blocks it covers used; when the blocks
-// counted resident exceed the budget, the least recently used ones (a clock: second chance)
-// are released with madvise(MADV_DONTNEED) — their pages are dropped from the process and read
-// again from the file on the next touch, so the data, and the render, never change. The budget
+// Residency (`--scene-memory`): read() marks the blocks it covers used; so does a gated read in
+// place (gated(): core/gated_span.h, for tables read per ray, such as the top level's nodes);
+// when the blocks counted resident exceed the budget, the least recently used ones (a clock:
+// second chance) are released: madvise(MADV_COLD), where the kernel has it, puts their cached
+// pages first in line for reclaim, and madvise(MADV_DONTNEED) drops them from the process (a
+// read-only file mapping: read again from the file, or the page cache, on the next touch), so
+// the data, and the render, never change. (MADV_PAGEOUT is not used: it skips the pages of a
+// file the process may not write, so it cannot be what bounds the resident set.) The budget
 // bounds what the mapping keeps; blocks being read at that moment (pinned: one record per
-// thread) are not released, and may exceed it by a block or two per thread. The mapping is placed at an address aligned
+// thread) are not released, and may exceed it by a block or two per thread; a block a gated
+// read maps again just after its release is released again when the clock next passes it and
+// before stats() measures (core/gated_span.h). The mapping is placed at an address aligned
 // to a block, so that the kernel's fault-around (which maps the cached pages of the 64 KiB
 // window around a fault) maps pages of the touched block only, never strays of its neighbours
 // that the budget would not count.
@@ -30,17 +36,19 @@
 #include <mutex>
 #include <string>
 #include <vector>
+#include "core/gated_span.h"
 
 namespace rayes {
 
 namespace compiled {
 
 constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
-// Version 2: sections Scene, Materials, Leaves, Records, Meshes (when a leaf is a subdivision
-// face), UvSets (when a leaf has a uv set that a texture reads), Checksums; records of
-// subdivision faces and height-map displacement (version 1 had neither, nor the two sections).
-// A new section kind or a changed record is a new version; readers refuse others.
-constexpr uint32_t kFormatVersion = 2;
+// Version 3: sections Scene, Materials, Records, Leaves, Meshes (when a leaf is a subdivision
+// face), UvSets (when a leaf has a uv set that a texture reads), TopLevel, LeafBoxes and
+// LeafShading, Checksums. Version 2 had no top level (the render built it); version 1 no subdivision faces,
+// height maps or uv sets. A new section kind or a changed record is a new version; readers
+// refuse others.
+constexpr uint32_t kFormatVersion = 3;
 constexpr uint64_t kPageBytes = 4096;
 constexpr uint64_t kBlockBytes = 64 * 1024;  // a multiple of the page: released whole
 constexpr int kMaxSections = 16;
@@ -53,6 +61,9 @@ enum class SectionKind : uint32_t {
   Checksums = 5,  // uint32 CRC-32 per block of every other section, in section order
   Meshes = 6,     // subdivision topologies and meshes' control points (the Scene section indexes them)
   UvSets = 7,     // the leaves' uv sets (scene/leaf_uv_table.h): a UvRef per leaf, then UvCorners
+  TopLevel = 8,   // the top-level BVH's 128-byte nodes (toplevel/toplevel_node.h), depth first; its root in the Scene section
+  LeafBoxes = 9,  // Box3 per leaf of the render (the shapes' leaves, then the lights'): what the top level was built over
+  LeafShading = 10,  // 16 bytes per leaf of the render: material, box side, dicing error, shading rank (shading/shading_scene.h)
 };
 const char* sectionName(SectionKind kind);
 
@@ -98,6 +109,24 @@ struct UvRef {
   uint32_t table = 0, index = 0;
 };
 static_assert(sizeof(UvRef) == 8);
+
+// The TopLevel section's first 128 bytes; the nodes follow (so none straddles a block).
+struct TopLevelHeader {
+  uint64_t nodeCount = 0, leafCount = 0;
+  uint32_t root = 0, nodeBytes = 0;
+  uint32_t reserved[26] = {};
+};
+static_assert(sizeof(TopLevelHeader) == 128);
+
+// A top level to store, built by the caller (app/compile_command.cpp: this folder knows no BVH).
+struct StoredTopLevel {
+  const void* nodes = nullptr;  // nodeCount nodes of nodeBytes each
+  uint64_t nodeCount = 0;
+  uint32_t nodeBytes = 0;
+  uint32_t root = 0;
+  const void* leafBoxes = nullptr;  // leafCount Box3 (24 bytes each)
+  uint64_t leafCount = 0;
+};
 
 }  // namespace compiled
 
@@ -167,7 +196,20 @@ class MappedFile {
   // entry; 0 where that cannot be read): what the budget bounds, measured.
   uint64_t measuredResident() const;
 
+  // A section's bytes to read in place through its gate (core/gated_span.h): every block is
+  // verified on its first touch (InputError naming the file, the section and the block) and
+  // counted against the budget like read()'s. `data` is block-aligned.
+  struct GatedSection {
+    const uint8_t* data = nullptr;
+    uint64_t bytes = 0;
+    const BlockGate* gate = nullptr;
+  };
+  GatedSection gated(compiled::SectionKind kind) const;
+
  private:
+  class SectionGate;
+  void admit(const compiled::SectionEntry& s, uint64_t block) const;  // a gate's slow path
+  void release(uint64_t block) const;                                 // madvise, under the lock
   const compiled::SectionEntry& section(compiled::SectionKind kind) const;
   void use(uint64_t block) const;  // residency bookkeeping
   uint64_t windowBytes(uint64_t block) const;
@@ -183,6 +225,9 @@ class MappedFile {
   // referenced for the clock.
   std::unique_ptr<std::atomic<uint8_t>[]> verified_, resident_, referenced_;
   std::unique_ptr<std::atomic<uint32_t>[]> pinned_;  // readers in the block now
+  // Per block: verified, resident and referenced since the clock last passed (the gates' fast path).
+  std::unique_ptr<std::atomic<uint8_t>[]> ready_;
+  std::vector<std::unique_ptr<SectionGate>> gates_;  // by section table index
   std::vector<uint64_t> blockStart_;  // file offset of each block, and its length
   std::vector<uint32_t> blockLength_;
   mutable std::mutex residency_;

@@ -8,7 +8,7 @@
 
 namespace rayes {
 
-BeamIntegrator::BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+BeamIntegrator::BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top, GatedSpan<Box3> leafBoxes,
                                std::vector<ScattererSurface> scatterers, BeamLights lights, const BeamOptions& options,
                                CausticPaths causticPaths, float laterGatherProbability)
     : scene_(scene), top_(top), leafBoxes_(leafBoxes), scatterers_(std::move(scatterers)), lights_(std::move(lights)),
@@ -118,16 +118,16 @@ void BeamIntegrator::traceSeeds(int resolution, size_t first, size_t last, const
 }
 
 std::vector<uint8_t> BeamIntegrator::leafReceives() const {
-  std::vector<uint8_t> receives(scene_.leafMaterial.size());
+  std::vector<uint8_t> receives(scene_.leafCount());
   for (size_t l = 0; l < receives.size(); ++l)
-    receives[l] = isCausticScatterer(scene_.materials[scene_.leafMaterial[l]]) ? 0 : 1;
+    receives[l] = isCausticScatterer(scene_.materials[scene_.materialOf(uint32_t(l))]) ? 0 : 1;
   return receives;
 }
 
 // The store of segments already traced (their bytes on `charge`, which it then holds), or null
 // when it does not fit what the budget has left.
 std::unique_ptr<BeamIntegrator::Range> BeamIntegrator::storeOf(std::vector<BeamSegment> segments, BeamCharge charge) {
-  const BeamCharge receivesBytes(&budget_, scene_.leafMaterial.size(), "the beams' receiving leaves");
+  const BeamCharge receivesBytes(&budget_, scene_.leafCount(), "the beams' receiving leaves");
   const std::vector<uint8_t> receives = leafReceives();
   auto range = std::make_unique<Range>();
   range->segments = std::move(charge);

@@ -72,7 +72,7 @@ class BeamIntegrator final : public Integrator {
  public:
   // scatterers: the caustic scatterer leaves' surfaces (held until prepare() has seeded the
   // beams); lights: those that send beams. The scene, top level and leaf boxes must outlive it.
-  BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+  BeamIntegrator(const ShadingScene& scene, const TopLevelBvh& top, GatedSpan<Box3> leafBoxes,
                  std::vector<ScattererSurface> scatterers, BeamLights lights, const BeamOptions& options,
                  CausticPaths causticPaths, float laterGatherProbability);
   ~BeamIntegrator() override;
@@ -139,7 +139,7 @@ class BeamIntegrator final : public Integrator {
 
   const ShadingScene& scene_;
   const TopLevelBvh& top_;
-  std::span<const Box3> leafBoxes_;
+  GatedSpan<Box3> leafBoxes_;
   std::vector<ScattererSurface> scatterers_;
   BeamLights lights_;
   BeamOptions options_;

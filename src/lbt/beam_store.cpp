@@ -122,7 +122,7 @@ bool BeamStore::reaches(const BeamSegment& s, Vec3 x) {
   return false;
 }
 
-BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+BeamStore::BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, GatedSpan<Box3> leafBoxes,
                      size_t budget, std::span<const uint8_t> receives, int maxDepth, BeamBudget* account)
     : segments_(std::move(segments)), maxDepth_(maxDepth) {
   const size_t leaves = top.leafCount();
@@ -160,7 +160,7 @@ void BeamStore::leavesOf(const BeamSegment& s, const TopLevelBvh& top, std::span
 // held): how many segments reach each leaf (the grids' shapes); how many cells each segment
 // reaches (the offsets, and the bytes: checked against the budget before the bins are made);
 // each segment's cells (a flat list), then the entries in segment order.
-void BeamStore::build(const TopLevelBvh& top, std::span<const Box3> leafBoxes, size_t budget,
+void BeamStore::build(const TopLevelBvh& top, GatedSpan<Box3> leafBoxes, size_t budget,
                       std::span<const uint8_t> receives, BeamCharge& transient) {
   const size_t leaves = top.leafCount(), n = segments_.size();
   struct Scratch {

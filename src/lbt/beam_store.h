@@ -46,7 +46,7 @@ class BeamStore final : public CausticRadiance {
  public:
   // leafBoxes: the boxes the top level was built over (Patch::bounds per leaf); receives: per
   // leaf, whether gathers happen there (empty: every leaf), so scatterers get no bins.
-  BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, std::span<const Box3> leafBoxes,
+  BeamStore(std::vector<BeamSegment> segments, const TopLevelBvh& top, GatedSpan<Box3> leafBoxes,
             size_t memoryBudget, std::span<const uint8_t> receives = {}, int maxDepth = 1 << 30,
             BeamBudget* account = nullptr);
   // Calls add(psi, E) (or add(psi, E, segment)) for each segment of the cell of `leaf`'s grid
@@ -110,7 +110,7 @@ class BeamStore final : public CausticRadiance {
 
  private:
   std::pair<uint64_t, uint64_t> cellRange(uint32_t leaf, Vec3 x) const;
-  void build(const TopLevelBvh& top, std::span<const Box3> leafBoxes, size_t budget, std::span<const uint8_t> receives,
+  void build(const TopLevelBvh& top, GatedSpan<Box3> leafBoxes, size_t budget, std::span<const uint8_t> receives,
              BeamCharge& transient);
   static void leavesOf(const BeamSegment& s, const TopLevelBvh& top, std::span<const uint8_t> receives,
                        std::vector<uint32_t>& out, TraversalScratch& scratch);

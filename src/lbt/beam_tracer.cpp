@@ -46,7 +46,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   if (!h.valid()) return s;
   const Vec3 p = c.org + c.dir * h.t;
   const Vec3 ng = h.ng(), ns = h.ns();
-  s.material = scene.leafMaterial[h.leaf];
+  s.material = scene.materialOf(h.leaf);
   s.front = dot(ng, c.dir) < 0;
   s.onAim = c.aim.hits(h.leaf, h.u, h.v);
   const Material& m = scene.materials[s.material];
@@ -87,7 +87,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
     s.event = Event::Stop;
     return s;
   }
-  const float offset = originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, c.org);
+  const float offset = originOffset(scene.sideOf(h.leaf), scene.dicingErrorOf(h.leaf), h.level, p, c.org);
   const SurfaceHit at{p, ng, offset};
   s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, false, c.reflectAt, SeedAim{}};
   return s;

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <tbb/parallel_for.h>
 #include "core/error.h"
 #include "core/version.h"
@@ -10,6 +11,7 @@
 #include "scene/json_document.h"
 #include "scene/scene_loader.h"
 #include "scene/shape_kinds.h"
+#include "shading/shading_scene.h"
 
 namespace rayes {
 
@@ -61,6 +63,23 @@ void writeUvSets(const LeafUvTable& uvs, size_t n, const RecordTableIndex& share
   }
 }
 
+// What shading reads per hit, for every leaf of the render (the lights' too), as RenderData
+// and the PathTracer make it for the JSON route.
+void writeLeafShading(const Scene& scene, CompiledFileWriter& w) {
+  const size_t total = scene.leaves.size();
+  const std::vector<uint32_t> ranks = shadeRanks(scene.leafMaterial);
+  w.beginSection(SectionKind::LeafShading);
+  std::vector<LeafShadingRow> rows;
+  for (size_t c0 = 0; c0 < total; c0 += kChunkLeaves) {
+    const size_t c1 = std::min(total, c0 + kChunkLeaves);
+    rows.resize(c1 - c0);
+    tbb::parallel_for(c0, c1, [&](size_t i) {
+      rows[i - c0] = {scene.leafMaterial[i], scene.leaves.bounds(i).longestSide(), scene.leaves.facts(i).dicingError, ranks[i]};
+    });
+    w.write(rows.data(), rows.size() * sizeof(LeafShadingRow));
+  }
+}
+
 }  // namespace
 
 bool isCompiledSceneName(const std::string& path) {
@@ -70,8 +89,10 @@ bool isCompiledSceneName(const std::string& path) {
 }
 
 void writeCompiledScene(const Scene& scene, const std::string& jsonText, const std::string& jsonPath,
-                        const std::string& outPath, const std::function<void(size_t, size_t)>& progress) {
+                        const std::string& outPath, const compiled::StoredTopLevel& top,
+                        const std::function<void(size_t, size_t)>& progress) {
   const size_t n = scene.shapeLeaves;
+  if (top.leafCount != scene.leaves.size()) throw std::logic_error("writeCompiledScene: the top level is not over the scene's leaves");
   // What records share (meshes, their topologies, height maps), numbered in leaf order.
   RecordTableIndex shared;
   for (size_t i = 0; i < n; ++i) shared.add(*scene.leaves.patch(i));
@@ -172,6 +193,17 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     w.write(meshBytes.data(), meshBytes.size());
   }
   if (scene.uvs) writeUvSets(*scene.uvs, n, shared, w);
+  w.beginSection(SectionKind::TopLevel);
+  compiled::TopLevelHeader th;
+  th.nodeCount = top.nodeCount;
+  th.leafCount = top.leafCount;
+  th.root = top.root;
+  th.nodeBytes = top.nodeBytes;
+  w.write(&th, sizeof th);
+  w.write(top.nodes, top.nodeCount * top.nodeBytes);
+  w.beginSection(SectionKind::LeafBoxes);
+  w.write(top.leafBoxes, top.leafCount * sizeof(Box3));
+  writeLeafShading(scene, w);
   w.finish();
 }
 
@@ -239,7 +271,8 @@ void loadHeightMaps(const std::string& path, const nlohmann::json& section, cons
 
 Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const TextureCacheOptions& textures) {
   auto file = std::make_shared<const MappedFile>(path, residentBudget);
-  for (SectionKind k : {SectionKind::Scene, SectionKind::Materials, SectionKind::Leaves, SectionKind::Records})
+  for (SectionKind k : {SectionKind::Scene, SectionKind::Materials, SectionKind::Leaves, SectionKind::Records,
+                        SectionKind::TopLevel, SectionKind::LeafBoxes, SectionKind::LeafShading})
     if (!file->has(k)) throw InputError(path, "header", std::string("no ") + compiled::sectionName(k) + " section");
   const uint64_t sceneBytes = file->sectionBytes(SectionKind::Scene);
   std::string sceneText(sceneBytes, '\0');

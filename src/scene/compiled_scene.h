@@ -11,7 +11,8 @@
 // source file's absolute path, against which its relative file names (textures, environment
 // maps, height maps) resolve. Loading a compiled scene reads that text as the JSON loader does
 // and puts the mapped leaves first, so leaf ids, materials and lights are those of the JSON
-// scene and the image is the same, bit for bit.
+// scene and the image is the same, bit for bit. The top level, built at compile time, is
+// stored too (sections TopLevel and LeafBoxes): the render adopts it (app/render_data.cpp).
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -20,12 +21,14 @@
 
 namespace rayes {
 
-// Writes `scene`, loaded from `jsonPath` (whose text is `jsonText`), to `outPath`. Throws
+// Writes `scene`, loaded from `jsonPath` (whose text is `jsonText`), to `outPath`, with `top`:
+// the top level over all of the scene's leaves (shapes' and lights'), built by the caller. Throws
 // InputError(jsonPath, "leaf N", ...) for a leaf whose kind cannot be compiled (a disk; a height
 // map made in memory), InputError / ResourceError for a file that cannot be written.
 // `progress(done, total)`, when given, is called between chunks of leaves.
 void writeCompiledScene(const Scene& scene, const std::string& jsonText, const std::string& jsonPath,
-                        const std::string& outPath, const std::function<void(size_t, size_t)>& progress = {});
+                        const std::string& outPath, const compiled::StoredTopLevel& top,
+                        const std::function<void(size_t, size_t)>& progress = {});
 
 // Maps `path` (a .rayes) and builds its Scene; residentBudget (--scene-memory) bounds the
 // mapping's resident blocks (0: no bound). InputError naming the file and the place for a file

@@ -21,7 +21,7 @@ bool sampleLightPathStart(const ShadingScene& scene, const RngKey& key, LightPat
       isBlack(e.weight))
     return false;
   out.time = scene.camera.timeAt(sample1D(key, kTime));
-  out.back = e.onSurface ? originOffset(scene.leafSide[e.leaf], scene.leafDicingError[e.leaf], 0, e.org, e.org)
+  out.back = e.onSurface ? originOffset(scene.sideOf(e.leaf), scene.dicingErrorOf(e.leaf), 0, e.org, e.org)
                          : 0.0f;
   return true;
 }
@@ -47,9 +47,9 @@ bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, Sh
   out.h = h;
   out.wi = wi;
   out.ns = h.ns();
-  out.at = {p, ng, originOffset(scene.leafSide[h.leaf], scene.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org)};
+  out.at = {p, ng, originOffset(scene.sideOf(h.leaf), scene.dicingErrorOf(h.leaf), h.level, p, rays.ray[cs].org)};
   out.arrival = std::fabs(dot(out.ns, wi)) / std::fabs(wiNg);
-  out.mat = &scene.materials[scene.leafMaterial[h.leaf]];
+  out.mat = &scene.materials[scene.materialOf(h.leaf)];
   return true;
 }
 

@@ -137,7 +137,7 @@ bool shadowSegment(const ShadingScene& scene, Vec3 origin, Vec3 p, const LightSa
     Vec3 target = ls.point;
     if (ls.leaf != kNoLeaf) {
       const float back =
-          originOffset(scene.leafSide[ls.leaf], scene.leafDicingError[ls.leaf], 0, ls.point, ls.point);
+          originOffset(scene.sideOf(ls.leaf), scene.dicingErrorOf(ls.leaf), 0, ls.point, ls.point);
       target += ls.normal * (dot(ls.normal, p - ls.point) >= 0 ? back : -back);
     }
     tmax = length(target - origin);
@@ -289,7 +289,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
   const Vec3 ng = h.ng(), ns = h.ns();
   Vertex v{k, cs, ss, h, wo, dot(ns, wo) > 0, {p, ng, 0.0f}, 0.0f, nullptr, 0, false, Bsdf{}};
-  v.matId = scene_.leafMaterial[h.leaf];
+  v.matId = scene_.materialOf(h.leaf);
   v.mat = &scene_.materials[v.matId];
   if (countedNow & kPatchLight) gatherEmission(scene_.lights, v, rays, paths, stats);
 
@@ -307,7 +307,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   }
   const PathIds ids = idsOf(paths.first + k);
   const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
-  v.at.offset = originOffset(scene_.leafSide[h.leaf], scene_.leafDicingError[h.leaf], h.level, p, rays.ray[cs].org);
+  v.at.offset = originOffset(scene_.sideOf(h.leaf), scene_.dicingErrorOf(h.leaf), h.level, p, rays.ray[cs].org);
   v.width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
   // Reflection-only models see the side the viewer is on; a transmitting one keeps the
   // patch normal as "outside".
@@ -472,7 +472,7 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
     const bool traced = rays.ray[cs].kind == RayKind::Closest;
     const bool shadowed = rays.ray[cs + 1].kind == RayKind::Shadow;
     if (!traced && !shadowed) continue;
-    order_.push_back({traced && h.valid() ? shadeRank_[h.leaf] : kNoHitRank, k});
+    order_.push_back({traced && h.valid() ? shadeRankOf(h.leaf) : kNoHitRank, k});
   }
   // Bench only (bench/texture_cache.sh): RAYES_SHADING_SORT=off shades the paths in id order, to
   // measure what the sort is worth to the texture cache. The image is the same either way:

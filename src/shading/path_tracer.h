@@ -146,7 +146,7 @@ class PathTracer final : public Integrator {
   };
   explicit PathTracer(const ShadingScene& scene) : PathTracer(scene, Options{}) {}
   PathTracer(const ShadingScene& scene, Options options)
-      : scene_(scene), options_(options), shadeRank_(shadeRanks(scene.leafMaterial)),
+      : scene_(scene), options_(options), shadeRank_(scene.leafRows.gated() ? std::vector<uint32_t>{} : shadeRanks(scene.leafMaterial)),
         window_(PixelWindow::whole(scene.width, scene.height)) {}
 
 
@@ -232,7 +232,10 @@ class PathTracer final : public Integrator {
   // path; kNoHitRank (misses, and paths without a closest ray) sorts last.
   static constexpr uint32_t kNoHitRank = 0xffffffffu;
   struct SortItem { uint32_t key; uint32_t path; };
-  std::vector<uint32_t> shadeRank_;
+  std::vector<uint32_t> shadeRank_;  // empty when the scene's rows hold them (a compiled scene)
+  uint32_t shadeRankOf(uint32_t leaf) const {
+    return scene_.leafRows.gated() ? scene_.leafRows[leaf].shadeRank : shadeRank_[leaf];
+  }
   std::vector<SortItem> order_;
   GatherRunner gatherRunner_;
   PathBatch paths_;

@@ -21,7 +21,7 @@ namespace {
 // needs no query at all, so its hits skip the uv set's evaluation (a Bfr face-varying surface on
 // subdivision leaves) and the footprint's solve.
 bool needsQuery(const ShadingScene& scene, const RayHit& h) {
-  return scene.materials[scene.leafMaterial[h.leaf]].textured();
+  return scene.materials[scene.materialOf(h.leaf)].textured();
 }
 bool uvAt(const ShadingScene& scene, const RayHit& h, TexCoordSample& st) {
   if (!scene.texCoords || !scene.texCoords->has(h.leaf)) return false;

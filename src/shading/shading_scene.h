@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <vector>
+#include "core/gated_span.h"
 #include "core/ray_batch.h"
 #include "shading/camera.h"
 #include "shading/light.h"
@@ -22,14 +23,32 @@ struct IntegratorSettings {
   bool deltaTransmittance = false;
 };
 
+// What shading reads of a leaf at a hit, as a compiled scene stores it (one 16-byte row per
+// leaf of the render, the shapes' then the lights': scene/compiled_scene.h).
+struct LeafShadingRow {
+  uint32_t material;
+  float side;         // longest side l of the leaf's box
+  float dicingError;  // C of Patch::dicingErrorCoefficient (bound C / 4^level)
+  uint32_t shadeRank; // shadeRanks(): its place in (material, leaf) order
+};
+static_assert(sizeof(LeafShadingRow) == 16);
+
 struct ShadingScene {
   PerspectiveCamera camera;
   int width = 1, height = 1, samplesPerPixel = 1;
   IntegratorSettings integrator;
   std::vector<Material> materials;
+  // Per leaf: in memory (the JSON route, tests), or, for a compiled scene, the rows below read
+  // in place through the mapping (these three vectors then stay empty). Read them through the
+  // accessors.
   std::vector<uint32_t> leafMaterial;
   std::vector<float> leafSide;         // longest side l of the leaf's box
   std::vector<float> leafDicingError;  // C of Patch::dicingErrorCoefficient (bound C / 4^level)
+  GatedSpan<LeafShadingRow> leafRows;
+  size_t leafCount() const { return leafRows.gated() ? leafRows.size() : leafMaterial.size(); }
+  uint32_t materialOf(uint32_t leaf) const { return leafRows.gated() ? leafRows[leaf].material : leafMaterial[leaf]; }
+  float sideOf(uint32_t leaf) const { return leafRows.gated() ? leafRows[leaf].side : leafSide[leaf]; }
+  float dicingErrorOf(uint32_t leaf) const { return leafRows.gated() ? leafRows[leaf].dicingError : leafDicingError[leaf]; }
   LightSampler lights;
   // The leaves' uv sets (null: no leaf has one; textures read the patch parameters).
   std::shared_ptr<const TexCoordSource> texCoords;

@@ -13,17 +13,25 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "toplevel/toplevel_node.h"
 
 namespace rayes {
 
 using toplevel::Node4;
 
+// Built: the nodes and boxes are owned, and the spans read them ungated. Adopted: the owned
+// vectors stay empty and the spans read the stored tree through its gates.
 struct TopLevelBvh::Impl {
-  std::vector<Node4> nodes;  // depth first, a parent before its children
+  std::vector<Node4> ownedNodes;  // depth first, a parent before its children
+  std::vector<Box3> ownedBoxes;   // what it was built over, by leaf id
+  GatedSpan<Node4> nodes;
+  GatedSpan<Box3> leafBoxes;
   uint32_t root = toplevel::kNoRoot;
   Box3 bounds;
-  std::vector<Box3> leafBoxes;  // what it was built over, by leaf id
+  bool adopted = false;
 };
 
 namespace {
@@ -155,8 +163,8 @@ void TopLevelBvh::build(std::vector<Box3>&& boxes) {
   if (boxes.size() > size_t(toplevel::kMaxLeafId) + 1)
     throw std::length_error("toplevel: too many leaves for 31-bit leaf ids");
   auto impl = std::make_unique<Impl>();
-  impl->leafBoxes = std::move(boxes);
-  const std::span<const Box3> leafBoxes = impl->leafBoxes;
+  impl->ownedBoxes = std::move(boxes);
+  const std::span<const Box3> leafBoxes = impl->ownedBoxes;
 
   std::vector<RTCBuildPrimitive> prims;
   prims.reserve(leafBoxes.size());
@@ -194,10 +202,12 @@ void TopLevelBvh::build(std::vector<Box3>&& boxes) {
     // two never take memory at once (32 + 64 bytes per leaf).
     std::vector<RTCBuildPrimitive>().swap(prims);
 
-    impl->nodes.reserve(leafBoxes.size() / 2 + 1);  // ~n/2 inner nodes measured (at most n-1)
-    impl->root = flatten(root, leafBoxes, impl->nodes, impl->bounds);
-    impl->nodes.shrink_to_fit();
+    impl->ownedNodes.reserve(leafBoxes.size() / 2 + 1);  // ~n/2 inner nodes measured (at most n-1)
+    impl->root = flatten(root, leafBoxes, impl->ownedNodes, impl->bounds);
+    impl->ownedNodes.shrink_to_fit();
   }  // the Embree tree and device are released here
+  impl->nodes = GatedSpan<Node4>(impl->ownedNodes.data(), impl->ownedNodes.size());
+  impl->leafBoxes = GatedSpan<Box3>(impl->ownedBoxes.data(), impl->ownedBoxes.size());
 
   delete impl_;
   impl_ = impl.release();
@@ -247,7 +257,7 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
       const TraversalScratch::Item item = stack.back();
       stack.pop_back();
       if (best.full() && item.entry > best.last().entry) continue;  // the bound has tightened
-      const Node4& node = m.nodes[item.ref];
+      const Node4& node = m.nodes.at(item.ref);
       float childEntry[4], childExit[4];
       unsigned hit = toplevel::intersectChildren(node, q4, tmin, tmax, childEntry, childExit);
       // Inner children go on the stack farthest first, so the nearest is visited next.
@@ -266,8 +276,8 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
       }
       for (int i = 0; i < innerCount; ++i) {
         // Fetched now, used a few iterations later: hides part of the cache miss.
-        __builtin_prefetch(&m.nodes[inner[i].ref].lo);
-        __builtin_prefetch(&m.nodes[inner[i].ref].hi[1]);
+        __builtin_prefetch(&m.nodes.data()[inner[i].ref].lo);
+        __builtin_prefetch(&m.nodes.data()[inner[i].ref].hi[1]);
         stack.push_back(inner[i]);
       }
     }
@@ -289,7 +299,7 @@ bool TopLevelBvh::anyOtherLeafMeets(const Box3& box, uint32_t except) const {
   if (isLeafRef(m.root)) return refLeafId(m.root) != except;
   std::vector<uint32_t> stack{m.root};
   while (!stack.empty()) {
-    const Node4& node = m.nodes[stack.back()];
+    const Node4& node = m.nodes.at(stack.back());
     stack.pop_back();
     for (int i = 0; i < 4; ++i) {
       const uint32_t ref = node.child[i];
@@ -305,10 +315,66 @@ bool TopLevelBvh::anyOtherLeafMeets(const Box3& box, uint32_t except) const {
 
 size_t TopLevelBvh::nodeCount() const { return impl_->nodes.size(); }
 size_t TopLevelBvh::bytes() const {
-  return impl_->nodes.capacity() * sizeof(Node4) + impl_->leafBoxes.capacity() * sizeof(Box3);
+  return impl_->ownedNodes.capacity() * sizeof(Node4) + impl_->ownedBoxes.capacity() * sizeof(Box3);
 }
-std::span<const Box3> TopLevelBvh::leafBoxes() const { return impl_->leafBoxes; }
+GatedSpan<Box3> TopLevelBvh::leafBoxes() const { return impl_->leafBoxes; }
 Box3 TopLevelBvh::bounds() const { return impl_->bounds; }
+bool TopLevelBvh::adopted() const { return impl_->adopted; }
+
+TopLevelBvh::Stored TopLevelBvh::stored() const {
+  static_assert(sizeof(Node4) == kNodeBytes);
+  return {impl_->nodes.data(), impl_->nodes.size(), impl_->root};
+}
+
+void TopLevelBvh::adopt(const void* nodeBytes, size_t nodeCount, const BlockGate* nodeGate, uint64_t nodeOffset,
+                        uint32_t root, GatedSpan<Box3> leafBoxes) {
+  using toplevel::isLeafRef;
+  using toplevel::refLeafId;
+  if (leafBoxes.size() > size_t(toplevel::kMaxLeafId) + 1 || nodeCount >= toplevel::kLeafFlag)
+    throw std::invalid_argument("more leaves or nodes than refs can name");
+  if (reinterpret_cast<uintptr_t>(nodeBytes) % alignof(Node4) != 0) throw std::invalid_argument("the nodes are not aligned");
+  auto impl = std::make_unique<Impl>();
+  impl->adopted = true;
+  impl->nodes = GatedSpan<Node4>(static_cast<const Node4*>(nodeBytes), nodeCount, nodeGate, nodeOffset);
+  impl->leafBoxes = leafBoxes;
+  impl->root = root;
+  const size_t leaves = leafBoxes.size();
+  const auto leafOk = [&](uint32_t ref) { return isLeafRef(ref) && ref != toplevel::kEmptyRef && refLeafId(ref) < leaves; };
+  if (nodeCount == 0 ? root != toplevel::kNoRoot && !leafOk(root) : root != 0)
+    throw std::invalid_argument("root ref " + std::to_string(root) + " with " + std::to_string(nodeCount) + " nodes");
+  // Depth first: every inner child lies after its parent, so refs in range and increasing
+  // make a tree the traversal walks in bounded time; unused slots must be rejected by every
+  // ray (inverted boxes) and name no leaf.
+  const GatedSpan<Node4>& nodes = impl->nodes;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nodeCount, 512), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const Node4& n = nodes.at(k);
+      bool ok = n.count >= 1 && n.count <= 4;
+      for (unsigned i = 0; ok && i < 4; ++i) {
+        const uint32_t ref = n.child[i];
+        if (i < n.count) {
+          ok = isLeafRef(ref) ? leafOk(ref) : ref > k && ref < nodeCount;
+        } else {
+          ok = ref == toplevel::kEmptyRef;
+          for (int a = 0; a < 3; ++a)
+            ok = ok && n.lo[a][i] == std::numeric_limits<float>::infinity() && n.hi[a][i] == -std::numeric_limits<float>::infinity();
+        }
+      }
+      if (!ok) throw std::invalid_argument("node " + std::to_string(k) + " has an impossible child or count");
+    }
+  });
+  // The scene's bounds as flatten() made them: the union of the root's four slots.
+  if (isLeafRef(root)) {
+    if (root != toplevel::kNoRoot) impl->bounds = leafBoxes[refLeafId(root)];
+  } else {
+    const Node4& n = nodes.at(0);
+    for (int i = 0; i < 4; ++i)
+      impl->bounds.extend(Box3{{n.lo[0][i], n.lo[1][i], n.lo[2][i]}, {n.hi[0][i], n.hi[1][i], n.hi[2][i]}});
+  }
+  delete impl_;
+  impl_ = impl.release();
+  leafCount_ = leaves;
+}
 
 void TopLevelBvh::overlapping(const Box3& box, std::vector<uint32_t>& out, TraversalScratch& scratch) const {
   using toplevel::isLeafRef;
@@ -330,7 +396,7 @@ void TopLevelBvh::overlapping(const Box3& box, std::vector<uint32_t>& out, Trave
   while (!stack.empty()) {
     const uint32_t ref = stack.back().ref;
     stack.pop_back();
-    const toplevel::Node4& node = m.nodes[ref];
+    const toplevel::Node4& node = m.nodes.at(ref);
     for (int c = 0; c < 4; ++c) {
       if (node.child[c] == toplevel::kEmptyRef) continue;
       const Box3 child{{node.lo[0][c], node.lo[1][c], node.lo[2][c]}, {node.hi[0][c], node.hi[1][c], node.hi[2][c]}};
@@ -343,7 +409,7 @@ void TopLevelBvh::overlapping(const Box3& box, std::vector<uint32_t>& out, Trave
 }
 
 namespace toplevel {
-std::span<const Node4> Inspector::nodes(const TopLevelBvh& bvh) { return bvh.impl_->nodes; }
+std::span<const Node4> Inspector::nodes(const TopLevelBvh& bvh) { return {bvh.impl_->nodes.data(), bvh.impl_->nodes.size()}; }
 uint32_t Inspector::root(const TopLevelBvh& bvh) { return bvh.impl_->root; }
 }  // namespace toplevel
 

@@ -12,18 +12,21 @@
 // candidates each call returned. Entry distances are bit-identical to intersectBox (core/box.h)
 // on the leaf's box, so callers and tests may compare them exactly.
 //
-// Threads: the BVH is immutable after build(); collect() is const and thread-safe, each thread
-// passing its own TraversalScratch. Memory: 128 bytes per inner node (about n/2 inner nodes
-// for n leaves: SAH leaves many 2- and 3-child nodes near the leaves) and the leaf boxes it was
-// built over (24 bytes per leaf: the one copy of them a render keeps, read by the engine and
-// lbt); no geometry is stored here and nothing of Embree is kept after build(). Node layout:
-// toplevel_node.h.
+// Threads: the BVH is immutable after build() or adopt(); collect() is const and thread-safe,
+// each thread passing its own TraversalScratch. Memory: 128 bytes per inner node (about n/2
+// inner nodes for n leaves: SAH leaves many 2- and 3-child nodes near the leaves) and the leaf
+// boxes it was built over (24 bytes per leaf: the one copy of them a render keeps, read by the
+// engine and lbt); no geometry is stored here and nothing of Embree is kept after build().
+// A tree built earlier and stored (a compiled scene, `rayes compile`) is adopted instead: its
+// nodes and boxes are then read in place through their gates (core/gated_span.h) and this
+// object holds none of them. Node layout: toplevel_node.h.
 #pragma once
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
 #include "core/box.h"
+#include "core/gated_span.h"
 
 namespace rayes {
 
@@ -54,7 +57,26 @@ class TopLevelBvh {
   void build(std::span<const Box3> leafBoxes);
   void build(std::vector<Box3>&& leafBoxes);
   // The boxes of the last build, by leaf id (empty ones included).
-  std::span<const Box3> leafBoxes() const;
+  GatedSpan<Box3> leafBoxes() const;
+
+  // The tree to store: `nodeCount` nodes of kNodeBytes each at `nodes`, depth first (a parent
+  // before its children, the root first), and the root's ref. Valid until the next build.
+  static constexpr size_t kNodeBytes = 128;
+  struct Stored {
+    const void* nodes = nullptr;
+    size_t nodeCount = 0;
+    uint32_t root = 0;
+  };
+  Stored stored() const;
+  // Takes a stored tree over `leafBoxes` in place, read through `nodeGate` (may be null):
+  // the same traversal, the same candidates in the same order as the tree that was stored.
+  // Every node is checked once here (a child after its parent and in range, a leaf id below
+  // leafBoxes.size(), unused slots empty), so that no stored tree, however made, leads the
+  // traversal out of bounds or into a loop: std::invalid_argument naming the node otherwise.
+  // `nodeOffset`: where the first node lies in the gate's range.
+  void adopt(const void* nodes, size_t nodeCount, const BlockGate* nodeGate, uint64_t nodeOffset, uint32_t root,
+             GatedSpan<Box3> leafBoxes);
+  bool adopted() const;
 
   // See the contract above. Start a trace with resumeEntry = -inf (any resumeLeaf); tmin must
   // be finite (entries are clamped to it, so they then exceed -inf). Returns the number of
@@ -72,7 +94,7 @@ class TopLevelBvh {
 
   size_t leafCount() const { return leafCount_; }  // leaf ids, empty boxes included
   size_t nodeCount() const;
-  size_t bytes() const;     // memory held by the nodes and the leaf boxes
+  size_t bytes() const;     // memory held by the nodes and the leaf boxes (0 when adopted: they are the mapping's)
   Box3 bounds() const;      // scene bounds (union of all leaf boxes)
 
  private:

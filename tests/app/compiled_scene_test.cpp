@@ -158,6 +158,39 @@ TEST_F(CompiledScene, RendersWithinSceneMemoryAndEqualsTheJson) {
   }
 }
 
+// The top level is built by `rayes compile` and read in place by the render: no top level in
+// the render's own memory, its nodes paged under --scene-memory like the records (a budget
+// smaller than the nodes alone), every node read at least once (adoption checks them all), and
+// the image of the JSON route, whose render builds its own tree.
+TEST_F(CompiledScene, TheStoredTopLevelIsReadInPlaceUnderSceneMemory) {
+  const std::string json = temp_.write("forest.json", R"({
+    "camera": {"position": [0, 6, 30], "look_at": [0, 3, 0], "fov": 50},
+    "film": {"resolution": [40, 30], "spp": 1},
+    "integrator": {"max_depth": 2},
+    "materials": {"m": {"type": "diffuse", "albedo": [0.5, 0.4, 0.3]}},
+    "shapes": [{"type": "forest", "trees": 64, "seed": 9, "detail": 3, "area": 24, "terrain_tiles": 8,
+                "materials": {"terrain": "m", "bark": "m", "foliage": "m"}}],
+    "lights": [{"type": "distant", "direction": [0.4, 0.8, 0.45], "irradiance": [3, 3, 3]}]})");
+  const std::string compiled = compile(json, "forest");
+  uint64_t topBytes = 0;
+  {
+    MappedFile probe(compiled, 0);
+    topBytes = probe.sectionBytes(compiled::SectionKind::TopLevel);
+  }
+  const uint64_t budget = uint64_t(1) << 20;
+  ASSERT_GE(topBytes, 2 * budget) << "the nodes alone must exceed the budget";
+  const std::string reference = render(json, "json", {"--stats", temp_.path("sj.json")});
+  EXPECT_TRUE(render(compiled, "c", {"--scene-memory", "1M", "--stats", temp_.path("sc.json")}) == reference);
+  std::ifstream inJson(temp_.path("sj.json")), inCompiled(temp_.path("sc.json"));
+  const auto sj = nlohmann::json::parse(inJson), sc = nlohmann::json::parse(inCompiled);
+  EXPECT_GT(sj["memory"]["by_owner"]["top_level"].get<uint64_t>(), topBytes / 2) << "the JSON route builds its own";
+  EXPECT_EQ(sc["memory"]["by_owner"]["top_level"].get<uint64_t>(), 0u);
+  const auto c = sc["scene"]["compiled"];
+  EXPECT_EQ(c["top_level"], "stored");
+  EXPECT_GE(c["bytes_read"].get<uint64_t>(), topBytes);
+  EXPECT_LE(c["resident_peak_bytes"].get<uint64_t>(), budget);
+}
+
 // Batch jobs take a compiled scene too: its films' fingerprint names it by its header block
 // (whose CRC covers every block's), so parts merge to the whole render's bits.
 TEST_F(CompiledScene, PartsOfACompiledRenderMergeToTheWholeRender) {
@@ -200,6 +233,12 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
       {"block", bytes, "section records, block 0 (leaf "},
       // A file of format version 1 (no uv sets, meshes or height maps): refused, both versions named.
       {"version-1", bytes, "header: format version 1, written by rayes"},
+      // Version 2 had no stored top level.
+      {"version-2", bytes, "header: format version 2, written by rayes"},
+      // The stored top level: every node is checked at load.
+      {"top-level-block", bytes, "section top_level, block 0"},
+      // Shading's per-leaf rows: every row is checked at load.
+      {"shading-block", bytes, "section leaf_shading, block 0"},
       {"mesh-block", uvBytes, "section meshes, block 0 (topology 0)"},
       {"uv-block", uvBytes, "section uv_sets, block 0 (leaf "},
       {"uv-truncated", uvBytes.substr(0, uvSets + 100), "header: truncated or extended"},
@@ -208,8 +247,11 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   cases[3].content[90] ^= 1;
   cases[4].content[records + 3] ^= 1;
   cases[5].content[8] = 1;
-  cases[6].content[meshes + 5] ^= 1;
-  cases[7].content[uvSets + 3] ^= 1;
+  cases[6].content[8] = 2;
+  cases[7].content[sectionOffset(good, compiled::SectionKind::TopLevel) + 200] ^= 1;
+  cases[8].content[sectionOffset(good, compiled::SectionKind::LeafShading) + 5] ^= 1;
+  cases[9].content[meshes + 5] ^= 1;
+  cases[10].content[uvSets + 3] ^= 1;
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     testing::TempFolder t;
@@ -219,8 +261,8 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find(scene + ":"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(c.place), std::string::npos) << r.err;
-    if (std::string(c.name) == "version-1") {
-      EXPECT_NE(r.err.find("this program reads version 2"), std::string::npos) << r.err;
+    if (std::string(c.name).rfind("version-", 0) == 0) {
+      EXPECT_NE(r.err.find("this program reads version 3"), std::string::npos) << r.err;
     }
     EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
     EXPECT_EQ(t.entries(), std::vector<std::string>{std::string(c.name) + ".rayes"}) << "something was written";

@@ -80,7 +80,7 @@ double exactMirror(double x, double y) {
 
 TEST(BeamGather, PlanarMirrorIrradianceInsideTheFootprintAndZeroOutside) {
   const Ceiling ceiling(16, 4);
-  const BeamStore store(mirrorBeams(32, 0), ceiling.top, ceiling.boxes, size_t(1) << 30);
+  const BeamStore store(mirrorBeams(32, 0), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 30);
   // Each beam's flux triangle is exact for a point source; what differs from the closed form
   // is that Ω/A⊥ and the cosine are taken at one blended direction per triangle: a relative
   // error of the order of the cell's angular size squared, (2/32)² / 3 ≈ 1.3e-3.
@@ -109,16 +109,16 @@ double totalFlux(const BeamStore& store, const Ceiling& c, float half, int n) {
 TEST(BeamGather, TotalFluxOnALargeReceiverIsRhoPhiForSpecularAndGlossyBeams) {
   const double expected = kRho * kI * 2 * kPi / 3;
   const Ceiling ceiling(16, 4.5f);
-  const BeamStore specular(mirrorBeams(16, 0), ceiling.top, ceiling.boxes, size_t(1) << 30);
+  const BeamStore specular(mirrorBeams(16, 0), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 30);
   EXPECT_NEAR(totalFlux(specular, ceiling, 3.0f, 150), expected, 0.01 * expected);
-  const BeamStore glossy(mirrorBeams(16, 0.05f), ceiling.top, ceiling.boxes, size_t(1) << 30);
+  const BeamStore glossy(mirrorBeams(16, 0.05f), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 30);
   EXPECT_NEAR(totalFlux(glossy, ceiling, 4.5f, 120), expected, 0.01 * expected);
 }
 
 TEST(BeamGather, GlossyTendsToSpecularAwayFromEdges) {
   const Ceiling ceiling(8, 4);
-  const BeamStore specular(mirrorBeams(8, 0), ceiling.top, ceiling.boxes, size_t(1) << 30);
-  const BeamStore glossy(mirrorBeams(8, 1e-5f), ceiling.top, ceiling.boxes, size_t(1) << 30);
+  const BeamStore specular(mirrorBeams(8, 0), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 30);
+  const BeamStore glossy(mirrorBeams(8, 1e-5f), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 30);
   // Points well inside flux triangles (cells of the 8×8 grid are 0.75 wide on the ceiling):
   // the lobe's mass outside is below Q(100): nothing.
   for (float x : {0.2f, -1.1f, 1.9f})
@@ -130,7 +130,7 @@ TEST(BeamGather, GlossyTendsToSpecularAwayFromEdges) {
 
 TEST(BeamGather, NoJumpAcrossAGlossyFluxTriangleEdge) {
   const Ceiling ceiling(8, 4);
-  const BeamStore glossy(mirrorBeams(8, 0.02f), ceiling.top, ceiling.boxes, size_t(1) << 30);
+  const BeamStore glossy(mirrorBeams(8, 0.02f), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 30);
   // The cell edge x = 0 (mirror x = 0 maps to ceiling x = 0): E on both sides agrees to first
   // order in the step (E is smooth there: relative slope ~ 1 per unit length).
   const double left = irradiance(glossy, ceiling, -1e-4f, 0.4f), right = irradiance(glossy, ceiling, 1e-4f, 0.4f);
@@ -320,7 +320,7 @@ TEST(BeamStore, GatherSumsExactlyTheSegmentsInReachWithTheFilterAskedFirst) {
     beams.push_back(focus);
     beams[3].scatterings = 2;
     const Ceiling ceiling(4, 4);
-    const BeamStore store(beams, ceiling.top, ceiling.boxes, size_t(1) << 24);
+    const BeamStore store(beams, ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 24);
     std::vector<Vec3> points;
     uint32_t state = 12345;
     auto uniform = [&] { return (state = state * 1664525u + 1013904223u) / 4294967296.0f; };
@@ -353,8 +353,8 @@ TEST(BeamStore, GatherSumsExactlyTheSegmentsInReachWithTheFilterAskedFirst) {
 
 TEST(BeamStore, RefusesABudgetTooSmallForOneBeam) {
   const Ceiling ceiling(4, 4);
-  EXPECT_THROW(BeamStore(mirrorBeams(2, 0), ceiling.top, ceiling.boxes, 64), InputError);
-  EXPECT_NO_THROW(BeamStore(mirrorBeams(2, 0), ceiling.top, ceiling.boxes, size_t(1) << 20));
+  EXPECT_THROW(BeamStore(mirrorBeams(2, 0), ceiling.top, ceiling.top.leafBoxes(), 64), InputError);
+  EXPECT_NO_THROW(BeamStore(mirrorBeams(2, 0), ceiling.top, ceiling.top.leafBoxes(), size_t(1) << 20));
 }
 
 }  // namespace

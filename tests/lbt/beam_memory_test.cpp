@@ -93,7 +93,7 @@ TEST(BeamMemory, AStoresAllocationsStayWithinWhatItTakesFromTheAccount) {
     peakLiveBytes.store(before);
     size_t entries = 0, held = 0, transient = 0;
     {
-      const BeamStore store(std::move(segments), top, boxes, account.limit(), {}, 1 << 30, &account);
+      const BeamStore store(std::move(segments), top, top.leafBoxes(), account.limit(), {}, 1 << 30, &account);
       ASSERT_TRUE(store.fits());
       entries = store.binEntries();
       // The segments came in with the store (allocated before, not on this account).

@@ -76,7 +76,7 @@ TreeStats checkTree(const TopLevelBvh& bvh, const std::vector<Box3>& boxes) {
   EXPECT_EQ(bvh.bytes(), bvh.nodeCount() * sizeof(Node4) + boxes.size() * sizeof(Box3));
   EXPECT_EQ(bvh.leafBoxes().size(), boxes.size());
   for (size_t i = 0; i < boxes.size() && i < bvh.leafBoxes().size(); ++i)
-    EXPECT_EQ(std::memcmp(&bvh.leafBoxes()[i], &boxes[i], sizeof(Box3)), 0) << "leaf " << i;
+    EXPECT_EQ(std::memcmp(&bvh.leafBoxes().at(i), &boxes[i], sizeof(Box3)), 0) << "leaf " << i;
   EXPECT_EQ(bvh.leafCount(), boxes.size());
   return stats;
 }
