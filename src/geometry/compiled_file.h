@@ -39,8 +39,11 @@ constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
 // Version 2: sections Scene, Materials, Leaves, Records, Meshes (when a leaf is a subdivision
 // face), UvSets (when a leaf has a uv set that a texture reads), Checksums; records of
 // subdivision faces and height-map displacement (version 1 had neither, nor the two sections).
+// Version 3: the same sections; every position is in the render frame of the scene's camera
+// (scene/scene.h, RenderFrame), whose world position the Scene section records ("frame_origin");
+// version 2's leaves were in world coordinates.
 // A new section kind or a changed record is a new version; readers refuse others.
-constexpr uint32_t kFormatVersion = 2;
+constexpr uint32_t kFormatVersion = 3;
 constexpr uint64_t kPageBytes = 4096;
 constexpr uint64_t kBlockBytes = 64 * 1024;  // a multiple of the page: released whole
 constexpr int kMaxSections = 16;

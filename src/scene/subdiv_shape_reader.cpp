@@ -181,7 +181,7 @@ ShapeSource readSubdivShape(const ShapeContext& ctx) {
   }
   return {{"file", "scheme", "boundary", "uv_interpolation", "vertices", "faces", "creases", "corners", "holes", "uvs",
            "uv_faces"},
-          [topo, positions](const Transform& xf) {
+          [topo, positions](const TransformD& xf) {
             std::vector<Vec3> pts(positions->size());
             for (size_t k = 0; k < pts.size(); ++k) pts[k] = xf.point((*positions)[k]);
             return SubdivMesh::build(topo, std::move(pts))->patches();

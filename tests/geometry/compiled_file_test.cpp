@@ -92,13 +92,13 @@ TEST(CompiledFile, RefusesWhatIsNotOne) {
 TEST(CompiledFile, RefusesAnotherVersionNamingIt) {
   testing::TempFolder t;
   const std::string path = writeSample(t);
-  // The format version's low byte: a file of version 1 (no meshes, uv sets or height maps)
-  // and one of a later version.
-  for (char version : {1, 3}) {
+  // The format version's low byte: a file of version 2 (leaves in world coordinates, not in
+  // the camera's render frame) and one of a later version.
+  for (char version : {2, 4}) {
     patch(path, 8, version);
     const std::string e = openError(path);
     EXPECT_NE(e.find(":header: format version " + std::to_string(int(version))), std::string::npos) << e;
-    EXPECT_NE(e.find("reads version 2"), std::string::npos) << e;
+    EXPECT_NE(e.find("reads version 3"), std::string::npos) << e;
   }
 }
 
