@@ -38,7 +38,9 @@ uint32_t emissiveMaterial(Scene& scene, const std::string& name, Rgb radiance, b
 bool facesAwayFrom(const Box3& shapes, Vec3 center, Vec3 normal) {
   if (shapes.empty()) return false;
   const Vec3 e = shapes.extent();
-  const float tolerance = 1e-6f * std::max({e.x, e.y, e.z, length(center - shapes.center())});
+  // Leaf boxes are grown by a few ulps of their coordinates (up to γ(8) + 2^-24 of their
+  // magnitude: a bilinear patch's), which in the render frame is their distance from the camera.
+  const float tolerance = 1e-6f * std::max({e.x, e.y, e.z, length(center - shapes.center()), shapes.magnitude()});
   for (int k = 0; k < 8; ++k) {
     const Vec3 corner{k & 1 ? shapes.hi.x : shapes.lo.x, k & 2 ? shapes.hi.y : shapes.lo.y, k & 4 ? shapes.hi.z : shapes.lo.z};
     if (dot(corner - center, normal) > tolerance) return false;

@@ -198,8 +198,9 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
       {"header", bytes, "header: checksum mismatch"},
       // A record block: the bilinear leaves are read first when diced, mid-render.
       {"block", bytes, "section records, block 0 (leaf "},
-      // A file of format version 1 (no uv sets, meshes or height maps): refused, both versions named.
-      {"version-1", bytes, "header: format version 1, written by rayes"},
+      // A file of format version 2 (its leaves in world coordinates, not in the camera's render
+      // frame): refused, both versions named.
+      {"version-2", bytes, "header: format version 2, written by rayes"},
       {"mesh-block", uvBytes, "section meshes, block 0 (topology 0)"},
       {"uv-block", uvBytes, "section uv_sets, block 0 (leaf "},
       {"uv-truncated", uvBytes.substr(0, uvSets + 100), "header: truncated or extended"},
@@ -207,7 +208,7 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   cases[2].content[8] = 7;
   cases[3].content[90] ^= 1;
   cases[4].content[records + 3] ^= 1;
-  cases[5].content[8] = 1;
+  cases[5].content[8] = 2;
   cases[6].content[meshes + 5] ^= 1;
   cases[7].content[uvSets + 3] ^= 1;
   for (const Case& c : cases) {
@@ -219,8 +220,8 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
     EXPECT_EQ(r.code, 2) << r.err;
     EXPECT_NE(r.err.find(scene + ":"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(c.place), std::string::npos) << r.err;
-    if (std::string(c.name) == "version-1") {
-      EXPECT_NE(r.err.find("this program reads version 2"), std::string::npos) << r.err;
+    if (std::string(c.name) == "version-2") {
+      EXPECT_NE(r.err.find("this program reads version 3"), std::string::npos) << r.err;
     }
     EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
     EXPECT_EQ(t.entries(), std::vector<std::string>{std::string(c.name) + ".rayes"}) << "something was written";
