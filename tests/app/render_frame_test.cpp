@@ -41,9 +41,10 @@ INSTANTIATE_TEST_SUITE_P(Scenes, ShippedScene, ::testing::ValuesIn(allShippedSce
   return n;
 });
 
-// Positions are moved into the frame in double: a quad written 10^7 out, with the camera beside
-// it, lands on the same floats as the quad written near the origin with its camera there (float
-// spacing at 10^7 is 1, which would round the quad away entirely). The stats name the frame.
+// Positions are moved into the frame in double: a quad, a Bézier patch placed by a transform, a
+// subdivision mesh and the lights written 10^7 out, with the camera beside them, land on the same
+// floats as when written near the origin with the camera there (float spacing at 10^7 is 1,
+// which would round the quad away entirely). The stats name the frame.
 TEST(RenderFrame, PositionsAreCameraRelativeInDouble) {
   const auto text = [](double o) {
     const auto p = [&](double x, double y, double z) {
@@ -55,7 +56,9 @@ TEST(RenderFrame, PositionsAreCameraRelativeInDouble) {
            p(0, 0, 1) + ", " + p(0.5, 0, 1) + R"(]]},
                  {"type": "bezier", "material": "m", "transform": [{"translate": )" + p(0, 1, 0) + R"(}],
                   "patches": [[[0,0,0],[1,0,0],[2,0,0],[3,0,0],[0,1,0],[1,1,1],[2,1,1],[3,1,0],
-                               [0,2,0],[1,2,1],[2,2,1],[3,2,0],[0,3,0],[1,3,0],[2,3,0],[3,3,0]]]}],
+                               [0,2,0],[1,2,1],[2,2,1],[3,2,0],[0,3,0],[1,3,0],[2,3,0],[3,3,0]]]},
+                 {"type": "subdiv", "material": "m", "vertices": [)" + p(0, 5, 0) + ", " + p(1, 5, 0) + ", " +
+           p(1, 6, 0.5) + ", " + p(0, 6, 0) + R"(], "faces": [[0, 1, 2, 3]]}],
       "lights": [{"type": "point", "position": )" + p(1, -1, 2) + R"(, "intensity": 1},
                  {"type": "rect", "corner": )" + p(0, 0, 3) + R"(, "edge_u": [1, 0, 0], "edge_v": [0, 1, 0], "radiance": 1}]})";
   };
