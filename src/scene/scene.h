@@ -29,6 +29,8 @@ namespace rayes {
 struct RenderFrame {
   Vec3d origin;  // in world coordinates
   Vec3 point(Vec3d world) const { return (world - origin).toFloat(); }
+  // A render-frame point back in world coordinates (for checks against world-space formulas).
+  Vec3 toWorld(Vec3 p) const { return (Vec3d(p) + origin).toFloat(); }
   // World -> render frame, to compose after a shape's own transform.
   TransformD fromWorld() const { return TransformD::translate(-origin.x, -origin.y, -origin.z); }
 };
