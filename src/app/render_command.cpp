@@ -127,13 +127,14 @@ int runRender(const RenderArgs& a) {
 
   live.setPhase(Phase::BuildingTopLevel);
   Renderer renderer(scene, options);
-  // Not silenced by --quiet: a scene far from the origin for its size is the one case where
-  // the image can differ from the same scene near the origin with no other sign.
+  // Not silenced by --quiet: a scene far from the camera for its size is the one case where
+  // the image can differ from the same scene near the camera with no other sign.
   if (const SceneFeatures& f = renderer.stats().features; f.lowPrecisionLeaves > 0)
     std::fprintf(stderr,
-                 "rayes: warning: %s: %llu of %zu leaves lie far from the origin for their size (float spacing up to "
-                 "%.3g of a leaf, above 2^-16): the image may differ from the same scene near the origin by more "
-                 "than rounding (docs/design.md, \"Precision\"); move the scene nearer the origin\n",
+                 "rayes: warning: %s: %llu of %zu leaves lie far from the camera for their size (float spacing up to "
+                 "%.3g of a leaf, above 2^-16 of it and 2^-8 of a pixel's footprint there): the image may differ "
+                 "from the same view nearer the camera by more than rounding (docs/design.md, \"Precision\"); "
+                 "move the camera nearer or scale the scene up\n",
                  a.scene.c_str(), (unsigned long long)f.lowPrecisionLeaves, scene.leaves.size(), f.coarsestRelativeSpacing);
   const FilmFileHeader header =
       resumable || filmOut ? filmHeader("film", a.scene, scene, options, renderer) : FilmFileHeader{};

@@ -1,8 +1,10 @@
 #include "app/render_data.h"
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <cstring>
 #include <map>
+#include <numbers>
 #include <stdexcept>
 #include "core/error.h"
 #include <tbb/blocked_range.h>
@@ -12,14 +14,13 @@ namespace rayes {
 namespace {
 
 // The per-leaf counts, one leaf at a time (facts are not kept: 32 bytes a leaf).
-void countLeaf(SceneFeatures& f, const LeafFacts& facts, const Box3& box) {
+void countLeaf(SceneFeatures& f, const LeafFacts& facts, const Box3& box, Vec3 camera, float pixelSpread) {
   f.movingLeaves += facts.timeSamples > 1;
   f.displacedLeaves += facts.displaced;
   f.subdivisionLeaves += facts.subdivision;
   f.borderClosureLeaves += facts.borderClosure;
-  const float spacing = box.relativeSpacing();
-  f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(spacing));
-  f.lowPrecisionLeaves += spacing > 0x1p-16f;
+  f.coarsestRelativeSpacing = std::max(f.coarsestRelativeSpacing, double(box.relativeSpacing()));
+  f.lowPrecisionLeaves += isLowPrecisionLeaf(box, camera, pixelSpread);
 }
 
 void countScene(SceneFeatures& f, const Scene& scene) {
@@ -41,6 +42,19 @@ void countScene(SceneFeatures& f, const Scene& scene) {
 }
 
 }  // namespace
+
+bool isLowPrecisionLeaf(const Box3& box, Vec3 camera, float pixelSpread) {
+  if (box.empty()) return false;
+  const double ulp = double(box.magnitude()) * 0x1p-23;  // at least the float spacing of every coordinate
+  if (!(ulp > 0x1p-16 * double(box.longestSide()))) return false;
+  // The camera's distance to the box (0 inside it), in double: the footprint's lower bound.
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double c = camera[k], gap = std::max({double(box.lo[k]) - c, c - double(box.hi[k]), 0.0});
+    d2 += gap * gap;
+  }
+  return ulp > 0x1p-8 * double(pixelSpread) * std::sqrt(d2);
+}
 
 std::vector<PatchLight> patchLightsOf(const Scene& scene) {
   std::vector<PatchLight> lights;
@@ -121,6 +135,8 @@ RenderData::RenderData(const Scene& scene) {
   // of leaves at a time, so that they never take 32 bytes a leaf at once (10 M leaves: 326 MB
   // beside the top level's build); only the dicing error is kept per leaf.
   constexpr size_t kChunk = size_t(1) << 16;
+  const float pixelSpread =
+      2.0f * std::tan(0.5f * scene.camera.fovYDegrees * std::numbers::pi_v<float> / 180.0f) / float(scene.height);
   std::vector<LeafFacts> facts;
   std::vector<Box3> chunkBoxes;
   Box3 all;  // the union of the leaves' boxes, in leaf order
@@ -152,7 +168,7 @@ RenderData::RenderData(const Scene& scene) {
       const LeafFacts& f = facts[i - c0];
       if (kind != f.kind) kind = f.kind;  // leaves of a kind come in runs: no string made per leaf
       ++kinds[kind];
-      countLeaf(features, f, chunkBoxes[i - c0]);
+      countLeaf(features, f, chunkBoxes[i - c0], scene.camera.position, pixelSpread);
       if (!rowsStored) shading.leafDicingError[i] = f.dicingError;
       if (adopted && !rowsStored) shading.leafSide[i] = chunkBoxes[i - c0].longestSide();
       all.extend(chunkBoxes[i - c0]);

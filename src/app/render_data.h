@@ -31,9 +31,9 @@ struct SceneFeatures {
   // Materials that read a texture: only then do the ray batches keep the surface derivatives
   // at the hits that filtering takes (RayBatch::derivatives).
   uint64_t texturedMaterials = 0;
-  // Precision (docs/design.md): the coarsest float spacing over a leaf's size (the loader
-  // refuses beyond 2^-8), and the leaves coarser than 2^-16, whose images may differ from the
-  // same scene near the origin by more than rounding noise.
+  // Precision (docs/design.md, "Precision"): the coarsest float spacing over a leaf's size (the
+  // loader refuses beyond 2^-8; in the render frame, whose origin is the camera), and the leaves
+  // float does not resolve finely enough for the image (isLowPrecisionLeaf).
   double coarsestRelativeSpacing = 0;
   uint64_t lowPrecisionLeaves = 0;
   // Volumes (Scene::media): their bricks, the voxels read into them, their bytes, and the load time.
@@ -56,6 +56,17 @@ struct RenderData {
   // count in the top level).
   size_t leafTableBytes() const;
 };
+
+// Whether float resolves a leaf too coarsely for the image (docs/design.md, "Where float
+// resolves a leaf"): its float spacing (magnitude * 2^-23, the leaf's coordinates in the render
+// frame) exceeds both 2^-16 of the leaf's longest side and 2^-8 of a camera pixel's footprint at
+// the leaf (pixelSpread, the angle of a pixel, times the camera's distance to the box). The
+// first alone flags every small leaf far from the camera; but a leaf at distance d is seen
+// through footprints at least pixelSpread * d wide (cones only widen along a path), its float
+// spacing is about d * 2^-23 there, so its rounding is a fixed 2^-23 / pixelSpread of a pixel,
+// whatever d: at 768 rows and 40 degrees, 2^-13 of a pixel. Finite for every box: a point
+// (side 0) or the camera inside the box falls back on the first rule alone.
+bool isLowPrecisionLeaf(const Box3& box, Vec3 camera, float pixelSpread);
 
 // Every emissive patch is an area light; shading sees it only through its surface function.
 std::vector<PatchLight> patchLightsOf(const Scene& scene);

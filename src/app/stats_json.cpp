@@ -16,6 +16,9 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   json kinds = json::object();
   for (const auto& [k, n] : s.leafKinds) kinds[k] = n;
   j["scene"]["leaf_kinds"] = kinds;
+  // Every position the render works with is relative to this world point (the camera's):
+  // Scene::frame, docs/design.md "The render frame".
+  j["scene"]["render_frame_origin"] = {scene.frame.origin.x, scene.frame.origin.y, scene.frame.origin.z};
   if (scene.compiled) {
     const MappedFileStats m = scene.compiled->stats();
     j["scene"]["compiled"] = {{"bytes_mapped", m.bytesMapped},     {"resident_peak_bytes", m.residentPeak},

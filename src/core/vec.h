@@ -48,6 +48,28 @@ inline float maxComponent(Vec3 a) { return std::max(a.x, std::max(a.y, a.z)); }
 inline int maxDimension(Vec3 a) { return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2); }
 inline bool isFinite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 
+// A point or offset in double: scene descriptions (positions read from a scene file, the
+// render frame's origin) before they are brought into the render frame and rounded to float
+// (scene/scene.h, RenderFrame). Nothing at render time uses it.
+struct Vec3d {
+  double x = 0, y = 0, z = 0;
+  constexpr Vec3d() = default;
+  constexpr Vec3d(double a, double b, double c) : x(a), y(b), z(c) {}
+  constexpr explicit Vec3d(Vec3 v) : x(v.x), y(v.y), z(v.z) {}
+  constexpr double operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
+  // Rounded once per coordinate to the nearest float.
+  constexpr Vec3 toFloat() const { return {float(x), float(y), float(z)}; }
+};
+constexpr Vec3d operator+(Vec3d a, Vec3d b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+constexpr Vec3d operator-(Vec3d a, Vec3d b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+constexpr Vec3d operator*(Vec3d a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+constexpr bool operator==(Vec3d a, Vec3d b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+constexpr double dot(Vec3d a, Vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double length(Vec3d a) { return std::sqrt(dot(a, a)); }
+constexpr Vec3d cross(Vec3d a, Vec3d b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
 // An orthonormal basis around a unit normal (Duff et al. 2017): branch-free, finite for every
 // unit n, including n = (0,0,-1).
 inline void orthonormalBasis(Vec3 n, Vec3& t, Vec3& b) {

@@ -45,9 +45,11 @@ namespace compiled {
 constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
 // Version 3: sections Scene, Materials, Records, Leaves, Meshes (when a leaf is a subdivision
 // face), UvSets (when a leaf has a uv set that a texture reads), TopLevel, LeafBoxes and
-// LeafShading, Checksums. Version 2 had no top level (the render built it); version 1 no subdivision faces,
-// height maps or uv sets. A new section kind or a changed record is a new version; readers
-// refuse others.
+// LeafShading, Checksums; every position is in the render frame of the scene's camera
+// (scene/scene.h, RenderFrame), whose world position the Scene section records ("frame_origin").
+// Version 2 had no top level (the render built it) and its leaves were in world coordinates;
+// version 1 had no subdivision faces, height maps or uv sets. A new section kind or a changed
+// record is a new version; readers refuse others.
 constexpr uint32_t kFormatVersion = 3;
 constexpr uint64_t kPageBytes = 4096;
 constexpr uint64_t kBlockBytes = 64 * 1024;  // a multiple of the page: released whole

@@ -1,4 +1,5 @@
 #include "scene/compiled_scene.h"
+#include <array>
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -119,7 +120,10 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
                                  {"text", doc.dump()},
                                  {"kinds", kinds},
                                  {"leaves", n},
-                                 {"uv_sets_dropped", scene.uvSetsDropped}};
+                                 {"uv_sets_dropped", scene.uvSetsDropped},
+                                 // The leaves are in the render frame of this origin (RenderFrame);
+                                 // the load checks that the text's camera gives the same one.
+                                 {"frame_origin", {scene.frame.origin.x, scene.frame.origin.y, scene.frame.origin.z}}};
 
   // The Meshes section, built first (its index goes into the Scene section): each topology's
   // record, then each mesh's control points.
@@ -313,6 +317,13 @@ Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const 
     // for before this.
     loadHeightMaps(path, section, source, scene, *tables);
     scene.uvSetsDropped = section.at("uv_sets_dropped").get<bool>();
+    // The records were placed relative to the camera the text names; a text whose camera lies
+    // elsewhere would put the lights and the camera in another frame than the leaves.
+    const auto origin = section.at("frame_origin").get<std::array<double, 3>>();
+    if (Vec3d{origin[0], origin[1], origin[2]} != scene.frame.origin)
+      throw InputError(path, "section scene", "the leaves were compiled in the render frame of a camera at (" +
+                                                  std::to_string(origin[0]) + ", " + std::to_string(origin[1]) + ", " +
+                                                  std::to_string(origin[2]) + "), not the scene's camera: the file is corrupt");
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "section scene", std::string("not the scene's JSON: ") + e.what());
   }

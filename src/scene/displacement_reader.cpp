@@ -113,12 +113,11 @@ DisplacementPtr readDisplacement(const ShapeContext& ctx, Scene& scene) {
   r.fail(p + "/type", "unknown displacement type '" + type + "' (expected image, noise)");
 }
 
-std::vector<PatchPtr> displacePatches(const DisplacementPtr& d, const ShapeSource& source, const Transform& xf,
+std::vector<PatchPtr> displacePatches(const DisplacementPtr& d, const ShapeSource& source, const TransformD& xf,
                                       std::vector<PatchPtr> patches) {
   if (!d) return patches;
-  const Transform identity;
-  const bool transformed = std::memcmp(xf.m, identity.m, sizeof identity.m) != 0;
-  const std::vector<PatchPtr> reference = transformed ? source.build(identity) : patches;
+  const bool transformed = !xf.isIdentity();
+  const std::vector<PatchPtr> reference = transformed ? source.build(TransformD{}) : patches;
   for (size_t k = 0; k < patches.size(); ++k)
     patches[k] = std::make_shared<DisplacedPatch>(patches[k], d, transformed ? reference[k] : nullptr);
   return patches;

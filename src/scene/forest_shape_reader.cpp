@@ -23,7 +23,7 @@ uint64_t maxForestLeaves(const MemoryLimit& limit) {
 
 // {"type": "forest", "trees": N, "seed": S, "detail": D, "area": A, ...,
 //  "materials": {"bark": ..., "foliage": ..., "terrain": ...}} (docs/scene-format.md). A forest
-// lies in world space: it takes no transform, displacement or motion.
+// takes a similarity "transform", but no displacement or motion.
 void readForestShape(const JsonReader& r, const json& shape, const std::string& p, Scene& scene,
                      const MaterialIndex& materials) {
   r.object(shape, p, {"type", "trees", "seed", "detail", "branching", "area", "tree_height", "terrain_tiles",
@@ -55,8 +55,12 @@ void readForestShape(const JsonReader& r, const json& shape, const std::string& 
   fp.treeHeight = positive("tree_height", fp.treeHeight, false);
   fp.terrainTiles = integerIn("terrain_tiles", 1, ForestParams::kMaxTerrainTiles, fp.terrainTiles);
   fp.terrainAmplitude = positive("terrain_amplitude", fp.terrainAmplitude, true);
-  if (shape.contains("transform")) {
-    fp.placement = readTransform(r, shape["transform"], p + "/transform");
+  {
+    // The placement is the forest's world transform followed by the move into the render frame,
+    // composed in double and rounded once (RenderFrame): the forest's records are generated
+    // unplaced and placed relative to the camera.
+    const TransformD world = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : TransformD{};
+    fp.placement = Transform(scene.frame.fromWorld() * world);
     try {
       Forest::placementScale(fp.placement);
     } catch (const std::invalid_argument& e) {

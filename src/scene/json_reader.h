@@ -72,6 +72,11 @@ class JsonReader {
     if (!j.is_array() || j.size() != 3) fail(ptr, "expected an array of 3 numbers");
     return {float(number(j[0], ptr + "/0")), float(number(j[1], ptr + "/1")), float(number(j[2], ptr + "/2"))};
   }
+  // A position, kept in double until the render frame (scene/scene.h, RenderFrame) is applied.
+  Vec3d vec3d(const json& j, const std::string& ptr) const {
+    if (!j.is_array() || j.size() != 3) fail(ptr, "expected an array of 3 numbers");
+    return {number(j[0], ptr + "/0"), number(j[1], ptr + "/1"), number(j[2], ptr + "/2")};
+  }
   Rgb color(const json& j, const std::string& ptr, bool atMostOne) const {
     const Rgb c = j.is_number() ? Rgb{float(number(j, ptr)), float(number(j, ptr)), float(number(j, ptr))}
                                 : vec3(j, ptr);

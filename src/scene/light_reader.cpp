@@ -38,7 +38,9 @@ uint32_t emissiveMaterial(Scene& scene, const std::string& name, Rgb radiance, b
 bool facesAwayFrom(const Box3& shapes, Vec3 center, Vec3 normal) {
   if (shapes.empty()) return false;
   const Vec3 e = shapes.extent();
-  const float tolerance = 1e-6f * std::max({e.x, e.y, e.z, length(center - shapes.center())});
+  // Leaf boxes are grown by a few ulps of their coordinates (up to γ(8) + 2^-24 of their
+  // magnitude: a bilinear patch's), which in the render frame is their distance from the camera.
+  const float tolerance = 1e-6f * std::max({e.x, e.y, e.z, length(center - shapes.center()), shapes.magnitude()});
   for (int k = 0; k < 8; ++k) {
     const Vec3 corner{k & 1 ? shapes.hi.x : shapes.lo.x, k & 2 ? shapes.hi.y : shapes.lo.y, k & 4 ? shapes.hi.z : shapes.lo.z};
     if (dot(corner - center, normal) > tolerance) return false;
@@ -72,19 +74,20 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
     auto twoSided = [&] { return light.contains("two_sided") && r.boolean(light["two_sided"], p + "/two_sided"); };
     if (type == "point") {
       r.object(light, p, {"type", "position", "intensity"});
-      scene.pointLights.push_back({r.vec3(r.member(light, p, "position"), p + "/position"),
+      scene.pointLights.push_back({scene.frame.point(r.vec3d(r.member(light, p, "position"), p + "/position")),
                                    r.color(r.member(light, p, "intensity"), p + "/intensity", false)});
     } else if (type == "spot") {
       r.object(light, p, {"type", "position", "direction", "look_at", "intensity", "cone_angle", "falloff_start"});
       SpotLight s;
-      s.position = r.vec3(r.member(light, p, "position"), p + "/position");
+      const Vec3d position = r.vec3d(r.member(light, p, "position"), p + "/position");
+      s.position = scene.frame.point(position);
       if (light.contains("direction") == light.contains("look_at")) r.fail(p, "give exactly one of 'direction' and 'look_at'");
       if (light.contains("direction")) {
         s.direction = unitVector(r, light["direction"], p + "/direction");
       } else {
-        const Vec3 d = r.vec3(light["look_at"], p + "/look_at") - s.position;
+        const Vec3d d = r.vec3d(light["look_at"], p + "/look_at") - position;
         if (!(length(d) > 0)) r.fail(p + "/look_at", "look_at equals position");
-        s.direction = normalize(d);
+        s.direction = normalize(d.toFloat());
       }
       s.intensity = r.color(r.member(light, p, "intensity"), p + "/intensity", false);
       const float outer = degrees(r, r.member(light, p, "cone_angle"), p + "/cone_angle", 0, 180);
@@ -98,9 +101,10 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       scene.moreLights.spots.push_back(s);
     } else if (type == "rect") {
       r.object(light, p, {"type", "corner", "edge_u", "edge_v", "radiance", "two_sided"});
-      const Vec3 c = r.vec3(r.member(light, p, "corner"), p + "/corner");
-      const Vec3 eu = r.vec3(r.member(light, p, "edge_u"), p + "/edge_u");
-      const Vec3 ev = r.vec3(r.member(light, p, "edge_v"), p + "/edge_v");
+      const Vec3d cd = r.vec3d(r.member(light, p, "corner"), p + "/corner");
+      const Vec3d eud = r.vec3d(r.member(light, p, "edge_u"), p + "/edge_u");
+      const Vec3d evd = r.vec3d(r.member(light, p, "edge_v"), p + "/edge_v");
+      const Vec3 c = scene.frame.point(cd), eu = eud.toFloat(), ev = evd.toFloat();
       if (!(length(cross(eu, ev)) > 0)) r.fail(p, "edge_u and edge_v span no area");
       const Rgb le = r.color(r.member(light, p, "radiance"), p + "/radiance", false);
       const bool both = twoSided();
@@ -108,10 +112,14 @@ void readLights(const JsonReader& r, const json& j, Scene& scene) {
       if (!both)
         warnIfFacingAway(p, "rect", c + (eu + ev) * 0.5f, normalize(cross(eu, ev)),
                          "it emits toward edge_u x edge_v: swap edge_u and edge_v, or set \"two_sided\": true");
-      addPatch(r, p, scene, std::make_shared<BilinearPatch>(c, c + eu, c + ev, c + eu + ev), m);
+      // The corners summed in double, then moved into the render frame and rounded once.
+      addPatch(r, p, scene,
+               std::make_shared<BilinearPatch>(c, scene.frame.point(cd + eud), scene.frame.point(cd + evd),
+                                               scene.frame.point(cd + eud + evd)),
+               m);
     } else if (type == "disk") {
       r.object(light, p, {"type", "center", "normal", "radius", "radiance", "two_sided"});
-      const Vec3 c = r.vec3(r.member(light, p, "center"), p + "/center");
+      const Vec3 c = scene.frame.point(r.vec3d(r.member(light, p, "center"), p + "/center"));
       const Vec3 n = unitVector(r, r.member(light, p, "normal"), p + "/normal");
       const float radius = float(r.number(r.member(light, p, "radius"), p + "/radius"));
       if (!(radius > 0)) r.fail(p + "/radius", "the radius must be positive");

@@ -34,14 +34,14 @@ Motion readMotion(const ShapeContext& ctx) {
   return m;
 }
 
-std::vector<PatchPtr> movingPatches(const Motion& m, const Transform& xf,
-                                    const std::function<std::vector<PatchPtr>(const Transform&)>& build) {
+std::vector<PatchPtr> movingPatches(const Motion& m, const TransformD& xf,
+                                    const std::function<std::vector<PatchPtr>(const TransformD&)>& build) {
   // Keyframes that do not move the shape: one time sample, stored and diced once.
   bool still = true;
-  for (const Transform& k : m.keyframes) still = still && std::memcmp(&k, &m.keyframes[0], sizeof k) == 0;
+  for (const TransformD& k : m.keyframes) still = still && std::memcmp(k.m, m.keyframes[0].m, sizeof k.m) == 0;
   if (still) return build(m.keyframes[0] * xf);
   std::vector<std::vector<PatchPtr>> samples;
-  for (const Transform& k : m.keyframes) samples.push_back(build(k * xf));
+  for (const TransformD& k : m.keyframes) samples.push_back(build(k * xf));
   std::vector<PatchPtr> out;
   for (size_t i = 0; i < samples[0].size(); ++i) {
     std::vector<PatchPtr> versions;

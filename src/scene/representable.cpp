@@ -4,7 +4,9 @@
 
 namespace rayes {
 
-// Where float stops holding a scene (docs/design.md, "Precision"):
+// Where float stops holding a scene (docs/design.md, "Precision"). Leaf boxes are in the render
+// frame (scene.h, RenderFrame), whose origin is the camera, so "magnitude" below is a distance
+// from the camera, not from the world's origin:
 // - A leaf box must be finite, and no coordinate may exceed 2^60 (about 1.2e18): products of
 //   two coordinates -- the surface areas of the top-level build's SAH, the edge functions of
 //   the watertight test, squared distances -- must stay below FLT_MAX (about 2^128) with room
@@ -29,9 +31,9 @@ void checkRepresentable(const JsonReader& r, const std::string& ptr, size_t leaf
   if (b.relativeSpacing() > kMinResolution) {
     std::ostringstream m;
     m << "a patch of size " << b.longestSide() << " at distance " << magnitude
-      << " from the origin: float resolves only " << magnitude * 0x1p-23f
+      << " from the camera (the render frame's origin): float resolves only " << magnitude * 0x1p-23f
       << " there, more than 1/256 of the patch, so its micro-geometry cannot be represented"
-         " (move the scene nearer the origin or scale it up)";
+         " (move the camera nearer or scale the scene up)";
     r.fail(ptr, m.str());
   }
 }

@@ -9,6 +9,8 @@
 #include <vector>
 #include "geometry/compiled_file.h"
 #include "geometry/leaf_source.h"
+#include "core/transform.h"
+#include "core/vec.h"
 #include "scene/leaf_uv_table.h"
 #include "shading/light.h"
 #include "shading/material.h"
@@ -16,6 +18,22 @@
 #include "texture/texture_cache.h"
 
 namespace rayes {
+
+// The frame the render works in (docs/design.md, "The render frame"): world coordinates minus
+// `origin`, the camera's position, subtracted in double before anything is rounded to float. So
+// float's spacing at a point grows with its distance from the camera, not from the world's
+// origin: a scene 10^6 units out renders as it does at the origin when the camera moves with
+// it. The camera does not move during the shutter (only shapes do), so its position is the one
+// origin for the whole exposure. Leaf boxes, patches, lights, media and the CameraDesc below
+// are all in this frame; directions (distant lights, the environment map) are the same in both.
+struct RenderFrame {
+  Vec3d origin;  // in world coordinates
+  Vec3 point(Vec3d world) const { return (world - origin).toFloat(); }
+  // A render-frame point back in world coordinates (for checks against world-space formulas).
+  Vec3 toWorld(Vec3 p) const { return (Vec3d(p) + origin).toFloat(); }
+  // World -> render frame, to compose after a shape's own transform.
+  TransformD fromWorld() const { return TransformD::translate(-origin.x, -origin.y, -origin.z); }
+};
 
 struct CameraDesc {
   Vec3 position{0, 0, 5}, lookAt{0, 0, 0}, up{0, 1, 0};
@@ -27,7 +45,8 @@ struct CameraDesc {
 
 struct Scene {
   std::string path;  // the scene file, for messages
-  CameraDesc camera;
+  RenderFrame frame;  // identity for scenes made in code; the camera's position for a loaded one
+  CameraDesc camera;  // in the render frame: a loaded scene's camera sits at (0, 0, 0)
   int width = 640, height = 480, samplesPerPixel = 16;
   IntegratorSettings integrator;
   std::vector<Material> materials;

@@ -14,13 +14,19 @@ void readCamera(const JsonReader& r, const json& j, Scene& scene) {
   const std::string p = "/camera";
   r.object(j, p, {"position", "look_at", "up", "fov", "aperture_radius", "focus_distance", "shutter"});
   CameraDesc& c = scene.camera;
-  c.position = r.vec3(r.member(j, p, "position"), p + "/position");
-  c.lookAt = r.vec3(r.member(j, p, "look_at"), p + "/look_at");
+  // The camera's position is the render frame's origin: everything read after it is placed
+  // relative to it, in double (RenderFrame).
+  const Vec3d position = r.vec3d(r.member(j, p, "position"), p + "/position");
+  const Vec3d lookAt = r.vec3d(r.member(j, p, "look_at"), p + "/look_at");
+  scene.frame.origin = position;
+  c.position = {0, 0, 0};
+  c.lookAt = scene.frame.point(lookAt);
   if (j.contains("up")) c.up = r.vec3(j["up"], p + "/up");
   if (j.contains("fov")) c.fovYDegrees = float(r.number(j["fov"], p + "/fov"));
   if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180)) r.fail(p + "/fov", "the field of view must be in (0, 180) degrees");
   const Vec3 forward = c.lookAt - c.position;
-  if (!(length(forward) > 0)) r.fail(p + "/look_at", "look_at equals position: the camera has no direction");
+  if (!(length(lookAt - position) > 0) || !(length(forward) > 0))
+    r.fail(p + "/look_at", "look_at equals position: the camera has no direction");
   if (!(length(c.up) > 0)) r.fail(p + "/up", "the up vector must not be zero");
   const Vec3 side = cross(normalize(forward), normalize(c.up));
   if (!(length(side) > 1e-6f)) r.fail(p + "/up", "the camera looks along its up vector");

@@ -28,7 +28,7 @@ struct ShapeContext {
 
 struct ShapeSource {
   std::vector<const char*> keys;  // the kind's own keys, besides the common ones
-  std::function<std::vector<PatchPtr>(const Transform&)> build;
+  std::function<std::vector<PatchPtr>(const TransformD&)> build;
   std::shared_ptr<const ShapeUvs> uvs;  // the patches' uv sets (null: none)
 };
 
@@ -41,20 +41,20 @@ ShapeSource readBilinearShape(const ShapeContext& ctx);
 ShapeSource readSubdivShape(const ShapeContext& ctx);
 
 // The "transform" modifier: an array of steps (docs/scene-format.md).
-Transform readTransform(const JsonReader& r, const json& j, const std::string& ptr);
+TransformD readTransform(const JsonReader& r, const json& j, const std::string& ptr);
 
 // The "motion" modifier of ctx.shape (motion_reader.cpp; the shape must have it): K >= 2
 // strictly increasing times and one transform keyframe per time; a count that disagrees
 // between the two is an InputError naming the file, line and JSON pointer.
 struct Motion {
   std::vector<float> times;
-  std::vector<Transform> keyframes;  // applied after the shape's own transform
+  std::vector<TransformD> keyframes;  // applied after the shape's own transform
 };
 Motion readMotion(const ShapeContext& ctx);
 // The shape built once per keyframe (build(keyframe * xf)), patch i of every sample wrapped in
 // one MovingPatch. Keyframes that are all equal give the static patches (one time sample).
-std::vector<PatchPtr> movingPatches(const Motion& m, const Transform& xf,
-                                    const std::function<std::vector<PatchPtr>(const Transform&)>& build);
+std::vector<PatchPtr> movingPatches(const Motion& m, const TransformD& xf,
+                                    const std::function<std::vector<PatchPtr>(const TransformD&)>& build);
 
 // The "displacement" modifier of ctx.shape (displacement_reader.cpp; the shape must have it).
 // A height map is opened in scene.textureCache().
@@ -68,7 +68,7 @@ std::shared_ptr<const HeightMap> openHeightMap(const std::filesystem::path& path
 // `patches` = source.build(xf), each wrapped in a DisplacedPatch when `d` is not null. The
 // displacement is a function of the object-space surface (source.build of the identity), so
 // the pattern moves with the shape's transform and is the same at every time sample.
-std::vector<PatchPtr> displacePatches(const DisplacementPtr& d, const ShapeSource& source, const Transform& xf,
+std::vector<PatchPtr> displacePatches(const DisplacementPtr& d, const ShapeSource& source, const TransformD& xf,
                                       std::vector<PatchPtr> patches);
 
 }  // namespace rayes

@@ -98,9 +98,15 @@ void readShapes(const JsonReader& r, const json& j, Scene& scene, const Material
     allowed.insert(source.keys.begin(), source.keys.end());
     r.objectKeys(shape, p, allowed);
     const uint32_t mat = materialRef(r, shape, p, materials);
-    const Transform xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : Transform{};
+    const TransformD xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : TransformD{};
     const DisplacementPtr disp = shape.contains("displacement") ? readDisplacement(ctx, scene) : nullptr;
-    const auto build = [&](const Transform& t) { return displacePatches(disp, source, t, source.build(t)); };
+    // The shape's world transform (per keyframe), then the move into the render frame, composed
+    // in double: only the result is rounded to float (RenderFrame).
+    const TransformD toFrame = scene.frame.fromWorld();
+    const auto build = [&](const TransformD& t) {
+      const TransformD placed = toFrame * t;
+      return displacePatches(disp, source, placed, source.build(placed));
+    };
     // With "motion": one set of patches per time sample, each patch a MovingPatch of its versions.
     std::vector<PatchPtr> patches = shape.contains("motion") ? movingPatches(readMotion(ctx), xf, build) : build(xf);
     for (size_t k = 0; k < patches.size(); ++k) {

@@ -24,11 +24,15 @@ const std::pair<const char*, SubdivUvInterpolation> kUvInterpolations[] = {
 // optional "creases": [[v0, v1, sharpness], ...], "corners": [[v, sharpness], ...],
 // "holes": [f, ...], "uvs": [[s, t], ...] with "uv_faces": [[a, b, c, ...], ...] (indices into
 // uvs, one per face vertex), or without uv_faces one uv per vertex.
-SubdivMeshDesc readInlineMesh(const JsonReader& r, const json& shape, const std::string& p) {
+// The vertices also go to `exact` in double, to be placed before they are rounded (RenderFrame).
+SubdivMeshDesc readInlineMesh(const JsonReader& r, const json& shape, const std::string& p, std::vector<Vec3d>& exact) {
   SubdivMeshDesc d;
   const json& vs = r.member(shape, p, "vertices");
   if (!vs.is_array() || vs.empty()) r.fail(p + "/vertices", "expected a non-empty array of points");
-  for (size_t k = 0; k < vs.size(); ++k) d.positions.push_back(r.vec3(vs[k], p + "/vertices/" + std::to_string(k)));
+  for (size_t k = 0; k < vs.size(); ++k) {
+    exact.push_back(r.vec3d(vs[k], p + "/vertices/" + std::to_string(k)));
+    d.positions.push_back(exact.back().toFloat());
+  }
   const json& fs = r.member(shape, p, "faces");
   if (!fs.is_array() || fs.empty()) r.fail(p + "/faces", "expected a non-empty array of faces");
   for (size_t k = 0; k < fs.size(); ++k) {
@@ -147,6 +151,7 @@ ShapeSource readSubdivShape(const ShapeContext& ctx) {
   }
   std::shared_ptr<const SubdivTopology> topo;
   SubdivMeshDesc desc;
+  std::vector<Vec3d> exact;  // inline vertices in double (OBJ vertices are floats as read)
   if (shape.contains("file")) {
     for (const char* k : {"vertices", "creases", "corners", "holes", "uvs", "uv_faces"})
       if (shape.contains(k)) r.fail(p + "/" + k, std::string("'") + k + "' belongs to the inline form, not to 'file'");
@@ -163,7 +168,7 @@ ShapeSource readSubdivShape(const ShapeContext& ctx) {
     }
     desc = std::move(obj.mesh);
   } else {
-    desc = readInlineMesh(r, shape, p);
+    desc = readInlineMesh(r, shape, p, exact);
     desc.scheme = scheme;
     desc.uvInterpolation = uvInterpolation;
     if (boundary) desc.boundary = *boundary;
@@ -174,6 +179,7 @@ ShapeSource readSubdivShape(const ShapeContext& ctx) {
     }
   }
   auto positions = std::make_shared<const std::vector<Vec3>>(std::move(desc.positions));
+  auto exactPositions = exact.empty() ? nullptr : std::make_shared<const std::vector<Vec3d>>(std::move(exact));
   std::shared_ptr<ShapeUvs> uvs;
   if (hasUvSet(*topo)) {
     uvs = std::make_shared<ShapeUvs>();
@@ -181,9 +187,10 @@ ShapeSource readSubdivShape(const ShapeContext& ctx) {
   }
   return {{"file", "scheme", "boundary", "uv_interpolation", "vertices", "faces", "creases", "corners", "holes", "uvs",
            "uv_faces"},
-          [topo, positions](const Transform& xf) {
+          [topo, positions, exactPositions](const TransformD& xf) {
             std::vector<Vec3> pts(positions->size());
-            for (size_t k = 0; k < pts.size(); ++k) pts[k] = xf.point((*positions)[k]);
+            for (size_t k = 0; k < pts.size(); ++k)
+              pts[k] = exactPositions ? xf.roundedPoint((*exactPositions)[k]) : xf.point((*positions)[k]);
             return SubdivMesh::build(topo, std::move(pts))->patches();
           },
           uvs};

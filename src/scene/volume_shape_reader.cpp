@@ -33,13 +33,13 @@ std::string coordText(const openvdb::Coord& c) {
 }
 
 // The grid's index-to-world map as our Transform (OpenVDB multiplies row vectors: world = index · M).
-bool linearIndexToWorld(const openvdb::GridBase& grid, Transform& out) {
+bool linearIndexToWorld(const openvdb::GridBase& grid, TransformD& out) {
   const openvdb::math::Transform& t = grid.transform();
   if (!t.isLinear()) return false;
   const openvdb::math::Mat4d m = t.baseMap()->getAffineMap()->getMat4();
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) out.m[i][j] = float(m(j, i));
-    out.m[i][3] = float(m(3, i));
+    for (int j = 0; j < 3; ++j) out.m[i][j] = m(j, i);
+    out.m[i][3] = m(3, i);
   }
   return true;
 }
@@ -93,7 +93,7 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
   coefficients.sigmaA = number("sigma_a", 0, 0, 1e9f, "[0, 1e9]") * scale;
   coefficients.sigmaS = number("sigma_s", 1, 0, 1e9f, "[0, 1e9]") * scale;
   coefficients.g = number("g", 0, -0.99f, 0.99f, "[-0.99, 0.99]");
-  const Transform xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : Transform{};
+  const TransformD xf = shape.contains("transform") ? readTransform(r, shape["transform"], p + "/transform") : TransformD{};
 
   const std::string named = "'" + path.string() + "', grid '" + gridName + "'";
   const std::string at = p + "/file";
@@ -128,9 +128,11 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
     return g;
   };
   const openvdb::FloatGrid::Ptr grid = readGrid(gridName, "density");
-  Transform indexToWorld;
-  if (!linearIndexToWorld(*grid, indexToWorld)) r.fail(at, named + " has a non-linear (frustum) transform");
-  indexToWorld = xf * indexToWorld;
+  TransformD gridToWorld;
+  if (!linearIndexToWorld(*grid, gridToWorld)) r.fail(at, named + " has a non-linear (frustum) transform");
+  // Index -> world -> render frame, composed in double and rounded once (RenderFrame); the
+  // medium's "world" is the render frame.
+  const Transform indexToWorld(scene.frame.fromWorld() * xf * gridToWorld);
   // Where float stops resolving the voxels (docs/design.md, "Precision", the rule for patches with
   // a voxel's shortest world edge as the size): the float spacing at the volume's position must
   // be at most 1/256 of it. Checked on the grid's bounding box, before any voxel is read.
@@ -148,9 +150,9 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
     const float magnitude = world.magnitude();
     if (!world.empty() && (!(magnitude <= 0x1p60f) || !(magnitude * 0x1p-23f <= voxelEdge * 0x1p-8f)))
       r.fail(at, named + ": voxels of size " + std::to_string(voxelEdge) + " at distance " + std::to_string(magnitude) +
-                     " from the origin, where float resolves only " + std::to_string(magnitude * 0x1p-23f) +
-                     ", more than 1/256 of a voxel, so the grid cannot be represented (move the scene nearer the "
-                     "origin or scale it up)");
+                     " from the camera (the render frame's origin), where float resolves only " + std::to_string(magnitude * 0x1p-23f) +
+                     ", more than 1/256 of a voxel, so the grid cannot be represented (move the volume nearer the "
+                     "camera or scale it up)");
   }
 
   // What the medium keeps resident (its brick table and the out-of-core tree's leaf nodes, not

@@ -233,7 +233,8 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
       {"block", bytes, "section records, block 0 (leaf "},
       // A file of format version 1 (no uv sets, meshes or height maps): refused, both versions named.
       {"version-1", bytes, "header: format version 1, written by rayes"},
-      // Version 2 had no stored top level.
+      // Version 2 had no stored top level, and its leaves were in world coordinates (not in the
+      // camera's render frame).
       {"version-2", bytes, "header: format version 2, written by rayes"},
       // The stored top level: every node is checked at load.
       {"top-level-block", bytes, "section top_level, block 0"},

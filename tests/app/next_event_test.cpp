@@ -67,7 +67,8 @@ void expectFloorMatchesFormFactor(const RenderOptions& options) {
   const int size = 16, spp = 16;
   const Scene scene = parseScene(boxScene(size, spp, 0), "next-event-box.json");
   const CameraDesc& c = scene.camera;
-  const PerspectiveCamera camera(c.position, c.lookAt, c.up, c.fovYDegrees, size, size);
+  // In world coordinates, where the form factor is written (the scene's camera is in its render frame).
+  const PerspectiveCamera camera(scene.frame.toWorld(c.position), scene.frame.toWorld(c.lookAt), c.up, c.fovYDegrees, size, size);
   const std::vector<float> image = testing::renderBeauty(scene, options, 2);
 
   // Pixels are independent estimates of their own expected values: the mean residual has the

@@ -64,8 +64,9 @@ int expectCheckerOfTheUvSet(const Scene& scene) {
   Renderer r(scene, RenderOptions{});
   const Film film = r.render();
   const std::vector<float> albedo = film.albedo();
-  const PerspectiveCamera cam(scene.camera.position, scene.camera.lookAt, scene.camera.up, scene.camera.fovYDegrees,
-                              scene.width, scene.height);
+  // In world coordinates, where the checker's squares are (the scene's camera is in its render frame).
+  const PerspectiveCamera cam(scene.frame.toWorld(scene.camera.position), scene.frame.toWorld(scene.camera.lookAt),
+                              scene.camera.up, scene.camera.fovYDegrees, scene.width, scene.height);
   int checked = 0;
   for (int py = 0; py < scene.height; ++py)
     for (int px = 0; px < scene.width; ++px) {

@@ -205,11 +205,13 @@ TEST(BeamBudget, ASunOnASmallMirrorGetsItsCausticAtAnyFloorSize) {
     for (float z : {2.3f, 3.0f, 3.7f})
       for (float y : {0.17f, 0.6f, -0.8f}) {  // off the cells' edges (which both neighbours light)
         double e = 0;
-        beams->gather(2, {3, y, z}, {-1, 0, 0}, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
+        // At the world point (3, y, z), in the render frame the beams are in (scene.h, RenderFrame).
+        beams->gather(2, scene.frame.point(Vec3d(Vec3{3, y, z})), {-1, 0, 0}, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
         EXPECT_NEAR(e, exact, rounding * exact) << F << ": " << y << ", " << z;
       }
     double outside = 0;
-    beams->gather(2, {3, 0, 4.5f}, {-1, 0, 0}, [&](Vec3, Rgb irradiance) { outside += irradiance.x; });
+    beams->gather(2, scene.frame.point(Vec3d(Vec3{3, 0, 4.5f})), {-1, 0, 0},
+                  [&](Vec3, Rgb irradiance) { outside += irradiance.x; });
     EXPECT_EQ(outside, 0.0) << F;
     const BeamTraceStats& s = beamsOf(r).stats().trace;
     if (F == 10.0) {

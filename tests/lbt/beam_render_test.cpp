@@ -36,9 +36,11 @@ Scene shippedScene(const std::string& file, int width, int height, int spp) {
   return scene;
 }
 
-double gatherAt(const BeamStore& beams, uint32_t leaf, Vec3 x, Vec3 n) {
+// The gather at the world point x: the beams are in the scene's render frame (scene.h,
+// RenderFrame), whose origin is the camera.
+double gatherAt(const Scene& scene, const BeamStore& beams, uint32_t leaf, Vec3 x, Vec3 n) {
   double e = 0;
-  beams.gather(leaf, x, n, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
+  beams.gather(leaf, scene.frame.point(Vec3d(x)), n, [&](Vec3, Rgb irradiance) { e += irradiance.x; });
   return e;
 }
 
@@ -55,9 +57,9 @@ TEST(Beams, PlanarMirrorThroughTheEngineMatchesTheClosedForm) {
     for (float y : {0.0f, -0.6f, 2.1f}) {
       const double d = std::sqrt(double(x) * x + double(y) * y + 9);
       const double exact = 3 * 0.9 * 10 / (d * d * d);
-      EXPECT_NEAR(gatherAt(*beamsOf(r).beams(), 1, {x, y, 2}, {0, 0, -1}), exact, 1.5e-3 * exact) << x << ", " << y;
+      EXPECT_NEAR(gatherAt(scene, *beamsOf(r).beams(), 1, {x, y, 2}, {0, 0, -1}), exact, 1.5e-3 * exact) << x << ", " << y;
     }
-  for (float x : {3.2f, -3.6f}) EXPECT_EQ(gatherAt(*beamsOf(r).beams(), 1, {x, 0.3f, 2}, {0, 0, -1}), 0.0);
+  for (float x : {3.2f, -3.6f}) EXPECT_EQ(gatherAt(scene, *beamsOf(r).beams(), 1, {x, 0.3f, 2}, {0, 0, -1}), 0.0);
   EXPECT_GT(beamsOf(r).stats().trace.segments, 0u);
 }
 
@@ -94,9 +96,9 @@ TEST(Beams, GrazingIncidenceOnAMirrorMatchesTheClosedFormAndEdgeOnGivesNothing) 
     for (float y : {0.0f, 0.7f, -1.1f}) {
       const double d = std::sqrt(144.0 + double(y) * y + double(z + h) * (z + h));
       const double exact = 0.9 * 10 * 12 / (d * d * d);
-      EXPECT_NEAR(gatherAt(*beamsOf(r).beams(), 1, {6, y, z}, {-1, 0, 0}), exact, 1.5e-3 * exact) << y << ", " << z;
+      EXPECT_NEAR(gatherAt(scene, *beamsOf(r).beams(), 1, {6, y, z}, {-1, 0, 0}), exact, 1.5e-3 * exact) << y << ", " << z;
     }
-  EXPECT_EQ(gatherAt(*beamsOf(r).beams(), 1, {6, 0, 0.6f}, {-1, 0, 0}), 0.0);  // above the footprint
+  EXPECT_EQ(gatherAt(scene, *beamsOf(r).beams(), 1, {6, 0, 0.6f}, {-1, 0, 0}), 0.0);  // above the footprint
   const Vec3 light{-6, 0, h};
   Vec3 c[4] = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
   for (Vec3& v : c) v = normalize(v - light);
@@ -126,17 +128,18 @@ TEST(Beams, RingCausticCuspLiesAtHalfTheRadius) {
   Renderer r(scene, lbtOptions(128));
   ASSERT_NE(beamsOf(r).beams(), nullptr) << beamsOf(r).stats().skipped;
   // The floor is the last shape, in tiles: gather on the tile under each point.
-  const auto floorLeafAt = [&](float x, float y) {
+  const auto floorLeafAt = [&](float wx, float wy) {
+    const Vec3 q = scene.frame.point(Vec3d(Vec3{wx, wy, 0}));  // leaf boxes are in the render frame
     for (size_t l = scene.leaves.size(); l-- > 0;) {
       const Box3 b = scene.leaves.bounds(l);
-      if (b.lo.z <= 0 && b.hi.z >= 0 && b.lo.x <= x && x <= b.hi.x && b.lo.y <= y && y <= b.hi.y) return uint32_t(l);
+      if (b.contains(q)) return uint32_t(l);
     }
     return uint32_t(scene.leaves.size() - 1);
   };
   double best = -1, bestX = 0;
   for (int i = 0; i <= 120; ++i) {
     const float x = 0.2f + 0.6f * float(i) / 120;
-    const double e = gatherAt(*beamsOf(r).beams(), floorLeafAt(x, 0), {x, 0, 0}, {0, 0, 1});
+    const double e = gatherAt(scene, *beamsOf(r).beams(), floorLeafAt(x, 0), {x, 0, 0}, {0, 0, 1});
     if (e > best) best = e, bestX = x;
   }
   // The lobe (σ = 0.01 over ~0.5 of travel) and the cusp's own asymmetry shift the peak by a
@@ -200,12 +203,12 @@ std::string offAxisMirror(const TempFolder& tmp, const char* mirror, const std::
   return path;
 }
 
-double ceilingFlux(const BeamStore& beams, uint32_t leaf, float half, int n) {
+double ceilingFlux(const Scene& scene, const BeamStore& beams, uint32_t leaf, float half, int n) {
   const double h = 2.0 * half / n;
   double sum = 0;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i)
-      sum += gatherAt(beams, leaf, {float(-half + (i + 0.5) * h), float(-half + (j + 0.5) * h), 2}, {0, 0, -1});
+      sum += gatherAt(scene, beams, leaf, {float(-half + (i + 0.5) * h), float(-half + (j + 0.5) * h), 2}, {0, 0, -1});
   return sum * h * h;
 }
 
@@ -241,7 +244,7 @@ TEST(Beams, AMirrorsEdgeNeverCutsABeam) {
     // The footprint lies inside [-2.7, 3.3]²; the midpoint rule's error is at the footprint's
     // edge: below perimeter·h/2·E_edge ≈ 24·0.01·0.4 ≈ 0.1 (0.5 % of the 18.7 W); the aim
     // points' inset loses at most 4·10⁻⁴.
-    EXPECT_NEAR(ceilingFlux(*beamsOf(r).beams(), ceiling, 4, 400), exact, 0.005 * exact) << splitDepth;
+    EXPECT_NEAR(ceilingFlux(scene, *beamsOf(r).beams(), ceiling, 4, 400), exact, 0.005 * exact) << splitDepth;
     EXPECT_NEAR(firstBouncePower(*beamsOf(r).beams()), exact, 4e-4 * exact) << splitDepth;
   }
 }
@@ -359,7 +362,7 @@ TEST(Beams, DielectricsReflectTheirFresnelPart) {
       const double df = std::fabs(fresnelDielectric(float(std::cos(theta + cell)), 1.5f) -
                                   fresnelDielectric(float(std::cos(std::max(0.0, theta - cell))), 1.5f));
       const double exact = f * 3 * 10 / (d * d * d);
-      EXPECT_NEAR(gatherAt(*beamsOf(r).beams(), ceiling, {x, y, 2}, {0, 0, -1}), exact, (1.5e-3 + df / f) * exact)
+      EXPECT_NEAR(gatherAt(scene, *beamsOf(r).beams(), ceiling, {x, y, 2}, {0, 0, -1}), exact, (1.5e-3 + df / f) * exact)
           << x << ", " << y;
     }
 }

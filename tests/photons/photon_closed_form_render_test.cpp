@@ -71,10 +71,12 @@ void expectClosedForm(const std::string& method) {
   Scene scene = loadScene(testing::sourcePath("scenes/caustic-closed-form.json"));
   scene.width = scene.height = kSize;
   scene.samplesPerPixel = kSpp;
-  const PerspectiveCamera camera(scene.camera.position, scene.camera.lookAt, scene.camera.up, scene.camera.fovYDegrees,
-                                 kSize, kSize);
+  // The camera in world coordinates, where the closed form is written (the scene's is in its
+  // render frame, scene.h).
+  const PerspectiveCamera camera(scene.frame.toWorld(scene.camera.position), scene.frame.toWorld(scene.camera.lookAt),
+                                 scene.camera.up, scene.camera.fovYDegrees, kSize, kSize);
   ASSERT_EQ(scene.pointLights.size(), 1u);
-  ASSERT_EQ(scene.pointLights[0].position, caustic.light);  // the helper describes this scene
+  ASSERT_EQ(scene.frame.toWorld(scene.pointLights[0].position), caustic.light);  // the helper describes this scene
   // The largest typical photon radius: the k-th neighbour's distance where the photon density is
   // lowest in the footprint, λ = E / (power per photon), power ρ·4π·I / (photons traced).
   const double power =

@@ -25,9 +25,10 @@ TEST(DisplacementReader, NoiseWrapsEveryPatch) {
   ASSERT_EQ(s.leaves.size(), 1u);
   EXPECT_STREQ(s.leaves.patch(0)->kind(), "displaced-bilinear");
   const Box3 b = s.leaves.patch(0)->bounds();
-  EXPECT_GT(b.hi.z, 0.0f);
-  EXPECT_LE(b.hi.z, 0.51f);
-  EXPECT_GE(b.lo.z, -0.01f);  // ridged noise is in [0, 1]
+  const float z0 = float(-s.frame.origin.z);  // the quad's plane z = 0, in the render frame
+  EXPECT_GT(b.hi.z, z0);
+  EXPECT_LE(b.hi.z, z0 + 0.51f);
+  EXPECT_GE(b.lo.z, z0 - 0.01f);  // ridged noise is in [0, 1]
 }
 
 TEST(DisplacementReader, TransformedShapeKeepsItsPattern) {
@@ -53,8 +54,9 @@ TEST(DisplacementReader, HeightMapFromExr) {
   ASSERT_NE(d, nullptr);
   EXPECT_STREQ(d->displacement().kind(), "image");
   // The first texel row is v = 0; the corner (0, 0) reads texel (0, 0) = 0: h = -0.5.
-  EXPECT_NEAR(s.leaves.patch(0)->evaluate(0, 0).p.z, -0.5f, 1e-5f);
-  EXPECT_NEAR(s.leaves.patch(0)->evaluate(1, 1).p.z, -0.5f + 1.1f, 1e-5f);
+  const float z0 = float(-s.frame.origin.z);  // the quad's plane z = 0, in the render frame
+  EXPECT_NEAR(s.leaves.patch(0)->evaluate(0, 0).p.z, z0 - 0.5f, 1e-5f);
+  EXPECT_NEAR(s.leaves.patch(0)->evaluate(1, 1).p.z, z0 - 0.5f + 1.1f, 1e-5f);
   // Its texels came through the scene's texture cache (one image, tiles read).
   ASSERT_TRUE(s.textures);
   EXPECT_EQ(s.textures->stats().files, 1u);

@@ -40,9 +40,9 @@ TEST(SceneLoader, TransformsApplyInOrder) {
   const std::string t = replaced(kMinimal, R"("quads")",
                                  R"("transform": [{"scale": 2}, {"translate": [0, 0, 5]}], "quads")");
   const Scene s = parseScene(t, "t.json");
-  const Box3 b = s.leaves.patch(0)->bounds();
-  EXPECT_NEAR(b.lo.x, -2.0f, 1e-3f);
-  EXPECT_NEAR(b.hi.z, 5.0f, 1e-3f);
+  const Box3 b = s.leaves.patch(0)->bounds();  // in the render frame: world minus the camera
+  EXPECT_NEAR(b.lo.x, -2.0 - s.frame.origin.x, 1e-3);
+  EXPECT_NEAR(b.hi.z, 5.0 - s.frame.origin.z, 1e-3);
 }
 
 TEST(SceneLoader, SyntaxErrorNamesLineAndColumn) {

@@ -62,16 +62,17 @@ TEST_F(VolumeShape, LeavesBecomeBricksWithTheFilesVoxels) {
   EXPECT_FLOAT_EQ(m.coefficients().sigmaA, 1.0f);
   EXPECT_FLOAT_EQ(m.coefficients().sigmaS, 6.0f);
   EXPECT_FLOAT_EQ(m.coefficients().g, 0.4f);
-  // Index space [−½, 15.5)³ at voxel size 0.25.
-  EXPECT_FLOAT_EQ(m.worldBounds().lo.x, -0.125f);
-  EXPECT_FLOAT_EQ(m.worldBounds().hi.z, 3.875f);
+  // Index space [−½, 15.5)³ at voxel size 0.25, in the render frame (world minus the camera).
+  EXPECT_FLOAT_EQ(m.worldBounds().lo.x, float(-0.125 - s.frame.origin.x));
+  EXPECT_FLOAT_EQ(m.worldBounds().hi.z, float(3.875 - s.frame.origin.z));
 }
 
 TEST_F(VolumeShape, SceneTransformAppliesAfterTheGridsOwn) {
   const fs::path vdb = writeGrid(folder.dir(), "moved.vdb");
   const Scene s = parseScene(volumeScene(vdb, R"(, "transform": [{"translate": [10, 0, 0]}])"), "scene.json");
-  EXPECT_FLOAT_EQ(s.media[0]->worldBounds().lo.x, 9.875f);
-  EXPECT_FLOAT_EQ(s.media[0]->worldToIndex().point({10, 0, 0}).x, 0.0f);
+  const Vec3 at10 = (Vec3d{10, 0, 0} - s.frame.origin).toFloat();  // world (10, 0, 0) in the render frame
+  EXPECT_FLOAT_EQ(s.media[0]->worldBounds().lo.x, float(9.875 - s.frame.origin.x));
+  EXPECT_FLOAT_EQ(s.media[0]->worldToIndex().point(at10).x, 0.0f);
 }
 
 TEST_F(VolumeShape, ActiveTileBecomesBricksOfItsValue) {
