@@ -73,14 +73,13 @@ void walkCells(const Medium& m, const IndexRay& r, float t0, float t1, TrackingC
   }
 }
 
-// The first real collision in one medium within (0, tEnd), or kInf.
-float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
-                     BrickCache* cache) {
-  const float sigmaT = m.coefficients().sigmaT();
-  if (!(sigmaT > 0)) return kInf;
-  const IndexRay r = toIndex(m, org, dir);
-  GridReader reader(m.densityGrid(), cache);
-  float found = kInf;
+// The tentative collisions of the majorant process along r within (0, tEnd): each brick's
+// majorant sets the rate, and the process is memoryless, so every cell starts afresh at its
+// entry. visit(brick, t, majorant) at each; a true return ends the walk. The one loop that
+// delta tracking, ratio tracking and the emission estimate share.
+template <class Visit>
+void forEachTentativeCollision(const Medium& m, const IndexRay& r, float sigmaT, float tEnd, TrackingRng& rng,
+                               TrackingCounts& counts, Visit&& visit) {
   walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
     const float majorant = m.majorant(brick);
     const float rate = sigmaT * majorant * r.length;  // tentative collisions per unit t
@@ -90,13 +89,27 @@ float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRn
       t -= std::log1p(-rng()) / rate;  // rng() < 1: the logarithm is finite
       if (!(t < tb)) return false;     // memoryless: the next cell starts afresh at tb
       ++counts.lookups;
-      reader.enter(brick);  // voxels are read only where a tentative collision lands
-      const float rho = reader.sample(r.org + r.dir * t);
-      if (rng() * majorant < rho) {
-        found = t;
-        return true;
-      }
+      if (visit(brick, t, majorant)) return true;
     }
+  });
+}
+
+// The first real collision in one medium within (0, tEnd), or kInf.
+float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
+                     BrickCache* cache) {
+  const float sigmaT = m.coefficients().sigmaT();
+  if (!(sigmaT > 0)) return kInf;
+  const IndexRay r = toIndex(m, org, dir);
+  GridReader reader(m.densityGrid(), cache);
+  float found = kInf;
+  forEachTentativeCollision(m, r, sigmaT, tEnd, rng, counts, [&](int32_t brick, float t, float majorant) {
+    reader.enter(brick);  // voxels are read only where a tentative collision lands
+    const float rho = reader.sample(r.org + r.dir * t);
+    if (rng() * majorant < rho) {
+      found = t;
+      return true;
+    }
+    return false;
   });
   return found;
 }
@@ -126,25 +139,17 @@ float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, Track
     if (!(sigmaT > 0)) continue;
     const IndexRay r = toIndex(m, org, dir);
     GridReader reader(m.densityGrid(), cache);
-    walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
-      const float majorant = m.majorant(brick);
-      const float rate = sigmaT * majorant * r.length;
-      if (!(rate > 0)) return false;
-      float t = ta;
-      for (;;) {
-        t -= std::log1p(-rng()) / rate;
-        if (!(t < tb)) return false;
-        ++counts.lookups;
-        reader.enter(brick);
-        T *= std::max(0.0f, 1 - reader.sample(r.org + r.dir * t) / majorant);
-        if (T < kRouletteWeight) {
-          if (T == 0 || rng() * kRouletteWeight >= T) {
-            T = 0;
-            return true;
-          }
-          T = kRouletteWeight;
+    forEachTentativeCollision(m, r, sigmaT, tEnd, rng, counts, [&](int32_t brick, float t, float majorant) {
+      reader.enter(brick);
+      T *= std::max(0.0f, 1 - reader.sample(r.org + r.dir * t) / majorant);
+      if (T < kRouletteWeight) {
+        if (T == 0 || rng() * kRouletteWeight >= T) {
+          T = 0;
+          return true;
         }
+        T = kRouletteWeight;
       }
+      return false;
     });
     if (T == 0) return 0;
   }
@@ -164,24 +169,16 @@ Rgb emissionAlong(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng&
     std::optional<GridReader> intensity, temperature;
     if (e.intensity) intensity.emplace(*e.intensity, cache);
     if (e.temperature) temperature.emplace(*e.temperature, cache);
-    walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
-      const float majorant = m.majorant(brick);
-      const float rate = sigmaT * majorant * r.length;
-      if (!(rate > 0)) return false;
-      float t = ta;
-      for (;;) {
-        t -= std::log1p(-rng()) / rate;
-        if (!(t < tb)) return false;
-        ++counts.lookups;
-        density.enter(brick);
-        const Vec3 p = r.org + r.dir * t;
-        const float rho = density.sample(p);
-        if (!(rho > 0)) continue;
-        Rgb Le{};
-        if (intensity) Le += e.color * intensity->at(p);
-        if (temperature) Le += blackbodyRgb(e.temperatureScale * temperature->at(p)) * e.blackbodyScale;
-        L += Le * (sigmaA * rho / (sigmaT * majorant));
-      }
+    forEachTentativeCollision(m, r, sigmaT, tEnd, rng, counts, [&](int32_t brick, float t, float majorant) {
+      density.enter(brick);
+      const Vec3 p = r.org + r.dir * t;
+      const float rho = density.sample(p);
+      if (!(rho > 0)) return false;
+      Rgb Le{};
+      if (intensity) Le += e.color * intensity->at(p);
+      if (temperature) Le += blackbodyRgb(e.temperatureScale * temperature->at(p)) * e.blackbodyScale;
+      L += Le * (sigmaA * rho / (sigmaT * majorant));
+      return false;
     });
   }
   return L;

@@ -21,12 +21,6 @@ using testing::RunResult;
 RunResult run(std::vector<std::string> args) { return testing::runRayes(std::move(args)); }
 std::string sceneFile(const std::string& name) { return std::string(RAYES_SOURCE_DIR) + "/scenes/" + name; }
 
-void patchByte(const std::string& path, uint64_t at, char byte) {
-  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
-  f.seekp(std::streamoff(at));
-  f.put(byte);
-}
-
 class CompiledScene : public ::testing::Test {
  protected:
   // Compiles `json` into the temp folder; returns the .rayes path.
@@ -282,8 +276,9 @@ TEST_F(CompiledScene, SceneMemoryOptionIsChecked) {
   EXPECT_EQ(code({"--scene-memory", "0"}, compiled), 2);
   EXPECT_EQ(code({"--scene-memory", "64K"}, compiled), 2);                   // below 16 blocks
   EXPECT_EQ(code({"--scene-memory", "1G"}, sceneFile("teapot.json")), 2);    // a JSON scene maps nothing
-  if (processMemoryLimit().bytes > 0 && processMemoryLimit().bytes < (uint64_t(1) << 50))
+  if (processMemoryLimit().bytes > 0 && processMemoryLimit().bytes < (uint64_t(1) << 50)) {
     EXPECT_EQ(code({"--scene-memory", "900000G"}, compiled), 3);  // beyond memory: a resource limit
+  }
   EXPECT_FALSE(fs::exists(temp_.path("x.exr")));
 }
 
