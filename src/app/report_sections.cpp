@@ -141,6 +141,9 @@ void memorySection(std::ostringstream& o, const json& s) {
     b.push_back({"photon map", number(s, "/totals/photon_map_bytes"), "the largest photon map"});
   if (s.contains("textures"))
     b.push_back({"texture cache", number(s, "/textures/cache_memory_bytes"), "tiles resident (--texture-memory)"});
+  if (s.contains("volumes")) b.push_back({"volumes", number(s, "/volumes/bytes"), "brick tables, majorants, the out-of-core trees"});
+  if (s.contains("volumes") && s["volumes"].contains("cache"))
+    b.push_back({"brick cache", number(s, "/volumes/cache/peak_bytes"), "voxels resident at the peak (--volume-memory)"});
   b.push_back({"peak resident", number(s, "/totals/peak_rss_bytes"), "the whole process at its peak"});
   o << "<h2>Memory by owner</h2><p>Each owner at its largest.</p>" << barChart("Memory by owner", b, " B");
   const json& samples = s.contains("memory_over_time") && s["memory_over_time"].is_array() ? s["memory_over_time"] : json::array();
@@ -211,6 +214,28 @@ void methodSections(std::ostringstream& o, const json& s) {
       << "<p>Hit rate " << shortNumber(100 * number(s, "/textures/hit_rate")) << " %, "
       << shortBytes(number(s, "/textures/bytes_read")) << " read of " << shortBytes(number(s, "/textures/image_bytes"))
       << " of images, " << shortNumber(number(s, "/textures/io_time_s")) << " s of I/O (thread time).</p>";
+  }
+  if (s.contains("volumes")) {
+    o << "<h2>Volumes</h2>"
+      << barChart("Volume tracking",
+                  {{"collisions", number(s, "/volumes/collisions"), "real collisions: scattering vertices"},
+                   {"transmittance estimates", number(s, "/volumes/transmittance_estimates"), "shadow segments through media"},
+                   {"density lookups", number(s, "/volumes/density_lookups"), "tentative collisions of both trackings"},
+                   {"brick cells walked", number(s, "/volumes/brick_cells_walked"), "cells the rays' walks visited"}},
+                  "")
+      << "<p>" << shortCount(number(s, "/volumes/volumes")) << " volume(s), " << shortCount(number(s, "/volumes/bricks"))
+      << " bricks; " << shortNumber(number(s, "/volumes/time_s/load")) << " s loading, "
+      << shortNumber(number(s, "/volumes/time_s/tracking")) << " s tracking (thread time).</p>";
+    if (s["volumes"].contains("cache")) {
+      o << barChart("Brick cache (--volume-memory)",
+                    {{"hits", number(s, "/volumes/cache/hits"), "bricks found resident"},
+                     {"bricks loaded", number(s, "/volumes/cache/bricks_loaded"), "misses: decoded from the file"},
+                     {"evictions", number(s, "/volumes/cache/evictions"), "to stay within the budget"}},
+                    "")
+        << "<p>Hit rate " << shortNumber(100 * number(s, "/volumes/cache/hit_rate")) << " %, "
+        << shortBytes(number(s, "/volumes/cache/bytes_read")) << " decoded, "
+        << shortNumber(number(s, "/volumes/time_s/brick_reads")) << " s reading bricks (thread time).</p>";
+    }
   }
 }
 

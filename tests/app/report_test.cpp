@@ -129,6 +129,21 @@ TEST_F(Report, AMethodsOwnSectionIsShownWhenTheStatsHaveIt) {
   EXPECT_THAT(reportPage({{"s.json", stats()}}), Not(HasSubstr("Beams (lbt)")));
 }
 
+TEST_F(Report, AVolumeSectionShowsTrackingAndTheBrickCache) {
+  json s = stats();
+  s["volumes"] = {{"volumes", 1}, {"bricks", 96}, {"bytes", 524288}, {"collisions", 40}, {"transmittance_estimates", 300},
+                  {"density_lookups", 9000}, {"brick_cells_walked", 2500}, {"time_s", {{"load", 0.1}, {"tracking", 0.4}, {"brick_reads", 0.05}}},
+                  {"cache", {{"peak_bytes", 102400}, {"hits", 800}, {"bricks_loaded", 200}, {"evictions", 150}, {"hit_rate", 0.8}, {"bytes_read", 409600}}}};
+  const std::string html = reportPage({{"s.json", s}});
+  EXPECT_THAT(html, HasSubstr("<h2>Volumes</h2>"));
+  EXPECT_THAT(html, HasSubstr("Brick cache (--volume-memory)"));
+  EXPECT_THAT(html, HasSubstr("Hit rate 80 %"));
+  expectNoEmptyChart(html);
+  s["volumes"].erase("cache");  // no volume reads a file: no cache chart
+  EXPECT_THAT(reportPage({{"s.json", s}}), Not(HasSubstr("Brick cache (--volume-memory)")));
+  EXPECT_THAT(reportPage({{"s.json", stats()}}), Not(HasSubstr("<h2>Volumes</h2>")));
+}
+
 // Edges of every formula a page draws: zero times (ratios, bar scales), no generation, nothing
 // diced, an RMSE of 0 on a log axis, one file compared with itself. No NaN or infinity may
 // reach the page, and every chart that is drawn still has its marks.
