@@ -65,7 +65,7 @@ struct StoredCopy {
     root = s.root;
     nodes.reset(static_cast<uint8_t*>(std::aligned_alloc(uint64_t(1) << BlockGate::kBlockShift,
                                                          ((nodeBytes() >> BlockGate::kBlockShift) + 1) << BlockGate::kBlockShift)));
-    std::memcpy(nodes.get() + kHeader, s.nodes, nodeCount * TopLevelBvh::kNodeBytes);
+    if (nodeCount > 0) std::memcpy(nodes.get() + kHeader, s.nodes, nodeCount * TopLevelBvh::kNodeBytes);  // no tree: null
     for (size_t i = 0; i < built.leafBoxes().size(); ++i) boxes.push_back(built.leafBoxes()[i]);
   }
   void adoptInto(TopLevelBvh& bvh, const BlockGate* nodeGate, const BlockGate* boxGate) {
