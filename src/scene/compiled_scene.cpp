@@ -24,6 +24,19 @@ namespace {
 // Leaves encoded at a time: their records are held in memory until written.
 constexpr size_t kChunkLeaves = size_t(1) << 16;
 
+// Writes n fixed-size rows made by row(i), filled in parallel a chunk at a time: a section of
+// 10 M leaves never holds more than a chunk of its rows.
+template <class Row, class MakeRow>
+void writeRows(CompiledFileWriter& w, size_t n, MakeRow&& row) {
+  std::vector<Row> rows;
+  for (size_t c0 = 0; c0 < n; c0 += kChunkLeaves) {
+    const size_t c1 = std::min(n, c0 + kChunkLeaves);
+    rows.resize(c1 - c0);
+    tbb::parallel_for(c0, c1, [&](size_t i) { rows[i - c0] = row(i); });
+    w.write(rows.data(), rows.size() * sizeof(Row));
+  }
+}
+
 LeafEntry entryOf(const Scene& scene, size_t i, uint8_t kind, uint64_t offset, uint32_t bytes) {
   const Box3 b = scene.leaves.bounds(i);
   const LeafFacts f = scene.leaves.facts(i);
@@ -70,15 +83,10 @@ void writeLeafShading(const Scene& scene, CompiledFileWriter& w) {
   const size_t total = scene.leaves.size();
   const std::vector<uint32_t> ranks = shadeRanks(scene.leafMaterial);
   w.beginSection(SectionKind::LeafShading);
-  std::vector<LeafShadingRow> rows;
-  for (size_t c0 = 0; c0 < total; c0 += kChunkLeaves) {
-    const size_t c1 = std::min(total, c0 + kChunkLeaves);
-    rows.resize(c1 - c0);
-    tbb::parallel_for(c0, c1, [&](size_t i) {
-      rows[i - c0] = {scene.leafMaterial[i], scene.leaves.bounds(i).longestSide(), scene.leaves.facts(i).dicingError, ranks[i]};
-    });
-    w.write(rows.data(), rows.size() * sizeof(LeafShadingRow));
-  }
+  writeRows<LeafShadingRow>(w, total, [&](size_t i) {
+    return LeafShadingRow{scene.leafMaterial[i], scene.leaves.bounds(i).longestSide(), scene.leaves.facts(i).dicingError,
+                          ranks[i]};
+  });
 }
 
 }  // namespace
@@ -183,15 +191,7 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   }
 
   w.beginSection(SectionKind::Leaves);
-  std::vector<LeafEntry> entries;
-  for (size_t c0 = 0; c0 < n; c0 += kChunkLeaves) {
-    const size_t c1 = std::min(n, c0 + kChunkLeaves);
-    entries.resize(c1 - c0);
-    tbb::parallel_for(c0, c1, [&](size_t i) {
-      entries[i - c0] = entryOf(scene, i, kindOf[i], offset[i], uint32_t(offset[i + 1] - offset[i]));
-    });
-    w.write(entries.data(), entries.size() * sizeof(LeafEntry));
-  }
+  writeRows<LeafEntry>(w, n, [&](size_t i) { return entryOf(scene, i, kindOf[i], offset[i], uint32_t(offset[i + 1] - offset[i])); });
   if (!meshBytes.empty()) {
     w.beginSection(SectionKind::Meshes);
     w.write(meshBytes.data(), meshBytes.size());
