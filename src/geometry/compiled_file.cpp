@@ -28,6 +28,7 @@ const char* compiled::sectionName(SectionKind kind) {
     case SectionKind::TopLevel: return "top_level";
     case SectionKind::LeafBoxes: return "leaf_boxes";
     case SectionKind::LeafShading: return "leaf_shading";
+    case SectionKind::Forests: return "forests";
   }
   return "unknown";
 }

@@ -43,14 +43,17 @@ namespace rayes {
 namespace compiled {
 
 constexpr char kMagic[8] = {'R', 'A', 'Y', 'E', 'S', 'S', 'C', 'N'};
-// Version 3: sections Scene, Materials, Records, Leaves, Meshes (when a leaf is a subdivision
-// face), UvSets (when a leaf has a uv set that a texture reads), TopLevel, LeafBoxes and
-// LeafShading, Checksums; every position is in the render frame of the scene's camera
-// (scene/scene.h, RenderFrame), whose world position the Scene section records ("frame_origin").
-// Version 2 had no top level (the render built it) and its leaves were in world coordinates;
+// Version 4: sections Scene, Materials, Records, Leaves, Meshes (when a leaf is a subdivision
+// face), UvSets (when a leaf has a uv set that a texture reads), Forests (when a leaf is a
+// forest's: its record names the forest and the leaf, the section holds the forest's generator
+// tables), TopLevel, LeafBoxes and LeafShading, Checksums; every position is in the render frame
+// of the scene's camera (scene/scene.h, RenderFrame), whose world position the Scene section
+// records ("frame_origin").
+// Version 3 stored a forest's leaves as their expanded patch records (no Forests section);
+// version 2 had no top level (the render built it) and its leaves were in world coordinates;
 // version 1 had no subdivision faces, height maps or uv sets. A new section kind or a changed
 // record is a new version; readers refuse others.
-constexpr uint32_t kFormatVersion = 3;
+constexpr uint32_t kFormatVersion = 4;
 constexpr uint64_t kPageBytes = 4096;
 constexpr uint64_t kBlockBytes = 64 * 1024;  // a multiple of the page: released whole
 constexpr int kMaxSections = 16;
@@ -66,6 +69,7 @@ enum class SectionKind : uint32_t {
   TopLevel = 8,   // the top-level BVH's 128-byte nodes (toplevel/toplevel_node.h), depth first; its root in the Scene section
   LeafBoxes = 9,  // Box3 per leaf of the render (the shapes' leaves, then the lights'): what the top level was built over
   LeafShading = 10,  // 16 bytes per leaf of the render: material, box side, dicing error, shading rank (shading/shading_scene.h)
+  Forests = 11,   // per forest (the Scene section indexes them): a ForestHeader, its branches, its foliage
 };
 const char* sectionName(SectionKind kind);
 
@@ -119,6 +123,20 @@ struct TopLevelHeader {
   uint32_t reserved[26] = {};
 };
 static_assert(sizeof(TopLevelHeader) == 128);
+
+// A forest's generator tables in the Forests section: this header (its ForestParams, field by
+// field), then branchCount ForestBranch (76 bytes each) and foliageCount ForestFoliage (36 bytes
+// each), as geometry/forest_patches.h lays them out; read in place by the render.
+struct ForestHeader {
+  uint64_t seed = 0;
+  uint64_t branchCount = 0, foliageCount = 0;
+  uint32_t trees = 0;
+  int32_t detail = 0, branching = 0, terrainTiles = 0, leavesPerTwig = 0;
+  float area = 0, treeHeight = 0, terrainAmplitude = 0;
+  float placement[3][4] = {};  // Transform::m
+  uint32_t reserved[6] = {};
+};
+static_assert(sizeof(ForestHeader) == 128);
 
 // A top level to store, built by the caller (app/compile_command.cpp: this folder knows no BVH).
 struct StoredTopLevel {

@@ -74,10 +74,11 @@ class LeafList final : public LeafSource {
   LeafFacts facts(size_t i) const override;
   size_t descriptionBytes() const override;
   bool empty() const { return size_ == 0; }
+  // The part holding leaf i and i's index inside it (a compiled scene stores a forest's leaves
+  // by their forest: scene/compiled_scene.cpp). O(log parts).
+  std::pair<const LeafSource*, size_t> locate(size_t i) const;
 
  private:
-  // The part holding leaf i and i's index inside it.
-  std::pair<const LeafSource*, size_t> locate(size_t i) const;
 
   std::vector<LeafSourcePtr> parts_;
   std::vector<size_t> first_;  // first leaf id of each part

@@ -12,7 +12,9 @@ namespace rayes {
 namespace {
 
 // Tags: new kinds take new numbers (and a format version bump, geometry/compiled_file.h).
-enum Tag : uint8_t { kBezier = 1, kBilinear = 2, kDisplaced = 3, kMoving = 4, kSubdivFace = 5 };
+// kForestLeaf (format version 4): a forest leaf named by its forest and its ForestLeaf, made by
+// the forest's ForestPatches over its mapped tables.
+enum Tag : uint8_t { kBezier = 1, kBilinear = 2, kDisplaced = 3, kMoving = 4, kSubdivFace = 5, kForestLeaf = 6 };
 enum DisplacementTag : uint8_t { kNoise = 1, kHeightMap = 2 };
 // A topology's counts are checked against the record's length before anything is reserved.
 constexpr uint32_t kTopologyVersion = 1;
@@ -195,6 +197,17 @@ PatchPtr decode(Reader& r, int depth, const RecordTables* shared) {
         throw std::invalid_argument("face leaf " + std::to_string(leaf) + " of a mesh of " + std::to_string(m->leafCount()));
       return std::make_shared<SubdivFacePatch>(m, leaf);
     }
+    case kForestLeaf: {
+      const uint32_t forest = r.get<uint32_t>();
+      ForestLeaf leaf;
+      leaf.part = ForestLeaf::Part(r.get<uint8_t>());
+      leaf.quarter = r.get<uint8_t>();
+      leaf.segment = r.get<uint16_t>();
+      leaf.index = r.get<uint32_t>();
+      if (!shared || forest >= shared->forests.size())
+        throw std::invalid_argument("forest " + std::to_string(forest) + " of " + std::to_string(shared ? shared->forests.size() : 0));
+      return shared->forests[forest]->make(leaf);  // refuses a leaf outside the forest's tables
+    }
     default:
       throw std::invalid_argument("unknown patch tag " + std::to_string(tag));
   }
@@ -219,6 +232,22 @@ void RecordTableIndex::add(const Patch& patch) {
     if (added) topologies_.push_back(t);
     meshTopology_.push_back(it->second);
   }
+}
+
+uint32_t RecordTableIndex::addForest(const Forest& forest) {
+  const auto [it, added] = forestIndex_.emplace(&forest, uint32_t(forests_.size()));
+  if (added) forests_.push_back(&forest);
+  return it->second;
+}
+
+void encodeForestLeaf(uint32_t forest, const ForestLeaf& leaf, std::vector<uint8_t>& out) {
+  Writer w(out);
+  w.put(uint8_t(kForestLeaf));
+  w.put(forest);
+  w.put(uint8_t(leaf.part));
+  w.put(leaf.quarter);
+  w.put(leaf.segment);
+  w.put(leaf.index);
 }
 
 std::string encodePatch(const Patch& patch, std::vector<uint8_t>& out, const RecordTableIndex* shared) {

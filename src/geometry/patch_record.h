@@ -9,7 +9,8 @@
 // stored once, outside the records, and a record names it by index (RecordTables): a
 // subdivision face its mesh (the mesh's topology once more apart: encodeSubdivTopology, shared
 // by a moving mesh's time samples), a height-map displacement its map (the file and channel
-// the scene named, opened once by the loader). Not encoded (encodePatch says which, naming the
+// the scene named, opened once by the loader), a forest's leaf its forest (the generator tables
+// a ForestPatches makes its patch from: encodeForestLeaf, 13 bytes). Not encoded (encodePatch says which, naming the
 // kind): disks (only lights make them, and lights are not leaves of the compiled shapes).
 //
 // Format (little-endian, floats as IEEE bits): a one-byte tag, then the kind's fields;
@@ -22,6 +23,8 @@
 #include <vector>
 #include <unordered_map>
 #include "geometry/displacement.h"
+#include "geometry/forest.h"
+#include "geometry/forest_patches.h"
 #include "geometry/patch.h"
 #include "geometry/subdiv_mesh.h"
 
@@ -31,6 +34,7 @@ namespace rayes {
 struct RecordTables {
   std::vector<SubdivMeshPtr> meshes;
   std::vector<std::shared_ptr<const HeightMapDisplacement>> heightMaps;
+  std::vector<std::shared_ptr<const ForestPatches>> forests;
 };
 
 // The shared objects of a set of patches, numbered in order of first appearance (so a file is
@@ -39,6 +43,10 @@ struct RecordTables {
 class RecordTableIndex {
  public:
   void add(const Patch& patch);
+  // A forest whose leaves are encoded by encodeForestLeaf: its index (the same forest, the same index).
+  uint32_t addForest(const Forest& forest);
+  uint32_t forestIndex(const Forest* f) const { return forestIndex_.at(f); }
+  const std::vector<const Forest*>& forests() const { return forests_; }
   const std::vector<const SubdivMesh*>& meshes() const { return meshes_; }
   // The meshes' distinct topologies, in order of first appearance, and each mesh's topology.
   const std::vector<const SubdivTopology*>& topologies() const { return topologies_; }
@@ -53,6 +61,8 @@ class RecordTableIndex {
   std::vector<const SubdivTopology*> topologies_;
   std::vector<uint32_t> meshTopology_;
   std::vector<const HeightMapDisplacement*> heightMaps_;
+  std::vector<const Forest*> forests_;
+  std::unordered_map<const Forest*, uint32_t> forestIndex_;
   std::unordered_map<const SubdivMesh*, uint32_t> meshIndex_;
   std::unordered_map<const SubdivTopology*, uint32_t> topologyIndex_;
   std::unordered_map<const HeightMapDisplacement*, uint32_t> heightMapIndex_;
@@ -62,6 +72,10 @@ class RecordTableIndex {
 // (out is then unspecified). `shared`: the index the patch was added to; without it, patches
 // that share objects (subdivision faces, height maps) cannot be encoded.
 std::string encodePatch(const Patch& patch, std::vector<uint8_t>& out, const RecordTableIndex* shared = nullptr);
+
+// Appends the record of a forest's leaf: forest `forest` (RecordTableIndex::addForest) and which leaf
+// of it; decoded by RecordTables::forests[forest]->make(leaf).
+void encodeForestLeaf(uint32_t forest, const ForestLeaf& leaf, std::vector<uint8_t>& out);
 
 // The patch of a record of exactly `bytes` bytes. Throws std::invalid_argument naming what is
 // wrong (an unknown tag, a record shorter or longer than its fields, an index outside

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 #include "core/error.h"
 #include "core/version.h"
+#include "geometry/forest_leaves.h"
 #include "geometry/mapped_leaves.h"
 #include "geometry/patch_record.h"
 #include "scene/json_document.h"
@@ -89,6 +90,45 @@ void writeLeafShading(const Scene& scene, CompiledFileWriter& w) {
   });
 }
 
+// The forest that generated shape leaf i, and i's leaf in it; null for any other leaf.
+std::pair<const Forest*, size_t> forestOf(const Scene& scene, size_t i) {
+  const auto [source, k] = scene.leaves.locate(i);
+  const auto* forest = dynamic_cast<const ForestLeaves*>(source);
+  return {forest ? &forest->forest() : nullptr, k};
+}
+
+// Forests section: where each forest's tables lie, and what they hold (compiled::ForestHeader).
+constexpr uint64_t kForestAlign = 64;  // each forest starts aligned: its tables are read in place
+uint64_t forestBytes(const Forest& f) {
+  return sizeof(compiled::ForestHeader) + f.branchCount() * sizeof(ForestBranch) + f.foliageCount() * sizeof(ForestFoliage);
+}
+
+void writeForests(const std::vector<const Forest*>& forests, CompiledFileWriter& w) {
+  static const uint8_t zeros[kForestAlign] = {};
+  w.beginSection(SectionKind::Forests);
+  for (const Forest* f : forests) {
+    const ForestParams& p = f->params();
+    compiled::ForestHeader h;
+    h.seed = p.seed;
+    h.branchCount = f->branchCount();
+    h.foliageCount = f->foliageCount();
+    h.trees = p.trees;
+    h.detail = p.detail;
+    h.branching = p.branching;
+    h.terrainTiles = p.terrainTiles;
+    h.leavesPerTwig = p.leavesPerTwig;
+    h.area = p.area;
+    h.treeHeight = p.treeHeight;
+    h.terrainAmplitude = p.terrainAmplitude;
+    std::memcpy(h.placement, p.placement.m, sizeof h.placement);
+    w.write(&h, sizeof h);
+    // The tables' own bytes (no implicit padding: geometry/forest_patches.h).
+    if (f->branchCount()) w.write(&f->branch(0), f->branchCount() * sizeof(ForestBranch));
+    if (f->foliageCount()) w.write(&f->foliage(0), f->foliageCount() * sizeof(ForestFoliage));
+    w.write(zeros, (kForestAlign - forestBytes(*f) % kForestAlign) % kForestAlign);
+  }
+}
+
 }  // namespace
 
 bool isCompiledSceneName(const std::string& path) {
@@ -103,8 +143,16 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   const size_t n = scene.shapeLeaves;
   if (top.leafCount != scene.leaves.size()) throw std::logic_error("writeCompiledScene: the top level is not over the scene's leaves");
   // What records share (meshes, their topologies, height maps), numbered in leaf order.
+  // A forest's leaves are stored by their forest (its generator tables, once), not as patches.
   RecordTableIndex shared;
-  for (size_t i = 0; i < n; ++i) shared.add(*scene.leaves.patch(i));
+  for (size_t i = 0; i < n; ++i) {
+    if (const auto [forest, k] = forestOf(scene, i); forest) {
+      shared.addForest(*forest);
+      i += forest->size() - k - 1;
+      continue;
+    }
+    shared.add(*scene.leaves.patch(i));
+  }
   // Volumes have no section in the format: refused rather than rendered without their media.
   if (!scene.media.empty())
     throw InputError(jsonPath, "/shapes", "volumes cannot be compiled yet (the compiled format has no volume section); render the JSON scene");
@@ -156,6 +204,13 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
   sceneSection["topologies"] = topologies;
   sceneSection["meshes"] = meshes;
   sceneSection["height_maps"] = heightMaps;
+  nlohmann::json forests = nlohmann::json::array();
+  for (uint64_t k = 0, at = 0; k < shared.forests().size(); ++k) {
+    const uint64_t bytes = forestBytes(*shared.forests()[k]);
+    forests.push_back({at, bytes});
+    at += (bytes + kForestAlign - 1) / kForestAlign * kForestAlign;
+  }
+  sceneSection["forests"] = forests;
 
   CompiledFileWriter w(outPath, programVersion());
   const std::string sceneText = sceneSection.dump();
@@ -174,6 +229,10 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     records.assign(c1 - c0, {});
     failures.assign(c1 - c0, {});
     tbb::parallel_for(c0, c1, [&](size_t i) {
+      if (const auto [forest, k] = forestOf(scene, i); forest) {
+        encodeForestLeaf(shared.forestIndex(forest), forest->leaf(k), records[i - c0]);
+        return;
+      }
       const PatchPtr p = scene.leaves.patch(i);
       failures[i - c0] = encodePatch(*p, records[i - c0], &shared);
     });
@@ -197,6 +256,7 @@ void writeCompiledScene(const Scene& scene, const std::string& jsonText, const s
     w.write(meshBytes.data(), meshBytes.size());
   }
   if (scene.uvs) writeUvSets(*scene.uvs, n, shared, w);
+  if (!shared.forests().empty()) writeForests(shared.forests(), w);
   w.beginSection(SectionKind::TopLevel);
   compiled::TopLevelHeader th;
   th.nodeCount = top.nodeCount;
@@ -248,6 +308,55 @@ void loadMeshes(const MappedFile& file, const nlohmann::json& section, RecordTab
   }
 }
 
+// The forests the Scene section names: each one's parameters read from its header, its tables
+// read in place through the mapping (`file` keeps it) by the ForestPatches that makes its leaves.
+void loadForests(const std::shared_ptr<const MappedFile>& file, const nlohmann::json& section, RecordTables& tables) {
+  const std::string& path = file->path();
+  const nlohmann::json& fs = section.at("forests");
+  if (fs.empty()) return;
+  if (!file->has(SectionKind::Forests))
+    throw InputError(path, "header", "no forests section, while the scene section names " + std::to_string(fs.size()) + " forests");
+  const uint64_t sectionBytes = file->sectionBytes(SectionKind::Forests);
+  const MappedFile::GatedSection g = file->gated(SectionKind::Forests);
+  for (size_t k = 0; k < fs.size(); ++k) {
+    const std::string place = "section forests (forest " + std::to_string(k) + ")";
+    const uint64_t at = fs[k].at(0).get<uint64_t>(), bytes = fs[k].at(1).get<uint64_t>();
+    compiled::ForestHeader h;
+    if (at % kForestAlign != 0 || bytes < sizeof h)
+      throw InputError(path, place, "at byte " + std::to_string(at) + " with " + std::to_string(bytes) + " bytes: the file is corrupt");
+    file->read(SectionKind::Forests, at, sizeof h, &h, "forest", k);
+    // Counts checked by division first: a corrupt count must not wrap the product.
+    const uint64_t tableBytes = bytes - sizeof h;
+    if (h.branchCount > tableBytes / sizeof(ForestBranch) || h.foliageCount > tableBytes / sizeof(ForestFoliage) ||
+        h.branchCount * sizeof(ForestBranch) + h.foliageCount * sizeof(ForestFoliage) != tableBytes || at > sectionBytes ||
+        bytes > sectionBytes - at)
+      throw InputError(path, place, std::to_string(h.branchCount) + " branches and " + std::to_string(h.foliageCount) +
+                                        " foliage leaves do not fill its " + std::to_string(bytes) + " bytes at byte " +
+                                        std::to_string(at) + " of a section of " + std::to_string(sectionBytes) +
+                                        ": the file is truncated or corrupt");
+    ForestParams p;
+    p.seed = h.seed;
+    p.trees = h.trees;
+    p.detail = h.detail;
+    p.branching = h.branching;
+    p.terrainTiles = h.terrainTiles;
+    p.leavesPerTwig = h.leavesPerTwig;
+    p.area = h.area;
+    p.treeHeight = h.treeHeight;
+    p.terrainAmplitude = h.terrainAmplitude;
+    std::memcpy(p.placement.m, h.placement, sizeof h.placement);
+    const uint64_t branchesAt = at + sizeof h, foliageAt = branchesAt + h.branchCount * sizeof(ForestBranch);
+    try {
+      tables.forests.push_back(std::make_shared<const ForestPatches>(
+          p, GatedSpan<ForestBranch>(reinterpret_cast<const ForestBranch*>(g.data + branchesAt), h.branchCount, g.gate, branchesAt),
+          GatedSpan<ForestFoliage>(reinterpret_cast<const ForestFoliage*>(g.data + foliageAt), h.foliageCount, g.gate, foliageAt),
+          file));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(path, place, std::string("its parameters are refused: ") + e.what());
+    }
+  }
+}
+
 // The height maps the Scene section names, opened as the JSON route opens them (relative to
 // the source scene's folder) into the scene's texture cache.
 void loadHeightMaps(const std::string& path, const nlohmann::json& section, const std::string& source, Scene& scene,
@@ -294,6 +403,7 @@ Scene loadCompiledScene(const std::string& path, uint64_t residentBudget, const 
     kinds = section.at("kinds").get<std::vector<std::string>>();
     leafCount = section.at("leaves").get<size_t>();
     loadMeshes(*file, section, *tables, topologies);
+    loadForests(file, section, *tables);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(path, "section scene", std::string("not the scene's JSON: ") + e.what());
   }

@@ -2,8 +2,10 @@
 // the same image bits as the JSON render for every kind of leaf a .rayes holds; a scene several
 // times --scene-memory renders within it; bad input, found at opening or mid-render, is one
 // message naming the file and place, exit code 2 (3 for a resource limit), nothing written.
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include "app/command_line.h"
@@ -49,6 +51,27 @@ uint64_t sectionOffset(const std::string& path, compiled::SectionKind kind) {
   return 0;
 }
 
+// `in` written again to `out` section by section, each section's bytes passed through `edit`
+// first: a file whose checksums are right, with contents no compile writes.
+void rewrite(const std::string& in, const std::string& out,
+             const std::function<void(compiled::SectionKind, std::string&)>& edit) {
+  std::string bytes;
+  {
+    std::ifstream f(in, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(f), {});
+  }
+  MappedFile probe(in, 0);
+  CompiledFileWriter w(out, "test");
+  for (uint32_t k = 0; k + 1 < probe.header().sectionCount; ++k) {
+    const compiled::SectionEntry& e = probe.header().sections[k];
+    std::string section = bytes.substr(e.offset, e.bytes);
+    edit(compiled::SectionKind(e.kind), section);
+    w.beginSection(compiled::SectionKind(e.kind));
+    w.write(section.data(), section.size());
+  }
+  w.finish();
+}
+
 // Bézier (teapot), noise-displaced Bézier (displaced teapot), a forest (displaced Bézier bark,
 // displaced bilinear terrain, bilinear foliage), moving bilinear patches, a bilinear box with a
 // rectangle light (a light leaf after the compiled ones), depth of field over Bézier patches,
@@ -65,6 +88,97 @@ TEST_F(CompiledScene, RendersTheSameBitsAsTheJson) {
     const std::string b = render(compiled, std::string(name) + "-rayes", opts);
     ASSERT_FALSE(a.empty());
     EXPECT_TRUE(a == b) << "the compiled render differs from the JSON render";
+  }
+}
+
+// Forests are stored as their generator tables (the forests section: parameters, branches,
+// foliage) and a 13-byte record per leaf naming its forest and piece, not as expanded patches:
+// two forests (one placed by a rotation, a uniform scale and a translation, with several
+// terrain tiles) with a stored bilinear quad between them render to the JSON's bits, at one
+// thread and two, and under a --scene-memory budget the forests' tables count against.
+TEST_F(CompiledScene, ForestsAreStoredAsTheirGeneratorTablesAndRenderTheSameBits) {
+  const std::string json = temp_.write("forests.json", R"({
+    "camera": {"position": [0, 5, 26], "look_at": [0, 3, 0], "fov": 50},
+    "film": {"resolution": [48, 32], "spp": 2},
+    "integrator": {"max_depth": 2},
+    "materials": {"bark": {"type": "diffuse", "albedo": [0.3, 0.2, 0.15]},
+                  "leaf": {"type": "diffuse", "albedo": [0.2, 0.45, 0.1]},
+                  "ground": {"type": "diffuse", "albedo": [0.35, 0.3, 0.2]}},
+    "shapes": [
+      {"type": "forest", "trees": 12, "seed": 4, "detail": 2, "area": 16, "terrain_tiles": 5, "terrain_amplitude": 0.8,
+       "materials": {"terrain": "ground", "bark": "bark", "foliage": "leaf"}},
+      {"type": "bilinear", "material": "ground", "quads": [[[-9, 0, -9], [9, 0, -9], [-9, 8, -9], [9, 8, -9]]]},
+      {"type": "forest", "trees": 5, "seed": 11, "detail": 2, "area": 6, "terrain_tiles": 3, "leaves_per_twig": 5,
+       "materials": {"terrain": "ground", "bark": "bark", "foliage": "leaf"},
+       "transform": [{"rotate": {"axis": [0, 1, 0], "degrees": 30}}, {"scale": 1.5}, {"translate": [6, -0.5, 4]}]}
+    ],
+    "lights": [{"type": "distant", "direction": [0.4, 0.8, 0.45], "irradiance": [3, 3, 3]}]})");
+  const std::string compiled = compile(json, "forests");
+  {
+    MappedFile probe(compiled, 0);
+    ASSERT_TRUE(probe.has(compiled::SectionKind::Forests));
+    const uint64_t leaves = probe.sectionBytes(compiled::SectionKind::Leaves) / sizeof(compiled::LeafEntry);
+    // Every forest leaf a 13-byte record, the quad a bilinear record (a tag and four corners).
+    EXPECT_EQ(probe.sectionBytes(compiled::SectionKind::Records), (leaves - 1) * 13 + 1 + 4 * 12);
+  }
+  const std::string reference = render(json, "json");
+  ASSERT_FALSE(reference.empty());
+  for (const char* threads : {"1", "2"}) {
+    SCOPED_TRACE(threads);
+    EXPECT_TRUE(render(compiled, std::string("rayes") + threads, {"--threads", threads}) == reference)
+        << "the compiled render differs from the JSON render";
+  }
+  const std::string stats = temp_.path("s.json");
+  EXPECT_TRUE(render(compiled, "budget", {"--scene-memory", "1M", "--stats", stats}) == reference);
+  std::ifstream in(stats);
+  const auto c = nlohmann::json::parse(in)["scene"]["compiled"];
+  EXPECT_LE(c["resident_peak_bytes"].get<uint64_t>(), uint64_t(1) << 20);
+}
+
+// A forest's tables that do not match what its header says, parameters its generator refuses,
+// or a leaf record outside the tables (files with right checksums and wrong contents): refused
+// naming the file and the section, exit code 2, nothing written.
+TEST_F(CompiledScene, BadForestTablesAreRefusedNamingTheSection) {
+  const std::string json = temp_.write("forest.json", R"({
+    "camera": {"position": [0, 4, 12], "look_at": [0, 2, 0], "fov": 50},
+    "film": {"resolution": [16, 12], "spp": 1},
+    "materials": {"m": {"type": "diffuse", "albedo": [0.5, 0.4, 0.3]}},
+    "shapes": [{"type": "forest", "trees": 3, "seed": 2, "detail": 2, "area": 6, "terrain_tiles": 2,
+                "materials": {"terrain": "m", "bark": "m", "foliage": "m"}}],
+    "lights": [{"type": "distant", "direction": [0.4, 0.8, 0.45], "irradiance": [3, 3, 3]}]})");
+  const std::string good = compile(json, "good");
+  using Kind = compiled::SectionKind;
+  struct Case {
+    const char* name;
+    std::function<void(Kind, std::string&)> edit;
+    std::string place;
+  };
+  const auto header = [](std::string& s) { return reinterpret_cast<compiled::ForestHeader*>(s.data()); };
+  const std::vector<Case> cases = {
+      {"truncated", [](Kind k, std::string& s) { if (k == Kind::Forests) s.resize(s.size() - 100); },
+       "section forests (forest 0): "},
+      {"count", [&](Kind k, std::string& s) { if (k == Kind::Forests) header(s)->branchCount += 1; },
+       "section forests (forest 0): "},
+      {"params", [&](Kind k, std::string& s) { if (k == Kind::Forests) header(s)->detail = 99; },
+       "section forests (forest 0): its parameters are refused: detail must be in [0, 8]"},
+      // Every leaf's piece beyond its table: the first leaf diced says which it is.
+      {"record", [](Kind k, std::string& s) {
+         if (k != Kind::Records) return;
+         for (size_t at = 0; at + 13 <= s.size(); at += 13) std::memset(s.data() + at + 9, 0xff, 4);
+       },
+       "the patch record does not decode: "},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    testing::TempFolder t;
+    const std::string scene = t.path(std::string(c.name) + ".rayes");
+    rewrite(good, scene, c.edit);
+    const RunResult r = run({"render", scene, "-o", t.path("out/x.exr"), "--stats", t.path("out/s.json"), "-q"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(scene + ":"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(c.place), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
+    EXPECT_EQ(t.entries(), std::vector<std::string>{std::string(c.name) + ".rayes"}) << "something was written";
   }
 }
 
@@ -211,6 +325,11 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   const std::string uvBytes = temp_.read("uv.rayes");
   const uint64_t meshes = sectionOffset(uvScene, compiled::SectionKind::Meshes);
   const uint64_t uvSets = sectionOffset(uvScene, compiled::SectionKind::UvSets);
+  // A forest: its tables' first block is read at load (the forest's header).
+  const std::string forestScene = compile(sceneFile("forest-1.json"), "forest");
+  const std::string forestBytes = temp_.read("forest.rayes");
+  const uint64_t forests = sectionOffset(forestScene, compiled::SectionKind::Forests);
+  ASSERT_NE(forests, 0u);
   ASSERT_NE(meshes, 0u);
   ASSERT_NE(uvSets, 0u);
   struct Case {
@@ -237,6 +356,10 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
       {"mesh-block", uvBytes, "section meshes, block 0 (topology 0)"},
       {"uv-block", uvBytes, "section uv_sets, block 0 (leaf "},
       {"uv-truncated", uvBytes.substr(0, uvSets + 100), "header: truncated or extended"},
+      // Version 3 stored a forest's leaves as expanded patch records.
+      {"version-3", bytes, "header: format version 3, written by rayes"},
+      {"forest-block", forestBytes, "section forests, block 0 (forest 0)"},
+      {"forest-truncated", forestBytes.substr(0, forests + 100), "header: truncated or extended"},
   };
   cases[2].content[8] = 7;
   cases[3].content[90] ^= 1;
@@ -247,6 +370,8 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
   cases[8].content[sectionOffset(good, compiled::SectionKind::LeafShading) + 5] ^= 1;
   cases[9].content[meshes + 5] ^= 1;
   cases[10].content[uvSets + 3] ^= 1;
+  cases[12].content[8] = 3;
+  cases[13].content[forests + 5] ^= 1;
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     testing::TempFolder t;
@@ -257,7 +382,7 @@ TEST_F(CompiledScene, BadFilesAreRefusedNamingThePlaceAndWriteNothing) {
     EXPECT_NE(r.err.find(scene + ":"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find(c.place), std::string::npos) << r.err;
     if (std::string(c.name).rfind("version-", 0) == 0) {
-      EXPECT_NE(r.err.find("this program reads version 3"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("this program reads version 4"), std::string::npos) << r.err;
     }
     EXPECT_EQ(r.err.find("internal error"), std::string::npos) << r.err;
     EXPECT_EQ(t.entries(), std::vector<std::string>{std::string(c.name) + ".rayes"}) << "something was written";

@@ -93,12 +93,13 @@ TEST(CompiledFile, RefusesAnotherVersionNamingIt) {
   testing::TempFolder t;
   const std::string path = writeSample(t);
   // The format version's low byte: files of versions 1 (no meshes, uv sets or height maps)
-  // and 2 (no stored top level or shading rows), and one of a later version.
-  for (char version : {1, 2, 4}) {
+  // 2 (no stored top level or shading rows) and 3 (forests as expanded patches), and one of a
+  // later version.
+  for (char version : {1, 2, 3, 5}) {
     patch(path, 8, version);
     const std::string e = openError(path);
     EXPECT_NE(e.find(":header: format version " + std::to_string(int(version))), std::string::npos) << e;
-    EXPECT_NE(e.find("reads version 3"), std::string::npos) << e;
+    EXPECT_NE(e.find("reads version 4"), std::string::npos) << e;
   }
 }
 

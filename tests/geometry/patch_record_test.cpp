@@ -4,6 +4,7 @@
 #include <cstring>
 #include <gtest/gtest.h>
 #include "geometry/disk_patch.h"
+#include "geometry/forest.h"
 #include "geometry/leaf_source.h"
 #include "geometry/moving_patch.h"
 #include "geometry/patch_record.h"
@@ -159,6 +160,73 @@ TEST(PatchRecord, SharedObjectsAreNamedByIndexAndRebuildTheSamePatch) {
   RecordTables short_;
   short_.meshes.push_back(tables.meshes[0]);
   EXPECT_THROW(decodePatch(r.data(), r.size(), &short_), std::invalid_argument);
+}
+
+// A forest's leaf: 13 bytes naming its forest and its piece; decoded by the forest's
+// ForestPatches, here over a copy of the forest's tables (as a compiled scene's mapping holds
+// them), it is the patch the forest makes, bit for bit, for every part, placed or not.
+TEST(PatchRecord, AForestLeafIsMadeFromItsForestsTablesBitForBit) {
+  ForestParams fp;
+  fp.trees = 2;
+  fp.detail = 1;
+  fp.terrainTiles = 3;
+  fp.leavesPerTwig = 2;
+  for (const Transform& placement : {Transform{}, Transform::translate(1, 2, 3) * Transform::rotate(Vec3{0, 1, 0}, 35) * Transform::scale(2.5f, 2.5f, 2.5f)}) {
+    fp.placement = placement;
+    const Forest forest(fp);
+    const std::vector<ForestBranch> branches(&forest.branch(0), &forest.branch(0) + forest.branchCount());
+    const std::vector<ForestFoliage> foliage(&forest.foliage(0), &forest.foliage(0) + forest.foliageCount());
+    RecordTableIndex index;
+    EXPECT_EQ(index.addForest(forest), 0u);
+    EXPECT_EQ(index.addForest(forest), 0u) << "one forest, one index";
+    RecordTables tables;
+    tables.forests.push_back(std::make_shared<const ForestPatches>(
+        forest.params(), GatedSpan<ForestBranch>(branches.data(), branches.size()),
+        GatedSpan<ForestFoliage>(foliage.data(), foliage.size())));
+    for (size_t i = 0; i < forest.size(); ++i) {
+      SCOPED_TRACE(i);
+      std::vector<uint8_t> r;
+      encodeForestLeaf(index.forestIndex(&forest), forest.leaf(i), r);
+      ASSERT_EQ(r.size(), 13u);
+      expectSamePatch(*forest.makePatch(i), *decodePatch(r.data(), r.size(), &tables));
+      for (size_t n = 0; n < r.size(); ++n) EXPECT_THROW(decodePatch(r.data(), n, &tables), std::invalid_argument) << n;
+    }
+  }
+}
+
+// A forest leaf outside its forest's tables, or naming a forest that is not there, is refused.
+TEST(PatchRecord, AForestLeafOutsideItsTablesIsRefused) {
+  ForestParams fp;
+  fp.trees = 1;
+  fp.detail = 0;
+  fp.terrainTiles = 2;
+  const Forest forest(fp);
+  RecordTables tables;
+  tables.forests.push_back(std::make_shared<const ForestPatches>(
+      forest.params(), GatedSpan<ForestBranch>(&forest.branch(0), forest.branchCount()), GatedSpan<ForestFoliage>()));
+  const auto decodes = [&](ForestLeaf leaf, uint32_t f = 0) {
+    std::vector<uint8_t> r;
+    encodeForestLeaf(f, leaf, r);
+    try {
+      decodePatch(r.data(), r.size(), &tables);
+      return std::string();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+  };
+  using Part = ForestLeaf::Part;
+  EXPECT_EQ(decodes({Part::Terrain, 0, 0, 3}), "");
+  EXPECT_EQ(decodes({Part::Terrain, 0, 0, 4}), "terrain tile 4 of 4");
+  EXPECT_EQ(decodes({Part::Bark, 3, 2, 0}), "");
+  EXPECT_EQ(decodes({Part::Bark, 0, 0, 1}), "branch 1 of 1");
+  EXPECT_EQ(decodes({Part::Bark, 4, 0, 0}), "quarter 4 of 4");
+  EXPECT_EQ(decodes({Part::Bark, 0, 3, 0}), "segment 3 of a branch of 3");
+  EXPECT_EQ(decodes({Part::Foliage, 0, 0, 0}), "foliage leaf 0 of 0");
+  EXPECT_EQ(decodes({Part(3), 0, 0, 0}), "forest part 3");
+  EXPECT_EQ(decodes({Part::Terrain, 0, 0, 0}, 1), "forest 1 of 1");
+  std::vector<uint8_t> r;
+  encodeForestLeaf(0, {Part::Terrain, 0, 0, 0}, r);
+  EXPECT_THROW(decodePatch(r.data(), r.size()), std::invalid_argument) << "no tables";
 }
 
 TEST(PatchRecord, ATopologyRecordRefusesEveryTruncationAndExtension) {
