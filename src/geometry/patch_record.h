@@ -10,8 +10,9 @@
 // subdivision face its mesh (the mesh's topology once more apart: encodeSubdivTopology, shared
 // by a moving mesh's time samples), a height-map displacement its map (the file and channel
 // the scene named, opened once by the loader), a forest's leaf its forest (the generator tables
-// a ForestPatches makes its patch from: encodeForestLeaf, 13 bytes). Not encoded (encodePatch says which, naming the
-// kind): disks (only lights make them, and lights are not leaves of the compiled shapes).
+// a ForestPatches makes its patch from: encodeForestLeaf, 13 bytes). Not encoded (encodePatch
+// says which, naming the kind): disks (only lights make them, and lights are not leaves of the
+// compiled shapes).
 //
 // Format (little-endian, floats as IEEE bits): a one-byte tag, then the kind's fields;
 // decorators nest the records of the patches they wrap. Pure functions, thread-safe (the

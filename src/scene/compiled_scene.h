@@ -6,7 +6,10 @@
 // patch_record.h); what records share, once: subdivision topologies and meshes' control points
 // (the Meshes section), height maps as the file and channel the scene named (in the Scene
 // section, opened again at load relative to the source's folder); the leaves' uv sets (the
-// UvSets section, read through the mapping: LeafUvTable::mapped). What stays text: the rest of
+// UvSets section, read through the mapping: LeafUvTable::mapped); a forest's leaves as their
+// forest's generator tables (the Forests section: parameters, branches, foliage, read in place
+// by a ForestPatches, geometry/forest_patches.h) and a 13-byte record per leaf, not as patches
+// (format version 4). What stays text: the rest of
 // the scene JSON (camera, film, integrator, materials, lights), with "shapes" emptied, and the
 // source file's absolute path, against which its relative file names (textures, environment
 // maps, height maps) resolve. Loading a compiled scene reads that text as the JSON loader does

@@ -95,7 +95,7 @@ TEST_F(CompiledScene, RendersTheSameBitsAsTheJson) {
 // foliage) and a 13-byte record per leaf naming its forest and piece, not as expanded patches:
 // two forests (one placed by a rotation, a uniform scale and a translation, with several
 // terrain tiles) with a stored bilinear quad between them render to the JSON's bits, at one
-// thread and two, and under a --scene-memory budget the forests' tables count against.
+// thread and two.
 TEST_F(CompiledScene, ForestsAreStoredAsTheirGeneratorTablesAndRenderTheSameBits) {
   const std::string json = temp_.write("forests.json", R"({
     "camera": {"position": [0, 5, 26], "look_at": [0, 3, 0], "fov": 50},
@@ -128,11 +128,6 @@ TEST_F(CompiledScene, ForestsAreStoredAsTheirGeneratorTablesAndRenderTheSameBits
     EXPECT_TRUE(render(compiled, std::string("rayes") + threads, {"--threads", threads}) == reference)
         << "the compiled render differs from the JSON render";
   }
-  const std::string stats = temp_.path("s.json");
-  EXPECT_TRUE(render(compiled, "budget", {"--scene-memory", "1M", "--stats", stats}) == reference);
-  std::ifstream in(stats);
-  const auto c = nlohmann::json::parse(in)["scene"]["compiled"];
-  EXPECT_LE(c["resident_peak_bytes"].get<uint64_t>(), uint64_t(1) << 20);
 }
 
 // A forest's tables that do not match what its header says, parameters its generator refuses,
