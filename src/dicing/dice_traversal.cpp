@@ -39,6 +39,7 @@
 #include "core/next_float.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
+#include "dicing/micro_quad4.h"
 #include "dicing/morton.h"
 #include "geometry/patch_math.h"
 
@@ -328,6 +329,15 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         mask = gray.testLerp(nodesA + groupOffset(level, node), nodesB + groupOffset(level, node), w0v, w1v, bestT, te);
       else
         mask = gray.test(nodesA + groupOffset(level, node), bestT, te);
+      if constexpr (!Moving) {
+        // Children that are micro-quads reach the stack only if their triangles' edge signs
+        // allow a hit (quadsMayHit4 clears exactly the quads intersectMicroQuad rejects on
+        // those alone), so the others cost no push, pop or scalar test.
+        if ((mask & (mask - 1)) != 0 && level + 1 == k) {
+          const size_t x0 = 2 * size_t(xy & 0xffffu) * stride, y0 = 2 * size_t(xy >> 16) * stride;
+          mask &= quadsMayHit4(wray, &positions_[y0 * res + x0], stride, stride * res);
+        }
+      }
       if (mask != 0) {
         alignas(16) float t[4];
         _mm_store_ps(t, te);
