@@ -31,7 +31,7 @@
 // its Morton index, the micro-quad projection on template axes: 5,305 -> 4,390 per ray on
 // bench_dicing_embree's grid; the thin regions' walk is skipped whole when the ray misses the
 // border's bounds. A static dicing's micro-quad children pass quadsMayHit4 (their edge signs,
-// 4 quads in one SSE pass) before they reach the stack: 4,387 -> 4,204 per ray when the node has
+// 4 quads in one SSE pass) before they reach the stack: 4,387 -> 4,206 per ray when the node has
 // 2 or more such children (gating single children too: 4,280; testing the 4 quads from the
 // parent instead of via the stack: 4,797 -- the stack's nearest-first pops skip the siblings
 // behind a hit); time unchanged within the noise (bench/history/2026-11.md, "The bottom level's

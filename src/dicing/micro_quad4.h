@@ -16,7 +16,9 @@ namespace detail {
 // origin subtracted per picked axis (the same operation as subtracting it whole).
 template <int KX, int KY, int KZ>
 [[gnu::always_inline]] inline __m128 project2(const Vec3& v, __m128 org, __m128 shear) {
-  const __m128 p = _mm_movelh_ps(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(&v.x))), _mm_load_ss(&v.z));
+  // x, y by one 8-byte load (__m128i may alias floats), z by a 4-byte one: no read past the vertex.
+  const __m128 lo = _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&v.x)));
+  const __m128 p = _mm_movelh_ps(lo, _mm_load_ss(&v.z));
   const __m128 d = _mm_sub_ps(p, org);
   const __m128 xy = _mm_shuffle_ps(d, d, _MM_SHUFFLE(KZ, KZ, KY, KX));
   const __m128 zz = _mm_shuffle_ps(d, d, _MM_SHUFFLE(KZ, KZ, KZ, KZ));
