@@ -30,7 +30,12 @@
 // go"): group offsets from a table and (x, y) carried with each node rather than decoded from
 // its Morton index, the micro-quad projection on template axes: 5,305 -> 4,390 per ray on
 // bench_dicing_embree's grid; the thin regions' walk is skipped whole when the ray misses the
-// border's bounds.
+// border's bounds. A static dicing's micro-quad children pass quadsMayHit4 (their edge signs,
+// 4 quads in one SSE pass) before they reach the stack: 4,387 -> 4,206 per ray when the node has
+// 2 or more such children (gating single children too: 4,280; testing the 4 quads from the
+// parent instead of via the stack: 4,797 -- the stack's nearest-first pops skip the siblings
+// behind a hit); time unchanged within the noise (bench/history/2026-11.md, "The bottom level's
+// second session").
 #include <xmmintrin.h>
 #include <algorithm>
 #include <cmath>
@@ -39,6 +44,7 @@
 #include "core/next_float.h"
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
+#include "dicing/micro_quad4.h"
 #include "dicing/morton.h"
 #include "geometry/patch_math.h"
 
@@ -328,6 +334,15 @@ bool DiceBuffer::traverse(Vec3 org, Vec3 dir, float tmin, float tmax, int rayLev
         mask = gray.testLerp(nodesA + groupOffset(level, node), nodesB + groupOffset(level, node), w0v, w1v, bestT, te);
       else
         mask = gray.test(nodesA + groupOffset(level, node), bestT, te);
+      if constexpr (!Moving) {
+        // Children that are micro-quads reach the stack only if their triangles' edge signs
+        // allow a hit (quadsMayHit4 clears exactly the quads intersectMicroQuad rejects on
+        // those alone), so the others cost no push, pop or scalar test.
+        if ((mask & (mask - 1)) != 0 && level + 1 == k) {
+          const size_t x0 = 2 * size_t(xy & 0xffffu) * stride, y0 = 2 * size_t(xy >> 16) * stride;
+          mask &= quadsMayHit4(wray, &positions_[y0 * res + x0], stride, stride * res);
+        }
+      }
       if (mask != 0) {
         alignas(16) float t[4];
         _mm_store_ps(t, te);
