@@ -21,11 +21,11 @@
 // keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
 // Non-finite contributions are dropped and counted (docs/design.md, invariant 5).
 //
-// Media (ShadingScene::media, docs/design.md "Volumes"): in a scene with volumes every closest
-// ray's free flight is sampled by delta tracking up to the surface it found, and a real
-// collision makes a medium vertex (shadeMediumVertex: Henyey-Greenstein phase function for NEE
-// and the continuation); every shadow segment is weighted by its ratio-tracked transmittance.
-// Without media none of this runs.
+// Media (ShadingScene::media, docs/design.md "Volumes"): every closest ray's free flight by delta
+// tracking (a real collision makes a medium vertex, shadeMediumVertex: Henyey-Greenstein phase
+// function for NEE and the continuation), every unoccluded shadow ray weighted by its ratio-tracked
+// transmittance when it arrives; brick by brick, by the sorted engine at brick leaves (the batch's
+// BrickLeafTracker) or by walking the ray here through the same per-brick functions. Else nothing.
 //
 // Caustic paths (docs/design.md, "Caustic paths"): with Options::causticPaths = Without the
 // estimate leaves out every path light -> (caustic scatterer)+ -> diffuse vertex, read from the
