@@ -178,6 +178,20 @@ RenderData::RenderData(const Scene& scene) {
   chunkBoxes = {};
   leafKinds.assign(kinds.begin(), kinds.end());
   countScene(features, scene);
+  // The media's bricks are top-level leaves after the patches (core/medium_leaves.h), so the
+  // sorted engine sorts rays by brick; a scene without media adds none.
+  shading.bricks = BrickNumbering(scene.media);
+  shading.firstBrickLeaf = uint32_t(n);
+  if (!adopted && shading.bricks.total() > 0) {
+    leafBoxes.resize(n + shading.bricks.total());
+    for (size_t i = 0; i < scene.media.size(); ++i) {
+      const Medium& m = *scene.media[i];
+      const size_t first = n + shading.bricks.firstOf(i);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, m.bricks(), 4096), [&](const auto& r) {
+        for (size_t b = r.begin(); b != r.end(); ++b) leafBoxes[first + b] = m.brickWorldBounds(int32_t(b));
+      });
+    }
+  }
   // Built before the tables below are made: its build (Embree's primitives and nodes) is the
   // set-up's peak, which they would add to.
   if (!adopted) top.build(std::move(leafBoxes));

@@ -20,6 +20,7 @@ namespace rayes {
 
 constexpr uint32_t kNoLeaf = 0xffffffffu;
 struct LeafQueries;  // core/leaf_queries.h
+class MediumLeafTracker;  // core/medium_leaves.h
 
 enum class RayKind : uint8_t {
   Inactive = 0,  // an empty slot: not traced
@@ -104,6 +105,9 @@ struct RayBatch {
   // Queries the engine runs per leaf during trace(), besides the rays (core/leaf_queries.h):
   // the poster's (not owned), or none.
   LeafQueries* queries = nullptr;
+  // The tracking the engine runs at brick leaves (core/medium_leaves.h): the poster's (not
+  // owned), or none (a scene without media).
+  MediumLeafTracker* media = nullptr;
 
   size_t size() const { return ray.size(); }
   void resize(size_t n) {

@@ -56,7 +56,8 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
                                  next, scratch);
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
-      if (leaf == b.ray[i].ignoreLeaf) continue;
+      // Brick leaves are the sorted pipeline's; a ray walked alone is tracked by its owner.
+      if (leaf == b.ray[i].ignoreLeaf || isBrickLeaf(leaf)) continue;
       const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
       const int level = levelFor(b, i, leaf, entry);
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after

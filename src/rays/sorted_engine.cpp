@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include "core/medium_leaves.h"
 #include "geometry/moving_patch.h"
 #include "rays/kept_hit.h"
 
@@ -33,7 +34,8 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
       // A small scene needs a small table: 64 entries per leaf at most, so forest-1's 664 leaves
       // take 2.6 MiB instead of the 160 MiB that forest-100's re-dicings pay for.
       borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
-  if (top.leafBoxes().size() != leaves.size()) throw std::logic_error("SortedEngine: the top level is not over these leaves");
+  // The top level holds these leaves, then perhaps the bricks of media (core/medium_leaves.h).
+  if (top.leafBoxes().size() < leaves.size()) throw std::logic_error("SortedEngine: the top level is not over these leaves");
   leafSize_.resize(leaves.size());
   leafFloor_.resize(leaves.size());
   leafMoving_.resize(leaves.size());
@@ -113,6 +115,10 @@ void SortedEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& ti
     ScopedTimer timer(times.sort);
     if (batch.queries) queries_.group(*batch.queries);
   }
+  // Brick leaves are run only by the sorted pipeline, over a top level that holds them.
+  if (batch.media)
+    batch.media->tracked = settings_.sortByLeaf && batch.media->firstLeaf == leaves_.size() &&
+                           top_.leafBoxes().size() == leaves_.size() + batch.media->bricks;
   if (settings_.sortByLeaf) traceSorted(batch, stats, times);
   else traceAlone(batch, stats, times);
   // No iteration ran them: no rays to trace, or rays traced alone.
@@ -259,13 +265,13 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 64), [&](const auto& r) {
       for (size_t run = r.begin(); run != r.end(); ++run) {
         const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-        if (!leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf, runEntries(run));
+        if (!isBrickLeaf(leaf) && !leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf, runEntries(run));
       }
     });
     uint64_t hits = 0;
     for (size_t run = 0; run < nRuns; ++run) {
       const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-      if (leafMoving_[leaf]) continue;
+      if (isBrickLeaf(leaf) || leafMoving_[leaf]) continue;
       runEntry_[run] = cache_.acquire(leaf, runLevel_[run]);
       hits += runEntry_[run] && !runEntry_[run]->toDice;
     }
@@ -292,6 +298,10 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
       const uint32_t* slots = runSlots(run);
       const size_t count = runCount(run);
       const uint32_t leaf = cand_.leaf[slots[0]];
+      if (isBrickLeaf(leaf)) {
+        trackBrickRun(b, slots, count, leaf, times);
+        continue;
+      }
       if (GridCache::Entry* e = runEntry_[run]) {
         if (e->toDice) {
           e->patch = leaves_.patch(leaf);  // kept with the grid: border queries read it

@@ -162,6 +162,11 @@ class SortedEngine : public RayEngine {
   void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                     const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times, DicingCounters& counters);
   void offerHit(RayBatch& b, uint32_t ray, const RayHit& h, const HitDerivatives* d);  // 4
+  // A brick leaf's run (rays/brick_leaf_runs.cpp): the batch's MediumLeafTracker over all its
+  // rays, each closest ray's collision offered as a hit on the leaf.
+  void trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, TraceTimes& times);
+  // Leaves past the patches are bricks of media (core/medium_leaves.h).
+  bool isBrickLeaf(uint32_t leaf) const { return leaf >= leaves_.size(); }
   uint64_t keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);           // 5
   // The ray a candidate slot of this iteration belongs to (slots are N per active ray).
   uint32_t rayOfSlot(uint32_t slot) const { return active_[slot / slotsPerRay_]; }

@@ -54,6 +54,22 @@ float Medium::voxel(int32_t x, int32_t y, int32_t z) const {
   return reader.voxel(x, y, z);
 }
 
+Box3 Medium::brickWorldBounds(int32_t brick) const {
+  const BrickCoord c = density_.coord(brick);
+  Box3 b;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 p{8.0f * float(c.x + (corner & 1 ? 1 : 0)) - 0.5f, 8.0f * float(c.y + (corner & 2 ? 1 : 0)) - 0.5f,
+                 8.0f * float(c.z + (corner & 4 ? 1 : 0)) - 0.5f};
+    b.extend(indexToWorld_.point(p));
+  }
+  // A few ulps of the box's magnitude: the transform's rounding, and the slab test's.
+  const float pad = 1e-5f * std::max({std::fabs(b.lo.x), std::fabs(b.lo.y), std::fabs(b.lo.z), std::fabs(b.hi.x),
+                                      std::fabs(b.hi.y), std::fabs(b.hi.z), b.longestSide()});
+  b.lo = b.lo - Vec3{pad, pad, pad};
+  b.hi = b.hi + Vec3{pad, pad, pad};
+  return b;
+}
+
 void Medium::finish() {
   density_.finish();
   if (emission_.intensity) emission_.intensity->finish();

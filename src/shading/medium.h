@@ -53,6 +53,10 @@ class Medium {
   const Transform& worldToIndex() const { return worldToIndex_; }
   // The bricks' union in world space (conservative: the transformed corners of the cells).
   const Box3& worldBounds() const { return worldBounds_; }
+  // Brick `brick`'s cell in world space, padded for the rounding of the corners' transform: the
+  // box of its top-level leaf (core/medium_leaves.h). Conservative: tracking clips the ray to the
+  // cell itself in index space (brickSegment), the box only selects the bricks a ray may cross.
+  Box3 brickWorldBounds(int32_t brick) const;
   const BrickGrid& densityGrid() const { return density_; }
   const MediumEmission& emission() const { return emission_; }
   bool emits() const { return emission_.intensity || emission_.temperature; }

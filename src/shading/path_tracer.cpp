@@ -39,6 +39,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
   paths.resize(count);
   rays.resize(kRaysPerPath * size_t(count));
   rays.queries = nullptr;  // shade() posts gathers
+  prepareMediumTracking(0, paths, rays);
   if (options_.gathersAsLeafQueries) {
     paths.gatherQueries.leaf.assign(count, kNoLeaf);
     paths.gathers.resize(count);
@@ -156,9 +157,8 @@ float mediumTransmittance(const ShadingScene& scene, Vec3 origin, Vec3 dir, floa
   TrackingCounts counts;
   // Delta tracking's estimate is 1 or 0 (a real collision before the light); ratio tracking's
   // the product of 1 − ρ/m over the tentative collisions: the same mean, less variance.
-  const float T = scene.integrator.deltaTransmittance
-                      ? (sampleCollision(scene.media, origin, dir, tmax, rng, counts, scene.volumeCache.get()).medium < 0 ? 1.0f : 0.0f)
-                      : ratioTransmittance(scene.media, origin, dir, tmax, rng, counts, scene.volumeCache.get());
+  const float T = walkTransmittance(scene.media, origin, dir, tmax, scene.integrator.deltaTransmittance, rng, counts,
+                                    scene.volumeCache.get());
   stats.transmittanceEstimates.fetch_add(1, std::memory_order_relaxed);
   stats.densityLookups.fetch_add(counts.lookups, std::memory_order_relaxed);
   stats.brickCellsWalked.fetch_add(counts.cells, std::memory_order_relaxed);
@@ -187,9 +187,8 @@ bool writeShadowRay(const ShadingScene& scene, const Vertex& v, const ShadingFra
   const Vec3 origin = v.at.originToward(ls.wi);
   Vec3 dir;
   float tmax;
+  // Its transmittance through media multiplies it when it arrives (shadowTransmittance).
   if (!shadowSegment(scene, origin, v.at.p, ls, dir, tmax)) return false;
-  c *= mediumTransmittance(scene, origin, dir, tmax, key, stats);
-  if (isBlack(c)) return false;
   paths.shadowContribution[v.k] = c;
   rays.set(v.ss, RayKind::Shadow, origin, dir, tmax, v.width, kDiffuseSpread, ls.leaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
@@ -233,7 +232,10 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
 size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const {
   const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
   // 1. Last generation's shadow ray: its contribution counts if nothing was in the way.
-  if (rays.ray[ss].kind == RayKind::Shadow && !rays.hit[ss].valid()) paths.radiance[k] += paths.shadowContribution[k];
+  if (rays.ray[ss].kind == RayKind::Shadow && !rays.hit[ss].valid()) {
+    if (scene_.media.empty()) paths.radiance[k] += paths.shadowContribution[k];
+    else paths.radiance[k] += paths.shadowContribution[k] * shadowTransmittance(bounce, k, paths, rays, stats);
+  }
   rays.ray[ss].kind = RayKind::Inactive;
   if (rays.ray[cs].kind != RayKind::Closest) return 0;
   rays.ray[cs].kind = RayKind::Inactive;
@@ -249,7 +251,11 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     const PathIds ids = idsOf(paths.first + k);
     const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
     Collision c;
-    {
+    if (paths.media && paths.media->tracked) {
+      // The engine ran the brick leaves: a collision is the hit on a brick's leaf.
+      if (h.valid() && paths.media->isBrick(h.leaf))
+        c = {h.t, int32_t(scene_.bricks.brickOf(h.leaf - scene_.firstBrickLeaf).medium)};
+    } else {
       ScopedTimer timer(stats.volume);
       TrackingRng rng{key, kFreeFlightDimensions};
       TrackingCounts counts;
@@ -387,13 +393,10 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
     if (!isFinite(c)) {
       stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
     } else if (!isBlack(c) && shadowSegment(scene_, p, p, ls, dir, tmax)) {
-      c *= mediumTransmittance(scene_, p, dir, tmax, key, stats);
-      if (!isBlack(c)) {
-        paths.shadowContribution[k] = c;
-        rays.set(ss, RayKind::Shadow, p, dir, tmax, width, kDiffuseSpread, ls.leaf, kNoLeaf, 0, rays.timeOf(cs));
-        stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
-        written = 1;
-      }
+      paths.shadowContribution[k] = c;  // times the segment's transmittance when it arrives
+      rays.set(ss, RayKind::Shadow, p, dir, tmax, width, kDiffuseSpread, ls.leaf, kNoLeaf, 0, rays.timeOf(cs));
+      stats.shadowRays.fetch_add(1, std::memory_order_relaxed);
+      written = 1;
     }
   }
 
@@ -419,8 +422,44 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
   return written + 1;
 }
 
+void PathTracer::prepareMediumTracking(uint32_t bounce, PathBatch& paths, RayBatch& rays) const {
+  if (scene_.media.empty()) {
+    rays.media = nullptr;
+    return;
+  }
+  if (!paths.media) {
+    paths.media = std::make_shared<BrickLeafTracker>();
+    paths.media->setScene(scene_);
+  }
+  const uint64_t first = paths.first, seed = scene_.integrator.seed;
+  paths.media->prepare(paths.size(), [this, first, seed, bounce](uint32_t slot) {
+    const PathIds ids = idsOf(first + slot / kRaysPerPath);
+    return RngKey{ids.pixel, ids.sample, slot % kRaysPerPath == 0 ? bounce + 1 : bounce, seed};
+  });
+  rays.media = paths.media.get();
+}
+
+float PathTracer::shadowTransmittance(uint32_t bounce, uint32_t k, const PathBatch& paths, const RayBatch& rays,
+                                      ShadeStats& stats) const {
+  if (paths.media && paths.media->tracked) {
+    stats.transmittanceEstimates.fetch_add(1, std::memory_order_relaxed);
+    return paths.media->transmittance(k);
+  }
+  const PathIds ids = idsOf(paths.first + k);
+  const Ray& r = rays.ray[kRaysPerPath * size_t(k) + 1];
+  return mediumTransmittance(scene_, r.org, r.dir, r.tmax, RngKey{ids.pixel, ids.sample, bounce, scene_.integrator.seed},
+                             stats);
+}
+
 size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats) {
   ScopedTimer shadeTimer(stats.shade);
+  if (paths.media) {  // what the engine's brick runs did in the trace just done
+    BrickLeafTracker& t = *paths.media;
+    stats.densityLookups.fetch_add(t.lookups.exchange(0), std::memory_order_relaxed);
+    stats.brickCellsWalked.fetch_add(t.cells.exchange(0), std::memory_order_relaxed);
+    stats.volume.add(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t.time.seconds())));
+    t.time.reset();
+  }
   if (options_.gathersAsLeafQueries) {
     addRunGathers(paths, stats);
     gatherRunner_.caustics = options_.causticRadiance;
@@ -435,6 +474,7 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
     for (size_t o = r.begin(); o != r.end(); ++o) localEmitted += shadePath(bounce, order_[o].path, paths, rays, stats);
     emitted.fetch_add(localEmitted, std::memory_order_relaxed);
   });
+  prepareMediumTracking(bounce + 1, paths, rays);
   return emitted.load();
 }
 
@@ -472,7 +512,9 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
     const bool traced = rays.ray[cs].kind == RayKind::Closest;
     const bool shadowed = rays.ray[cs + 1].kind == RayKind::Shadow;
     if (!traced && !shadowed) continue;
-    order_.push_back({traced && h.valid() ? shadeRankOf(h.leaf) : kNoHitRank, k});
+    // A collision on a brick leaf (a medium vertex) sorts just before the misses.
+    const bool brick = paths.media && paths.media->isBrick(h.leaf);
+    order_.push_back({traced && h.valid() ? (brick ? kNoHitRank - 1 : shadeRankOf(h.leaf)) : kNoHitRank, k});
   }
   // Bench only (bench/texture_cache.sh): RAYES_SHADING_SORT=off shades the paths in id order, to
   // measure what the sort is worth to the texture cache. The image is the same either way:

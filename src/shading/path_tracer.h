@@ -21,11 +21,11 @@
 // keyed by (pixel, sample, bounce, dimension), a fixed set of dimensions per vertex.
 // Non-finite contributions are dropped and counted (docs/design.md, invariant 5).
 //
-// Media (ShadingScene::media, docs/design.md "Volumes"): in a scene with volumes every closest
-// ray's free flight is sampled by delta tracking up to the surface it found, and a real
-// collision makes a medium vertex (shadeMediumVertex: Henyey-Greenstein phase function for NEE
-// and the continuation); every shadow segment is weighted by its ratio-tracked transmittance.
-// Without media none of this runs.
+// Media (ShadingScene::media, docs/design.md "Volumes"): every closest ray's free flight by delta
+// tracking (a real collision makes a medium vertex, shadeMediumVertex: Henyey-Greenstein phase
+// function for NEE and the continuation), every unoccluded shadow ray weighted by its ratio-tracked
+// transmittance when it arrives; brick by brick, by the sorted engine at brick leaves (the batch's
+// BrickLeafTracker) or by walking the ray here through the same per-brick functions. Else nothing.
 //
 // Caustic paths (docs/design.md, "Caustic paths"): with Options::causticPaths = Without the
 // estimate leaves out every path light -> (caustic scatterer)+ -> diffuse vertex, read from the
@@ -37,6 +37,7 @@
 // (beams: not the environment light): the others stay with the path tracer, MIS unchanged.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 #include "core/leaf_queries.h"
@@ -44,6 +45,7 @@
 #include "shading/bsdf.h"
 #include "shading/integrator.h"
 #include "shading/light.h"
+#include "shading/medium_leaf_tracker.h"
 #include "shading/ray_spawning.h"
 
 namespace rayes {
@@ -93,6 +95,9 @@ struct PathBatch {
   // by shade() and added to the radiance by the next shade(), after trace() ran it.
   LeafQueries gatherQueries;
   std::vector<PostedGather> gathers;
+  // In a scene with media: the tracking the engine runs at brick leaves for this batch's rays
+  // (RayBatch::media), and the products of its shadow rays (null without media).
+  std::shared_ptr<BrickLeafTracker> media;
   size_t size() const { return alive.size(); }
   void resize(size_t n) {
     throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
@@ -153,7 +158,8 @@ class PathTracer final : public Integrator {
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
-    return PathBatch::bytesPerPath() + sizeof(SortItem) + (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0);
+    return PathBatch::bytesPerPath() + sizeof(SortItem) + (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0) +
+           (scene_.media.empty() ? 0 : sizeof(uint64_t));  // BrickLeafTracker's product
   }
   size_t leafTableBytes() const override { return shadeRank_.capacity() * sizeof(uint32_t); }
   void start(uint64_t first, uint32_t count, RayBatch& rays) override { start(first, count, paths_, rays); }
@@ -210,6 +216,14 @@ class PathTracer final : public Integrator {
     const CausticRadiance* caustics = nullptr;
     PathBatch* paths = nullptr;
   };
+  // Before a trace of generation `bounce`: the batch's tracker reset, with the vertex keys of
+  // its rays (a closest ray's free flight is keyed as the vertex it makes, bounce + 1; a shadow
+  // ray's transmittance as the vertex that wrote it, bounce).
+  void prepareMediumTracking(uint32_t bounce, PathBatch& paths, RayBatch& rays) const;
+  // Path k's shadow ray's transmittance through the media (1 without media): the engine's
+  // product, or the same walked here when the engine did not run the brick leaves.
+  float shadowTransmittance(uint32_t bounce, uint32_t k, const PathBatch& paths, const RayBatch& rays,
+                            ShadeStats& stats) const;
   size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
   // A real collision in a medium at t along path k's closest ray (path_tracer.cpp).
   size_t shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const Medium& m, const RngKey& key, PathBatch& paths,

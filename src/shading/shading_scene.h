@@ -10,6 +10,7 @@
 #include "shading/light.h"
 #include "shading/material.h"
 #include "shading/medium.h"
+#include "shading/volume_tracking.h"
 
 namespace rayes {
 
@@ -58,6 +59,10 @@ struct ShadingScene {
   // file). Shared, internally synchronised: its state never changes a value read through it.
   std::shared_ptr<BrickCache> volumeCache;
   bool mediaEmit = false;  // some medium has an emission or temperature grid
+  // The media's bricks numbered across the list, and the top-level leaf of brick 0: brick g is
+  // leaf firstBrickLeaf + g (core/medium_leaves.h; after the patch leaves).
+  BrickNumbering bricks;
+  uint32_t firstBrickLeaf = kNoLeaf;
 };
 
 // Where a hit's material reads its textures: the patch parameters, the leaf's uv set when it

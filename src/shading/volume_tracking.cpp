@@ -12,17 +12,6 @@ namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kRouletteWeight = 1.0f / 16;
 
-// A ray in one medium's index space: the point at t is org + t·dir there as in the world, and
-// `length` world units per unit of t.
-struct IndexRay {
-  Vec3 org, dir;
-  float length;
-};
-
-IndexRay toIndex(const Medium& m, Vec3 org, Vec3 dir) {
-  return {m.worldToIndex().point(org), applyLinear(m.worldToIndex(), dir), length(dir)};
-}
-
 // Calls visit(brick, ta, tb) for each brick cell the ray crosses within (t0, t1), in order along
 // the ray, until it returns true. Cells without a brick are skipped without a call.
 template <class Visit>
@@ -73,36 +62,88 @@ void walkCells(const Medium& m, const IndexRay& r, float t0, float t1, TrackingC
   }
 }
 
-// The tentative collisions of the majorant process along r within (0, tEnd): each brick's
-// majorant sets the rate, and the process is memoryless, so every cell starts afresh at its
-// entry. visit(brick, t, majorant) at each; a true return ends the walk. The one loop that
-// delta tracking, ratio tracking and the emission estimate share.
+// The tentative collisions of the majorant process in brick `brick`'s cell over (ta, tb): the
+// brick's majorant sets the rate, and the process is memoryless, so every cell starts afresh at
+// its entry. visit(t, majorant) at each; a true return ends it (and returns true). The one loop
+// that delta tracking, ratio tracking and the emission estimate share.
+template <class Visit>
+bool tentativeCollisionsIn(const Medium& m, int32_t brick, const IndexRay& r, float sigmaT, float ta, float tb,
+                           TrackingRng& rng, TrackingCounts& counts, Visit&& visit) {
+  const float majorant = m.majorant(brick);
+  const float rate = sigmaT * majorant * r.length;  // tentative collisions per unit t
+  if (!(rate > 0)) return false;
+  float t = ta;
+  for (;;) {
+    t -= std::log1p(-rng()) / rate;  // rng() < 1: the logarithm is finite
+    if (!(t < tb)) return false;     // memoryless: the next cell starts afresh at tb
+    ++counts.lookups;
+    if (visit(t, majorant)) return true;
+  }
+}
+
+// The tentative collisions along r within (0, tEnd), cell after cell, one stream for the whole
+// walk (the emission estimate: a sum, so it needs no per-brick streams).
 template <class Visit>
 void forEachTentativeCollision(const Medium& m, const IndexRay& r, float sigmaT, float tEnd, TrackingRng& rng,
                                TrackingCounts& counts, Visit&& visit) {
   walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float tb) {
-    const float majorant = m.majorant(brick);
-    const float rate = sigmaT * majorant * r.length;  // tentative collisions per unit t
-    if (!(rate > 0)) return false;
-    float t = ta;
-    for (;;) {
-      t -= std::log1p(-rng()) / rate;  // rng() < 1: the logarithm is finite
-      if (!(t < tb)) return false;     // memoryless: the next cell starts afresh at tb
-      ++counts.lookups;
-      if (visit(brick, t, majorant)) return true;
-    }
+    return tentativeCollisionsIn(m, brick, r, sigmaT, ta, tb, rng, counts,
+                                 [&](float t, float majorant) { return visit(brick, t, majorant); });
   });
 }
 
-// The first real collision in one medium within (0, tEnd), or kInf.
-float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
-                     BrickCache* cache) {
+// The number of the first brick of each medium of the list (in list order, as the top level's
+// brick leaves are numbered), then the total.
+template <class Each>
+void forEachMediumWithFirstBrick(MediumList media, Each&& each) {
+  uint32_t first = 0;
+  for (size_t i = 0; i < media.size(); ++i) {
+    if (each(i, *media[i], first)) return;
+    first += uint32_t(media[i]->bricks());
+  }
+}
+
+}  // namespace
+
+IndexRay toIndex(const Medium& m, Vec3 org, Vec3 dir) {
+  return {m.worldToIndex().point(org), applyLinear(m.worldToIndex(), dir), length(dir)};
+}
+
+TrackingRng brickStream(const RngKey& key, uint32_t dimensionBase, uint32_t globalBrick) {
+  RngKey k = key;
+  k.seed = mix64(key.seed ^ (uint64_t(globalBrick) + 1) * 0x9e3779b97f4a7c15ull);
+  return {k, dimensionBase};
+}
+
+bool brickSegment(const Medium& m, int32_t brick, const IndexRay& r, float tEnd, float& t0, float& t1) {
+  const BrickCoord c = m.densityGrid().coord(brick);
+  const int32_t cell[3] = {c.x, c.y, c.z};
+  const float o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+  t0 = 0;
+  t1 = tEnd;
+  for (int a = 0; a < 3; ++a) {
+    // Cell coordinates q = (index + ½) / 8, as walkCells: the cell is [c, c + 1) in q.
+    const float oq = (o[a] + 0.5f) / 8, dq = d[a] / 8;
+    const float b0 = float(cell[a]), b1 = float(cell[a] + 1);
+    if (dq == 0) {
+      if (!(oq >= b0 && oq < b1)) return false;
+      continue;
+    }
+    float ta = (b0 - oq) / dq, tb = (b1 - oq) / dq;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 < t1;
+}
+
+float brickCollision(const Medium& m, int32_t brick, const IndexRay& r, float tEnd, TrackingRng rng,
+                     TrackingCounts& counts, GridReader& reader) {
   const float sigmaT = m.coefficients().sigmaT();
-  if (!(sigmaT > 0)) return kInf;
-  const IndexRay r = toIndex(m, org, dir);
-  GridReader reader(m.densityGrid(), cache);
+  float t0, t1;
+  if (!(sigmaT > 0) || !brickSegment(m, brick, r, tEnd, t0, t1)) return kInf;
   float found = kInf;
-  forEachTentativeCollision(m, r, sigmaT, tEnd, rng, counts, [&](int32_t brick, float t, float majorant) {
+  tentativeCollisionsIn(m, brick, r, sigmaT, t0, t1, rng, counts, [&](float t, float majorant) {
     reader.enter(brick);  // voxels are read only where a tentative collision lands
     const float rho = reader.sample(r.org + r.dir * t);
     if (rng() * majorant < rho) {
@@ -114,46 +155,87 @@ float firstCollision(const Medium& m, Vec3 org, Vec3 dir, float tEnd, TrackingRn
   return found;
 }
 
-}  // namespace
+float brickTransmittance(const Medium& m, int32_t brick, const IndexRay& r, float tEnd, bool delta, TrackingRng rng,
+                         TrackingCounts& counts, GridReader& reader) {
+  if (delta) return brickCollision(m, brick, r, tEnd, rng, counts, reader) < kInf ? 0.0f : 1.0f;
+  const float sigmaT = m.coefficients().sigmaT();
+  float t0, t1;
+  if (!(sigmaT > 0) || !brickSegment(m, brick, r, tEnd, t0, t1)) return 1;
+  float T = 1;
+  tentativeCollisionsIn(m, brick, r, sigmaT, t0, t1, rng, counts, [&](float t, float majorant) {
+    reader.enter(brick);
+    T *= std::max(0.0f, 1 - reader.sample(r.org + r.dir * t) / majorant);
+    if (T < kRouletteWeight) {
+      if (T == 0 || rng() * kRouletteWeight >= T) {
+        T = 0;
+        return true;
+      }
+      T = kRouletteWeight;
+    }
+    return false;
+  });
+  return T;
+}
+
+BrickNumbering::BrickNumbering(MediumList media) {
+  forEachMediumWithFirstBrick(media, [&](size_t, const Medium&, uint32_t first) {
+    first_.push_back(first);
+    return false;
+  });
+  total_ = media.empty() ? 0 : first_.back() + uint32_t(media.back()->bricks());
+}
+
+BrickNumbering::Brick BrickNumbering::brickOf(uint32_t global) const {
+  const size_t i = size_t(std::upper_bound(first_.begin(), first_.end(), global) - first_.begin()) - 1;
+  return {uint32_t(i), int32_t(global - first_[i])};
+}
 
 Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
                           BrickCache* cache) {
   Collision c;
   float limit = tEnd;
-  for (size_t i = 0; i < media.size(); ++i) {
-    const float t = firstCollision(*media[i], org, dir, limit, rng, counts, cache);
-    if (t < limit) {
-      limit = t;
-      c = {t, int32_t(i)};
-    }
-  }
+  forEachMediumWithFirstBrick(media, [&](size_t i, const Medium& m, uint32_t first) {
+    if (!(m.coefficients().sigmaT() > 0)) return false;
+    const IndexRay r = toIndex(m, org, dir);
+    GridReader reader(m.densityGrid(), cache);
+    // Each brick's first collision from its own stream: the minimum over bricks is the same
+    // whichever order they are visited in (the sorted engine's brick leaves).
+    walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float ta, float) {
+      if (!(ta < limit)) return true;
+      const float t = brickCollision(m, brick, r, limit, brickStream(rng.key, rng.dimension, first + uint32_t(brick)),
+                                     counts, reader);
+      if (t < limit) {
+        limit = t;
+        c = {t, int32_t(i)};
+      }
+      return false;
+    });
+    return false;
+  });
   return c;
+}
+
+float walkTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, bool delta, TrackingRng& rng,
+                        TrackingCounts& counts, BrickCache* cache) {
+  uint64_t sum = 0;
+  forEachMediumWithFirstBrick(media, [&](size_t, const Medium& m, uint32_t first) {
+    if (!(m.coefficients().sigmaT() > 0)) return false;
+    const IndexRay r = toIndex(m, org, dir);
+    GridReader reader(m.densityGrid(), cache);
+    walkCells(m, r, 0.0f, tEnd, counts, [&](int32_t brick, float, float) {
+      TransmittanceProduct::addLocal(
+          sum, TransmittanceProduct::term(brickTransmittance(
+                   m, brick, r, tEnd, delta, brickStream(rng.key, rng.dimension, first + uint32_t(brick)), counts, reader)));
+      return (sum & TransmittanceProduct::kZero) != 0;
+    });
+    return (sum & TransmittanceProduct::kZero) != 0;
+  });
+  return TransmittanceProduct::valueOf(sum);
 }
 
 float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
                          BrickCache* cache) {
-  float T = 1;
-  for (const auto& mp : media) {
-    const Medium& m = *mp;
-    const float sigmaT = m.coefficients().sigmaT();
-    if (!(sigmaT > 0)) continue;
-    const IndexRay r = toIndex(m, org, dir);
-    GridReader reader(m.densityGrid(), cache);
-    forEachTentativeCollision(m, r, sigmaT, tEnd, rng, counts, [&](int32_t brick, float t, float majorant) {
-      reader.enter(brick);
-      T *= std::max(0.0f, 1 - reader.sample(r.org + r.dir * t) / majorant);
-      if (T < kRouletteWeight) {
-        if (T == 0 || rng() * kRouletteWeight >= T) {
-          T = 0;
-          return true;
-        }
-        T = kRouletteWeight;
-      }
-      return false;
-    });
-    if (T == 0) return 0;
-  }
-  return T;
+  return walkTransmittance(media, org, dir, tEnd, false, rng, counts, cache);
 }
 
 Rgb emissionAlong(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,

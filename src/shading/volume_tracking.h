@@ -10,14 +10,25 @@
 //
 // Random numbers are counter-based (core/rng.h sampleUniform keyed by the path vertex and a
 // running dimension), so a path's collisions are the same bits for any thread count or order.
+// Delta and ratio tracking draw each brick's tentative collisions from a stream of its own
+// (brickStream: keyed by the vertex and the brick's number, never by the order bricks are
+// visited in), so tracking restricted to one brick is independent of the others: a ray's first
+// collision is the minimum over the bricks it crosses of each brick's first collision, and its
+// transmittance the product of each brick's estimate. The per-brick functions (brickCollision,
+// brickTransmittance) are the one implementation both routes call: the walk of one ray here,
+// and the sorted engine's brick leaves (core/medium_leaves.h, shading/medium_leaf_tracker.h),
+// which give the same bits (docs/design.md, "Volumes").
 // Thread-safe: the functions read the media and write only the caller's TrackingRng and counts.
 #pragma once
 #include <cstdint>
 #include <limits>
 #include <memory>
 #include <span>
+#include <vector>
 #include "core/rng.h"
+#include "core/medium_leaves.h"
 #include "core/vec.h"
+#include "shading/grid_reader.h"
 #include "shading/medium.h"
 
 namespace rayes {
@@ -43,14 +54,62 @@ struct Collision {
   int32_t medium = -1;                                // -1: no collision before tEnd
 };
 
+// A ray in one medium's index space: the point at t is org + t·dir there as in the world, and
+// `length` world units per unit of t.
+struct IndexRay {
+  Vec3 org, dir;
+  float length;
+};
+IndexRay toIndex(const Medium& m, Vec3 org, Vec3 dir);
+
+// Bricks numbered across a list of media, in list order (medium i's brick b is the number of
+// the bricks before medium i, plus b): the top level's brick leaves, and the brick streams' key.
+class BrickNumbering {
+ public:
+  BrickNumbering() = default;
+  explicit BrickNumbering(MediumList media);
+  struct Brick {
+    uint32_t medium;
+    int32_t brick;
+  };
+  Brick brickOf(uint32_t global) const;  // global < total()
+  uint32_t firstOf(size_t medium) const { return first_[medium]; }
+  uint32_t total() const { return total_; }
+
+ private:
+  std::vector<uint32_t> first_;
+  uint32_t total_ = 0;
+};
+
+// The stream of one brick's tracking at a path vertex: the vertex key's seed mixed with the
+// brick's number, from dimension `dimensionBase` (kFreeFlightDimensions or
+// kTransmittanceDimensions).
+TrackingRng brickStream(const RngKey& key, uint32_t dimensionBase, uint32_t globalBrick);
+// The part of r inside brick `brick`'s cell, within (0, tEnd): an index-space slab test of the
+// cell (both routes compute it so, not from a walk's running cell boundaries). False: empty.
+bool brickSegment(const Medium& m, int32_t brick, const IndexRay& r, float tEnd, float& t0, float& t1);
+// Delta tracking in one brick: the first real collision of r within its cell and (0, tEnd), or
+// +inf. Voxels through `reader` (entered only where a tentative collision lands).
+float brickCollision(const Medium& m, int32_t brick, const IndexRay& r, float tEnd, TrackingRng rng,
+                     TrackingCounts& counts, GridReader& reader);
+// An unbiased estimate in {0} ∪ [1/16, 1] of the transmittance of r within the brick's cell and
+// (0, tEnd): ratio tracking with a Russian roulette below 1/16 (`delta`: delta tracking's 1 or 0).
+float brickTransmittance(const Medium& m, int32_t brick, const IndexRay& r, float tEnd, bool delta, TrackingRng rng,
+                         TrackingCounts& counts, GridReader& reader);
+
 // The first real collision along org + t·dir for t in (0, tEnd) (tEnd may be infinite); the
 // rates are per world unit, so t counts in units of |dir|.
 // Stored bricks' voxels come through `cache` (null: read from their source at every visit).
 Collision sampleCollision(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
                           BrickCache* cache = nullptr);
+// The walks of one ray: brickCollision's minimum and brickTransmittance's product over the
+// bricks the ray crosses (each brick's stream from rng's key and dimension). The product is
+// summed as TransmittanceProduct terms, the same bits as the sorted engine's brick leaves.
 // An unbiased estimate of the transmittance of org + t·dir, t in (0, tEnd), in [0, 1]. Below a
-// weight of 1/16 a path survives a Russian roulette (weight raised back to 1/16), so a dense
-// medium costs a bounded number of steps on average, not its optical depth.
+// weight of 1/16 a brick's estimate survives a Russian roulette (weight raised back to 1/16), so a
+// dense medium costs a bounded number of steps per brick on average, not its optical depth.
+float walkTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, bool delta, TrackingRng& rng,
+                        TrackingCounts& counts, BrickCache* cache = nullptr);
 float ratioTransmittance(MediumList media, Vec3 org, Vec3 dir, float tEnd, TrackingRng& rng, TrackingCounts& counts,
                          BrickCache* cache = nullptr);
 

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include "shading/blackbody.h"
 #include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
@@ -122,6 +123,46 @@ TEST(VolumeRender, ACloudEightTimesTheBrickCacheRendersTheSameBitsAsWithEveryBri
   EXPECT_LE(small.slotsUsed * BrickCache::kSlotBytes, cloudBytes / 8);
 }
 
+// The bricks are top-level leaves (core/medium_leaves.h): the sorted engine tracks each brick's
+// run of rays, a closest ray's collision competing with surface hits and a shadow ray's factors
+// multiplied in any order. Rays traced alone (`--trace-mode alone`), and the Embree engine, leave
+// the tracking to the path tracer's walk of each ray, through the same per-brick functions with
+// the same streams: the same bits. So are other candidate counts and ray budgets (other sort
+// orders and batches). The cloud alone for the Embree engine (its surfaces are diced otherwise).
+TEST(VolumeRender, BrickLeavesOfTheSortedEngineAndThePerRayWalkRenderTheSameBits) {
+  testing::TempFolder dir;
+  const fs::path vdb = writeCloud(dir.dir());
+  auto render = [&](const Scene& s, RenderOptions o, uint64_t* lookups = nullptr) {
+    Renderer r(s, o);
+    const Film film = r.render();
+    if (lookups) *lookups = r.stats().shade.densityLookups.load();
+    return film.beautyRgba();
+  };
+  for (const bool surface : {true, false}) {
+    const Scene s = parseScene(slabScene(vdb, R"(, "sigma_a": 0.1, "sigma_s": 2, "g": 0.3)", surface, 2), "cloud.json");
+    uint64_t sortedLookups = 0, walkedLookups = 0;
+    const std::vector<float> ref = render(s, {}, &sortedLookups);
+    RenderOptions alone;
+    alone.sortByLeaf = false;
+    EXPECT_EQ(render(s, alone, &walkedLookups), ref) << "rays traced alone: the per-ray walk";
+    // Both tracked (their counts differ: the engine may track a brick before it learns of a
+    // nearer hit or an occluder, the walk stops at them).
+    EXPECT_GT(sortedLookups, 0u);
+    EXPECT_GT(walkedLookups, 0u);
+    RenderOptions one;
+    one.candidatesPerRay = 1;
+    EXPECT_EQ(render(s, one), ref) << "one candidate per ray";
+    RenderOptions small;
+    small.rayMemoryBytes = 64 << 10;
+    EXPECT_EQ(render(s, small), ref) << "small batches";
+    if (!surface) {
+      RenderOptions embree;
+      embree.engine = EngineKind::Embree;
+      EXPECT_EQ(render(s, embree), ref) << "the Embree engine";
+    }
+  }
+}
+
 TEST(VolumeRender, VolumeMemoryZeroTooSmallOrBeyondMemoryIsRefusedNamingTheOption) {
   testing::TempFolder dir;
   const fs::path vdb = writeCloud(dir.dir());
@@ -196,6 +237,51 @@ TEST(VolumeRender, EmittingAbsorbingSlabGivesLeTimesOneMinusExpOfMinusOpticalDep
   EXPECT_GT(m.se, 0);
   // The test can see a 3 % error (an emission term off by a factor, a lost transmittance would be far more).
   EXPECT_LT(4 * m.se + 9e-4, 0.03 * expected) << "se " << m.se;
+}
+
+// The same slab emitting as a blackbody: a temperature grid of 1 wherever ρ > 0, at 3000 K
+// per unit and a blackbody scale of 2, so Le = 2 · blackbodyRgb(3000 K) per channel and, by the
+// derivation above, L = Le (1 − e^(−τ)) in each of red, green and blue (a warm colour: red
+// above green above blue, which a swapped channel or a wrong temperature would break).
+TEST(VolumeRender, BlackbodySlabGivesItsPlanckColourTimesOneMinusExpOfMinusOpticalDepth) {
+  testing::TempFolder dir;
+  openvdb::initialize();
+  auto transform = openvdb::math::Transform::createLinearTransform(0.1);
+  openvdb::FloatGrid::Ptr density = openvdb::FloatGrid::create(0.0f), temperature = openvdb::FloatGrid::create(0.0f);
+  density->setName("density");
+  density->setTransform(transform);
+  density->denseFill(openvdb::CoordBBox({0, 0, 0}, {31, 31, 15}), 1.0f, true);
+  temperature->setName("temperature");
+  temperature->setTransform(transform->copy());
+  temperature->denseFill(openvdb::CoordBBox({-8, -8, -8}, {39, 39, 39}), 1.0f, true);
+  const fs::path vdb = dir.dir() / "blackbody_slab.vdb";
+  openvdb::io::File(vdb.string()).write({density, temperature});
+  const std::string scene = R"({"camera": {"position": [0, 0, -10], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 4},
+  "film": {"resolution": [32, 32], "spp": 64},
+  "materials": {"black": {"type": "diffuse", "albedo": [0, 0, 0]}},
+  "shapes": [{"type": "bilinear", "material": "black", "quads": [[[-1, -1, 50], [1, -1, 50], [-1, 1, 50], [1, 1, 50]]]},
+             {"type": "volume", "file": ")" + vdb.string() + R"(", "transform": [{"translate": [-1.55, -1.55, -0.75]}],
+              "sigma_a": 0.6, "sigma_s": 0, "temperature_grid": "temperature", "temperature_scale": 3000,
+              "blackbody_scale": 2}],
+  "lights": [{"type": "point", "position": [0, 0, -20], "intensity": [1, 1, 1]}]})";
+  const Scene s = parseScene(scene, "blackbody_slab.json");
+  const std::vector<float> rgba = testing::renderBeauty(s, {}, 2);
+  const Rgb Le = blackbodyRgb(3000) * 2.0f;
+  ASSERT_GT(Le.x, Le.y);
+  ASSERT_GT(Le.y, Le.z);
+  ASSERT_GT(Le.z, 0);
+  const double opacity = 1 - std::exp(-0.6 * 0.1 * 15.75);
+  const double le[3] = {Le.x, Le.y, Le.z};
+  for (int c = 0; c < 3; ++c) {
+    const double n = double(rgba.size() / 4);
+    double sum = 0, sq = 0;
+    for (size_t i = size_t(c); i < rgba.size(); i += 4) sum += rgba[i], sq += double(rgba[i]) * rgba[i];
+    const double mean = sum / n, se = std::sqrt(std::max(0.0, sq / n - mean * mean) / (n - 1));
+    // As above: rays off the axis add at most Le e^(−τ) · 0.0013 τ.
+    const double bound = le[c] * std::exp(-0.6 * 0.1 * 15.75) * 0.0013 * (0.6 * 0.1 * 15.75);
+    EXPECT_NEAR(mean, le[c] * opacity, 4 * se + bound) << "channel " << c;
+    EXPECT_GT(se, 0) << "channel " << c;
+  }
 }
 
 // A furnace: inside a uniform environment of radiance 1, a non-absorbing medium (albedo 1) and a

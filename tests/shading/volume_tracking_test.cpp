@@ -212,6 +212,78 @@ TEST(VolumeTracking, SameKeySameCollisionBits) {
   }
 }
 
+// The sorted engine's brick leaves call brickCollision and brickTransmittance once per brick a
+// ray crosses, in whatever order the sort gives; the walk of one ray calls them along the ray.
+// With per-brick streams both are the same bits: the minimum of the collisions and the
+// TransmittanceProduct of the factors do not depend on the order. Two overlapping media, one
+// transformed, and rays from every side (some starting inside).
+TEST(VolumeTracking, BrickByBrickInAnyOrderGivesTheWalksBits) {
+  const auto a = makeMedium(3, 0.3f, [](int x, int y, int z) { return float((x * 7 + y * 3 + z * 5) % 11) / 4; });
+  const auto b = makeMedium(2, 0.5f, [](int x, int y, int z) { return float((x + 2 * y + 3 * z) % 4); },
+                            Transform::translate({5, 3, 2}) * Transform::scale({0.75f, 0.75f, 0.75f}));
+  const std::shared_ptr<const Medium> list[] = {a, b};
+  const BrickNumbering numbering(list);
+  ASSERT_EQ(numbering.total(), 27u + 8u);
+  int collided = 0, partial = 0;
+  for (uint32_t i = 0; i < 400; ++i) {
+    const RngKey key{i, 1, 2, 3};
+    const Vec3 o{sampleUniform(key, 0) * 30 - 3, sampleUniform(key, 1) * 30 - 3, sampleUniform(key, 2) * 30 - 3};
+    const Vec3 target{sampleUniform(key, 3) * 24, sampleUniform(key, 4) * 24, sampleUniform(key, 5) * 24};
+    const Vec3 d = (target - o) * 0.37f;  // not unit: t counts in units of |d|
+    const float tEnd = i % 3 == 0 ? kInf : 2.5f;
+    TrackingCounts counts;
+    TrackingRng flight{key, kFreeFlightDimensions}, shadow{key, kTransmittanceDimensions};
+    const Collision walked = sampleCollision(list, o, d, tEnd, flight, counts);
+    const float T = walkTransmittance(list, o, d, tEnd, false, shadow, counts);
+    // Every brick of both media, last first.
+    Collision byBrick;
+    uint64_t product = 0;
+    for (uint32_t g = numbering.total(); g-- > 0;) {
+      const BrickNumbering::Brick at = numbering.brickOf(g);
+      const Medium& m = *list[at.medium];
+      const IndexRay r = toIndex(m, o, d);
+      GridReader reader(m.densityGrid(), nullptr);
+      const float t = brickCollision(m, at.brick, r, tEnd, brickStream(key, kFreeFlightDimensions, g), counts, reader);
+      if (t < byBrick.t) byBrick = {t, int32_t(at.medium)};
+      TransmittanceProduct::addLocal(product, TransmittanceProduct::term(brickTransmittance(
+                                                  m, at.brick, r, tEnd, false,
+                                                  brickStream(key, kTransmittanceDimensions, g), counts, reader)));
+    }
+    EXPECT_EQ(walked.t, byBrick.t) << "ray " << i;
+    EXPECT_EQ(walked.medium, byBrick.medium) << "ray " << i;
+    EXPECT_EQ(T, TransmittanceProduct::valueOf(product)) << "ray " << i;
+    collided += walked.medium >= 0;
+    partial += T > 0 && T < 1;
+  }
+  // The rays did meet the media: both outcomes occur.
+  EXPECT_GT(collided, 40);
+  EXPECT_GT(partial, 40);
+}
+
+// A brick's world box (its top-level leaf) holds its cell: the segment the tracking clips to
+// lies inside the box's slab interval for any ray.
+TEST(VolumeTracking, BrickWorldBoundsHoldTheCellsSegment) {
+  const auto m = makeMedium(2, 1, [](int, int, int) { return 1.0f; },
+                            Transform::translate({1e3f, -7, 2}) * Transform::rotate({1, 2, 3}, 40.0f) *
+                                Transform::scale({0.3f, 0.5f, 0.2f}));
+  for (uint32_t i = 0; i < 200; ++i) {
+    const RngKey key{i, 0, 0, 5};
+    const int32_t brick = int32_t(i % m->bricks());
+    const Box3 box = m->brickWorldBounds(brick);
+    const Vec3 c = box.center();
+    const Vec3 o = c + Vec3{sampleUniform(key, 0) - 0.5f, sampleUniform(key, 1) - 0.5f, sampleUniform(key, 2) - 0.5f} * 20;
+    const Vec3 d = c + Vec3{sampleUniform(key, 3) - 0.5f, sampleUniform(key, 4) - 0.5f, sampleUniform(key, 5) - 0.5f} * 4 - o;
+    float t0, t1;
+    if (!brickSegment(*m, brick, toIndex(*m, o, d), kInf, t0, t1)) continue;
+    for (const float t : {t0, t1, 0.5f * (t0 + t1)}) {
+      const Vec3 p = o + d * t;
+      EXPECT_TRUE(p.x >= box.lo.x && p.y >= box.lo.y && p.z >= box.lo.z && p.x <= box.hi.x && p.y <= box.hi.y &&
+                  p.z <= box.hi.z)
+          << "ray " << i;
+    }
+  }
+}
+
 TEST(HenyeyGreenstein, IsNormalisedAndSamplesItsMeanCosine) {
   for (const float g : {-0.7f, 0.0f, 0.5f, 0.9f}) {
     // ∫ p dω = 2π ∫ p(µ) dµ by the midpoint rule (error far below the tolerance for |g| ≤ 0.9).

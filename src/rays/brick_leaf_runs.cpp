@@ -1,0 +1,71 @@
+// The sorted pipeline's brick leaves (core/medium_leaves.h): a brick's run of rays handed to the
+// batch's MediumLeafTracker at once, so the brick's voxels are looked up once per run (or per
+// chunk of a long one) rather than once per ray, and each closest ray's collision offered as a
+// hit on the brick's leaf, where it competes with surface hits under the total order like any
+// hit. Shadow rays' transmittance the tracker keeps itself.
+#include <atomic>
+#include <limits>
+#include <vector>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include "core/medium_leaves.h"
+#include "rays/kept_hit.h"
+#include "rays/sorted_engine.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct BrickRunScratch {
+  std::vector<uint32_t> rays;
+  std::vector<float> limits, collisions;
+};
+}  // namespace
+
+void SortedEngine::trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, TraceTimes& times) {
+  MediumLeafTracker* tracker = b.media;
+  if (!tracker || !tracker->tracked) return;  // no tracking asked: the brick is empty space
+  static tbb::enumerable_thread_specific<BrickRunScratch> scratchOf;
+  auto trackRange = [&](size_t k0, size_t k1) {
+    BrickRunScratch& sc = scratchOf.local();
+    sc.rays.clear();
+    sc.limits.clear();
+    for (size_t k = k0; k < k1; ++k) {
+      const uint32_t i = rayOfSlot(slots[k]);
+      // A shadow ray already occluded is left out (its contribution is 0 whatever its
+      // transmittance); a closest ray searches up to the hit offered so far.
+      float limit;
+      if (b.ray[i].kind == RayKind::Shadow) {
+        if (std::atomic_ref<uint32_t>(b.hit[i].leaf).load(std::memory_order_relaxed) != kNoLeaf) continue;
+        limit = b.ray[i].tmax;
+      } else {
+        limit = searchLimit(b, i, std::atomic_ref<float>(b.hit[i].t).load(std::memory_order_relaxed));
+      }
+      sc.rays.push_back(i);
+      sc.limits.push_back(limit);
+    }
+    sc.collisions.assign(sc.rays.size(), kInf);
+    tracker->track(leaf, b, sc.rays, sc.limits, sc.collisions);
+    for (size_t k = 0; k < sc.rays.size(); ++k) {
+      if (!(sc.collisions[k] < kInf)) continue;
+      RayHit h;
+      h.t = sc.collisions[k];
+      h.leaf = leaf;
+      offerHit(b, sc.rays[k], h, nullptr);
+    }
+  };
+  (void)times;
+  // As intersectRun: a long run in chunks other threads may take, isolated.
+  constexpr size_t kChunk = 1024;
+  if (count <= 2 * kChunk) {
+    trackRange(0, count);
+  } else {
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kChunk), [&](const auto& c) { trackRange(c.begin(), c.end()); });
+    });
+  }
+}
+
+}  // namespace rayes
