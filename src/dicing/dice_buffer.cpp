@@ -53,6 +53,9 @@ void DiceBuffer::setPlace(const Patch& patch) {
   subX_ = sub ? sub->x() : 0;
   subY_ = sub ? sub->y() : 0;
   subDepth_ = sub ? sub->depth() : 0;
+  // The whole leaf's box sets a sub-leaf's margins and watertight error (it holds the sub-leaf's
+  // box, so they stay conservative): the border regions are then the whole leaf's to the bit.
+  if (sub) patchBounds_ = sub->parent().bounds();
 }
 
 void DiceBuffer::dice(const Patch& patch, int level, SharedBorderBounds shared) {

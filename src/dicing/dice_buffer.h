@@ -262,7 +262,8 @@ class DiceBuffer {
   const float* nodeGroup(int level, uint32_t g) const { return a_.nodes.data() + groupOffset(level, g); }
   const float* rootBox() const { return a_.nodes.data() + groupOffset(maxLevel_, 0); }
   Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
-  // A SubPatch's place in its parent (all 0 for any other patch): where its hits are reported.
+  // A SubPatch's place in its parent (all 0 for any other patch): where its hits are reported;
+  // a SubPatch's patchBounds_ are its parent's.
   uint32_t subX_ = 0, subY_ = 0;
   int subDepth_ = 0;
   void setPlace(const Patch& patch);

@@ -81,8 +81,8 @@ void SubPatch::borderPieceBoundsAt(int sample, int e, int k, uint32_t j, int spl
   parent_->borderPieceBoundsAt(sample, e, k + depth_, (offset << k) + j, split, out);
 }
 
-int subLeafDepth(int leafMaxLevel, int residentMaxLevel) {
-  return std::max(0, leafMaxLevel - std::max(0, residentMaxLevel));
+int subLeafDepth(int level, int residentMaxLevel) {
+  return std::max(0, level - std::max(0, residentMaxLevel));
 }
 
 }  // namespace rayes

@@ -68,11 +68,13 @@ class SubPatch final : public Patch {
   Box3 bounds_;
 };
 
-// How many times a leaf must be halved in each direction so that no dicing exceeds
-// `residentMaxLevel`: max(0, leafMaxLevel - residentMaxLevel), for leafMaxLevel the finest level
-// the level-of-detail rule can give the leaf (--max-lod for any curved leaf under the per-ray
-// rule: a footprint has no lower bound). Each of the 4^depth sub-leaves is then diced at level
-// at most leafMaxLevel - depth. A negative residentMaxLevel counts as 0.
-int subLeafDepth(int leafMaxLevel, int residentMaxLevel);
+// How many times a leaf needed at `level` must be halved in each direction so that no dicing
+// exceeds `residentMaxLevel`: max(0, level - residentMaxLevel). Each of the 4^depth sub-leaves
+// is then diced at most at level - depth. A negative residentMaxLevel counts as 0. (The split is
+// made per run of rays, not per leaf at set-up: under the per-ray rule a curved leaf's finest
+// possible level is --max-lod, a footprint having no lower bound, so a set-up split would make
+// 4^(maxLod - resident) top-level leaves of every leaf while 0-4 % of dicings need any;
+// bench/history/2026-11.md, "Sub-leaves".)
+int subLeafDepth(int level, int residentMaxLevel);
 
 }  // namespace rayes

@@ -58,7 +58,7 @@ void SortedEngine::diceAndIntersectSplit(RayBatch& b, DiceBuffer& dice, const ui
   if (sc.fine.empty()) return;
   // The others: sub-leaves of depth d, row by row. A ray's nearest hit in this run so far
   // bounds its search in the sub-leaves after (a shadow ray's first occluder ends it).
-  const int d = m - resident;
+  const int d = subLeafDepth(m, resident);
   const uint32_t n = 1u << d;
   sc.best.assign(sc.fine.size(), kInf);
   for (uint32_t y = 0; y < n; ++y)
