@@ -61,6 +61,14 @@ void SortedEngine::diceAndIntersectSplit(RayBatch& b, DiceBuffer& dice, const ui
   const int d = subLeafDepth(m, resident);
   const uint32_t n = 1u << d;
   sc.best.assign(sc.fine.size(), kInf);
+  // Each ray's box margin as the dicing's traversal takes it from the leaf's box (DiceBuffer):
+  // a sub-leaf whose traversal could report a hit is never skipped by this test.
+  const Box3 whole = patch->bounds();
+  const float magnitude = maxComponent(vmax(vabs(whole.lo), vabs(whole.hi)));
+  auto marginOf = [&](Vec3 org) {
+    const float farthest = maxComponent(vmax(vabs(whole.lo - org), vabs(whole.hi - org)));
+    return gammaBound(16) * farthest + 0x1p-22f * magnitude;
+  };
   for (uint32_t y = 0; y < n; ++y)
     for (uint32_t x = 0; x < n; ++x) {
       const SubPatch sub(patch, d, x, y);
@@ -72,8 +80,10 @@ void SortedEngine::diceAndIntersectSplit(RayBatch& b, DiceBuffer& dice, const ui
         if (sc.best[f] < 0) continue;  // a shadow ray already occluded
         const uint32_t k = sc.fine[f], i = rayOfSlot(slots[k]);
         float entry, exit;
-        if (!intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir), box.lo, box.hi, 0.0f, searchLimit(b, i, sc.best[f]),
-                          entry, exit))
+        const float margin = marginOf(b.ray[i].org);
+        const Vec3 pad{margin, margin, margin};
+        if (!intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir), box.lo - pad, box.hi + pad, 0.0f,
+                          searchLimit(b, i, sc.best[f]), entry, exit))
           continue;
         sc.sub.push_back(uint32_t(f));
         sc.subSlot.push_back(slots[k]);
