@@ -5,6 +5,7 @@
 #include "app/renderer.h"
 #include "core/error.h"
 #include "core/memory.h"
+#include "rays/sorted_engine.h"
 
 namespace rayes {
 
@@ -55,7 +56,11 @@ RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& optio
   // The Embree engine checks its own tessellation (EmbreeEngine); the caching engine's grids
   // are counted in entries, not bytes.
   if (options.engine == EngineKind::Rayes) {
-    p.diceBuffers = diceBufferEstimate(options.maxLod, threads);
+    // The sorted pipeline's buffers hold the resident level (finer leaves are split); the
+    // caching engine dices whole leaves at any level.
+    const int level = options.diceCacheEntries == 0 ? SortedEngine::residentLevelFor(options.residentLod, options.maxLod)
+                                                    : options.maxLod;
+    p.diceBuffers = diceBufferEstimate(level, threads);
     if (options.diceCacheEntries == 0) p.gridCache = options.gridCacheBytes;
   }
   p.beams = methodBudgetBytes(options.method);
@@ -66,7 +71,7 @@ RenderMemoryPlan planRenderMemory(const Scene& scene, const RenderOptions& optio
 
 namespace {
 std::vector<std::pair<const char*, uint64_t>> byOption(const RenderMemoryPlan& p) {
-  return {{"--res", p.film + p.outputs}, {"--ray-memory", p.rays}, {"--max-lod", p.diceBuffers},
+  return {{"--res", p.film + p.outputs}, {"--ray-memory", p.rays}, {"--resident-lod", p.diceBuffers},
           {"--grid-cache", p.gridCache}, {"--beam-memory", p.beams}, {"--texture-memory", p.textures},
           {"--volume-memory", p.volumes}};
 }

@@ -22,7 +22,7 @@ struct RenderMemoryPlan {
   int width = 0, height = 0;
   uint64_t film = 0, outputs = 0;  // --res
   uint64_t rays = 0;               // --ray-memory: the batch's paths, ray slots and the engine's per-ray state
-  uint64_t diceBuffers = 0;        // --max-lod (and --threads): one dice buffer per thread
+  uint64_t diceBuffers = 0;        // --resident-lod, --max-lod (and --threads): one dice buffer per thread
   uint64_t gridCache = 0;          // --grid-cache
   // --beam-memory (lbt): everything the beams allocate, freed pages returned (lbt/beam_budget.h);
   // lbt's larger dice buffers are in diceBuffers, its camera batch's gathers in rays.

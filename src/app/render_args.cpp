@@ -89,6 +89,8 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   method.photons.alpha = a.photonAlpha;
   if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
   options.maxLod = a.maxLod;
+  if (a.residentLod < 0 || a.residentLod > 12) throw InputError("--resident-lod", "", "must be in [0, 12]");
+  options.residentLod = a.residentLod;
   if (a.beamResolution < 1 || a.beamResolution > 4096) throw InputError("--beam-resolution", "", "must be in [1, 4096]");
   if (a.beamDepth < 1 || a.beamDepth > 64) throw InputError("--beam-depth", "", "must be in [1, 64]");
   method.beams.resolution = a.beamResolution;

@@ -29,6 +29,7 @@ struct RenderArgs {
   int lodBias = 0;
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;
   int threads = 0, maxLod = 10;
+  int residentLod = TraceSettings::kDefaultResidentLod;
   bool quiet = false, progressive = false;
   bool costLayers = false;  // render: --cost-layers
   std::string progress = "human";  // --progress human|json|none (-q: none)

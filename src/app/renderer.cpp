@@ -78,6 +78,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     ts.maxLod = options.maxLod;
     ts.lod = options.lod;
     ts.lodBias = options.lodBias;
+    ts.residentLod = options.residentLod;
     ts.samplesPerPixel = scene.samplesPerPixel;
     ts.candidateCapacity = stats_.candidateCapacity;
     ts.sortByLeaf = options.sortByLeaf;

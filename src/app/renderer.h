@@ -79,6 +79,7 @@ struct RenderOptions {
   int maxLod = 10;
   LodRule lod = LodRule::PerRay;
   int lodBias = 0;               // TraceSettings::lodBias (--lod-bias)
+  int residentLod = TraceSettings::kDefaultResidentLod;  // TraceSettings::residentLod (--resident-lod)
   int candidatesPerRay = TraceSettings::kDefaultCandidatesPerRay;  // TraceSettings::maxCandidatesPerRay (--candidates-per-ray)
   size_t rayMemoryBytes = defaultRayMemoryBytes();
   size_t gridCacheBytes = size_t(512) << 20;  // TraceSettings::gridCacheBytes (--grid-cache); 0: off

@@ -31,6 +31,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                    {"lod", options.lod == LodRule::PerRay ? "per-ray" : options.lod == LodRule::Density ? "density" : "fixed"},
                    {"trace_mode", options.sortByLeaf ? "sorted" : "alone"},
                    {"lod_bias", options.lodBias},
+                   {"resident_lod", options.residentLod},
                    {"candidates_per_ray", options.candidatesPerRay},
                    {"dice_cache_entries", options.diceCacheEntries},
                    {"grid_cache_bytes", options.gridCacheBytes},
@@ -164,8 +165,10 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   }
   // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
-  uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0, gridCacheHits = 0;
+  uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0, gridCacheHits = 0, splitRuns = 0, subLeafDicings = 0;
   for (const auto& g : s.generations) {
+    splitRuns += g.stats.splitRuns;
+    subLeafDicings += g.stats.subLeafDicings;
     gridCacheHits += g.stats.gridCacheHits;
     movingDicings += g.stats.movingDicings;
     borderHits += g.stats.borderHits;
@@ -173,6 +176,8 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   }
   j["totals"]["origin_leaf_dicings"] = originLeafDicings;
   j["totals"]["grid_cache_hits"] = gridCacheHits;
+  j["totals"]["split_runs"] = splitRuns;
+  j["totals"]["sub_leaf_dicings"] = subLeafDicings;
   j["features"] = {
       {"motion_blur", f.movingLeaves > 0 && f.shutterOpen},
       {"moving_leaves", f.movingLeaves},

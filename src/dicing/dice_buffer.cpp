@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include "dicing/morton.h"
 #include "geometry/patch_math.h"
+#include "geometry/sub_patch.h"
 
 namespace rayes {
 
@@ -47,6 +48,16 @@ void DiceBuffer::newStamp() {
   }
 }
 
+void DiceBuffer::setPlace(const Patch& patch) {
+  const auto* sub = dynamic_cast<const SubPatch*>(&patch);
+  subX_ = sub ? sub->x() : 0;
+  subY_ = sub ? sub->y() : 0;
+  subDepth_ = sub ? sub->depth() : 0;
+  // The whole leaf's box sets a sub-leaf's margins and watertight error (it holds the sub-leaf's
+  // box, so they stay conservative): the border regions are then the whole leaf's to the bit.
+  if (sub) patchBounds_ = sub->parent().bounds();
+}
+
 void DiceBuffer::dice(const Patch& patch, int level, SharedBorderBounds shared) {
   if (level < 0 || level > maxLevel_) throw std::invalid_argument("DiceBuffer::dice: level > maxLevel");
   level_ = level;
@@ -56,6 +67,7 @@ void DiceBuffer::dice(const Patch& patch, int level, SharedBorderBounds shared) 
   shared_ = shared;
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();
+  setPlace(patch);
   newStamp();
   diceSample(patch, 0, level, a_);
   if (borders_) buildThinBounds();
@@ -87,6 +99,7 @@ void DiceBuffer::diceInterval(const Patch& patch, int interval, int level, Share
   shared_ = {};
   borders_ = patch.needsBorderClosure();
   patchBounds_ = patch.bounds();  // the union over all samples: the margin is per patch, not per interval
+  setPlace(patch);
   newStamp();
   if (b_.positions.empty()) allocate(b_);
   diceSample(patch, interval, level, a_);

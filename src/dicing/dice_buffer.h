@@ -35,6 +35,11 @@
 // builds, per time sample, the binary tree of those boxes up front (each node united with its
 // children) and blends it per query. The patch must outlive the queries of its dicing. See
 // intersect().
+//
+// Sub-leaves (geometry/sub_patch.h): a dicing of a SubPatch reports its hits on the parent's
+// grid -- u, v in the parent's parameters, quad numbered on the parent's grid of level
+// k + depth, dpdu and dpdv per unit of the parent's parameters -- computed by the same
+// operations as the parent diced whole, so a split leaf's hits have the same bits.
 #pragma once
 #include <algorithm>
 #include <atomic>
@@ -53,7 +58,7 @@ namespace rayes {
 struct GridHit {
   float t = 0;          // ray parameter
   float u = 0, v = 0;   // patch parameters of the hit point
-  uint32_t quad = 0;    // micro-quad index at the ray's level: y * 2^k + x
+  uint32_t quad = 0;    // micro-quad index at the ray's level: y * 2^k + x (a sub-leaf: on its parent's grid)
   Vec3 ng;              // geometric normal of the micro-triangle hit (unit, facing unspecified);
                         // for a zero-area triangle the watertight test still claims (rounding
                         // gives it a sliver), the other triangle's, else the blended vertex normal
@@ -257,6 +262,11 @@ class DiceBuffer {
   const float* nodeGroup(int level, uint32_t g) const { return a_.nodes.data() + groupOffset(level, g); }
   const float* rootBox() const { return a_.nodes.data() + groupOffset(maxLevel_, 0); }
   Box3 patchBounds_;         // the diced patch's bounds(): sets the per-ray box margin
+  // A SubPatch's place in its parent (all 0 for any other patch): where its hits are reported;
+  // a SubPatch's patchBounds_ are its parent's.
+  uint32_t subX_ = 0, subY_ = 0;
+  int subDepth_ = 0;
+  void setPlace(const Patch& patch);
   // A static dicing with borders: per border e and level k <= min(level(), kMaxThinLevel), the
   // bounds of its level-k border vertices. It contains every thin segment box of (e, k) (grown
   // and padded alike, rounding being monotone), so a ray that misses it grown skips the linear

@@ -402,12 +402,15 @@ borders:
   }
   if (best.quad == UINT32_MAX) return false;
 
-  const float inv = 1.0f / float(1u << k);  // a power of two: the scaling below is exact
+  // On the parent's grid for a sub-leaf (subDepth_ > 0): its cell and level there.
+  const int kp = k + subDepth_;
+  const uint32_t cx = (subX_ << k) + best.x, cy = (subY_ << k) + best.y;
+  const float inv = 1.0f / float(1u << kp);  // a power of two: the scaling below is exact
   GridHit& g = *out;
   g.t = best.t;
-  g.u = (float(best.x) + best.s) * inv;
-  g.v = (float(best.y) + best.r) * inv;
-  g.quad = best.quad;
+  g.u = (float(cx) + best.s) * inv;
+  g.v = (float(cy) + best.r) * inv;
+  g.quad = subDepth_ ? (cy << kp) | cx : best.quad;
   g.ng = best.ng;
   g.border = best.border;
   const size_t i00 = size_t(best.y) * stride * res + size_t(best.x) * stride;
@@ -422,7 +425,7 @@ borders:
       else p[j] = positions_[c[j]];
     }
     quadPartials(p[0], p[1], p[2], p[3], std::clamp(best.s, 0.0f, 1.0f), std::clamp(best.r, 0.0f, 1.0f),
-                 float(1u << k), g.dpdu, g.dpdv);
+                 float(1u << kp), g.dpdu, g.dpdv);
   }
   return true;
 }

@@ -23,7 +23,7 @@ void SortedEngine::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& t
   ScopedTimer timer(times.bottom);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, active_.size(), 16), [&](const auto& r) {
     auto& scratch = scratch_.local();
-    DiceBuffer& dice = localDiceBuffer();
+    DiceBuffer& dice = localDiceBuffer(true);  // at any level: this debug walk does not split leaves
     uint64_t dicedForThisRay = 0;  // each dicing here is one ray's alone (RayBatch::chargeDicings)
     const GridSource diceForThisRay = [&](uint32_t leaf, const PatchPtr& patch, int interval, int level) -> const DiceBuffer& {
       dice.diceInterval(*patch, interval, level, sharedBorders(leaf));

@@ -48,6 +48,14 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
     }
   });
   if (settings_.closeBorders && settings_.lod == LodRule::PerRay) borderNeighbour_ = borderNeighbours(leaves, top, &borderSide_);
+  residentLevel_ = residentLevelFor(settings_.residentLod, settings_.maxLod);
+}
+
+int SortedEngine::residentLevelFor(int residentLod, int maxLod) {
+  // A split ray's level is above the resident level, so above the last thin level: a sub-leaf
+  // never needs the seam gaps, which are measured on whole leaves (bordersClosedByNeighbours).
+  static_assert(TraceSettings::kMinResidentLod >= BottomQuery::kMaxThinLevel);
+  return std::min(maxLod, std::max({residentLod, TraceSettings::kMinResidentLod, (maxLod + 1) / 2}));
 }
 
 bool SortedEngine::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const {
@@ -64,6 +72,7 @@ float SortedEngine::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) co
 size_t SortedEngine::diceBufferBytes() const {
   size_t b = 0;
   for (const auto& d : dice_) if (d) b += d->bytesAllocated();
+  for (const auto& d : wholeDice_) if (d) b += d->bytesAllocated();
   return b;
 }
 
@@ -81,9 +90,9 @@ EngineStats SortedEngine::engineStats() const {
   return s;
 }
 
-DiceBuffer& SortedEngine::localDiceBuffer() {
-  auto& d = dice_.local();
-  if (!d) d = std::make_unique<DiceBuffer>(settings_.maxLod);
+DiceBuffer& SortedEngine::localDiceBuffer(bool whole) {
+  auto& d = whole ? wholeDice_.local() : dice_.local();
+  if (!d) d = std::make_unique<DiceBuffer>(whole ? settings_.maxLod : residentLevel_);
   return *d;
 }
 
@@ -271,7 +280,8 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
     uint64_t hits = 0;
     for (size_t run = 0; run < nRuns; ++run) {
       const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-      if (isBrickLeaf(leaf) || leafMoving_[leaf]) continue;
+      // A run finer than the resident level dices sub-leaves, which the cache does not keep.
+      if (isBrickLeaf(leaf) || leafMoving_[leaf] || runLevel_[run] > residentLevel_) continue;
       runEntry_[run] = cache_.acquire(leaf, runLevel_[run]);
       hits += runEntry_[run] && !runEntry_[run]->toDice;
     }
@@ -314,10 +324,11 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
       // A generated leaf's patch lives only for this run.
       const PatchPtr patch = leaves_.patch(leaf);
       if (leafMoving_[leaf]) {
-        diceAndIntersectMoving(b, dice, slots, count, leaf, *patch, times, counters);
+        diceAndIntersectMoving(b, dice, slots, count, leaf, patch, times, counters);
       } else {
         const int m = cache_.enabled() ? runLevel_[run] : runLevel(b, slots, count, leaf, runEntries(run));
-        diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, runEntries(run), times, counters);
+        if (m > residentLevel_) diceAndIntersectSplit(b, dice, slots, count, leaf, patch, -1, m, runEntries(run), times, counters);
+        else diceAndIntersect(b, dice, slots, count, leaf, *patch, -1, m, runEntries(run), times, counters);
       }
     }
   });
@@ -326,14 +337,17 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();
   stats.originLeafDicings += counters.originLeafDicings.load();
+  stats.splitRuns += counters.splitRuns.load();
+  stats.subLeafDicings += counters.subLeafDicings.load();
   for (size_t m = 0; m < counters.byLevel.size(); ++m) stats.dicingsByLevel[m] += counters.byLevel[m].load();
 }
 
 // Motion: regroups a moving leaf's run by time interval (a stable counting sort, so no order
 // changes) and dices each interval present once.
 void SortedEngine::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
-                                          uint32_t leaf, const Patch& patch, TraceTimes& times,
+                                          uint32_t leaf, const PatchPtr& patchPtr, TraceTimes& times,
                                           DicingCounters& counters) {
+  const Patch& patch = *patchPtr;
   IntervalScratch& sc = intervals_.local();
   const int intervals = patch.timeSamples() - 1;
   sc.interval.resize(count);
@@ -352,8 +366,9 @@ void SortedEngine::diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const u
     const size_t k0 = sc.start[size_t(iv)], k1 = sc.start[size_t(iv) + 1];
     if (k1 > k0) {
       const uint32_t* part = sc.slots.data() + k0;
-      diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, runLevel(b, part, k1 - k0, leaf, nullptr), nullptr,
-                       times, counters);
+      const int m = runLevel(b, part, k1 - k0, leaf, nullptr);
+      if (m > residentLevel_) diceAndIntersectSplit(b, dice, part, k1 - k0, leaf, patchPtr, iv, m, nullptr, times, counters);
+      else diceAndIntersect(b, dice, part, k1 - k0, leaf, patch, iv, m, nullptr, times, counters);
     }
   }
 }
@@ -385,11 +400,15 @@ int SortedEngine::runLevel(const RayBatch& b, const uint32_t* slots, size_t coun
 
 void SortedEngine::diceRun(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                            const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters) {
+  const bool sub = dynamic_cast<const SubPatch*>(&patch) != nullptr;
   {
     ScopedTimer timer(times.dice);
-    if (interval < 0) dice.dice(patch, m, sharedBorders(leaf));
-    else dice.diceInterval(patch, interval, m, sharedBorders(leaf));
+    // A sub-leaf's border bounds are not its leaf's: they are not kept in the leaf's table.
+    const SharedBorderBounds shared = sub ? SharedBorderBounds{} : sharedBorders(leaf);
+    if (interval < 0) dice.dice(patch, m, shared);
+    else dice.diceInterval(patch, interval, m, shared);
   }
+  if (sub) counters.subLeafDicings.fetch_add(1, std::memory_order_relaxed);
   const uint64_t grids = interval < 0 ? 1 : 2;
   counters.micropolygons.fetch_add(grids << (2 * m), std::memory_order_relaxed);
   counters.dicings.fetch_add(1, std::memory_order_relaxed);

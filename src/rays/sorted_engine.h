@@ -34,7 +34,8 @@
 // is the minimum of a total order, whatever order the offers come in). Shadow rays stop at
 // their first occluder. Memory: the candidate buffer with its sort (bytesPerCandidate() per
 // slot of fixed capacity), per-ray state (bytesPerRayState() per ray of the largest batch) and
-// one DiceBuffer per thread, allocated on first use and kept, plus the grid cache (bounded by
+// one DiceBuffer per thread of the resident level (residentLevel(): a run needing a leaf finer
+// dices it as sub-leaves, rays/sub_leaf_runs.cpp), allocated on first use and kept, plus the grid cache (bounded by
 // TraceSettings::gridCacheBytes; fixedBytes() counts its peak). Not thread-safe: one trace() at
 // a time; trace() itself is parallel.
 //
@@ -54,6 +55,7 @@
 #include "core/ray_batch.h"
 #include "dicing/dice_buffer.h"
 #include "geometry/leaf_source.h"
+#include "geometry/sub_patch.h"
 #include "rays/candidate_buffer.h"
 #include "rays/candidate_sort.h"
 #include "rays/grid_cache.h"
@@ -131,6 +133,10 @@ class SortedEngine : public RayEngine {
   }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;
+  // The finest level a dice buffer holds (TraceSettings::residentLod, raised to
+  // kMinResidentLod and ceil(maxLod / 2), at most maxLod).
+  int residentLevel() const { return residentLevel_; }
+  static int residentLevelFor(int residentLod, int maxLod);
   size_t candidateBufferBytes() const { return cand_.capacity() * bytesPerCandidate(); }
 
  private:
@@ -139,14 +145,15 @@ class SortedEngine : public RayEngine {
   // The steps of one traceSorted iteration (the header comment's numbers) over the first nNow
   // active rays with N candidate slots each.
   struct DicingCounters {
-    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, originLeafDicings{0};
+    std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, originLeafDicings{0}, splitRuns{0},
+        subLeafDicings{0};
     std::array<std::atomic<uint64_t>, GenerationStats::kLevels> byLevel{};  // the level-of-detail histogram
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
   size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
   void diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times);     // 3, 4
   void diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
-                              uint32_t leaf, const Patch& patch, TraceTimes& times, DicingCounters& counters);
+                              uint32_t leaf, const PatchPtr& patch, TraceTimes& times, DicingCounters& counters);
   void diceAndIntersect(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                         const Patch& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
                         DicingCounters& counters);
@@ -155,6 +162,19 @@ class SortedEngine : public RayEngine {
   int runLevel(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, uint32_t* entryBits) const;
   void diceRun(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                const Patch& patch, int interval, int m, TraceTimes& times, DicingCounters& counters);
+  // A run finer than residentLevel() (its time interval, or static when interval < 0), in
+  // rays/sub_leaf_runs.cpp: its rays at levels <= residentLevel() against the leaf diced
+  // whole, the others against the 4^d sub-leaves their rays cross (d = the run's level minus
+  // residentLevel()), each ray at its own level minus d: the same micro-triangles as the whole
+  // leaf at its level, the hit reported in the leaf's own parameters and quad numbering.
+  void diceAndIntersectSplit(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
+                             const PatchPtr& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
+                             DicingCounters& counters);
+  // One slot against sub-leaf `sub` of `leaf` (diced in `dice`), the ray at `level` on the leaf,
+  // searching up to `best` (its nearest hit in this run so far). Returns the kept distance of
+  // the hit offered, infinity for none, -1 for a shadow ray occluded.
+  float intersectSubLeafSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch,
+                             const SubPatch& sub, int level, float entry, float best);
   // With RayBatch::chargeDicings: one dicing split among the run's rays (RayBatch::dicingShare).
   void chargeRun(RayBatch& b, const uint32_t* slots, size_t count) const;
   // Every slot of the run against the diced leaf (rays at their own level <= m); entryBits as
@@ -208,7 +228,9 @@ class SortedEngine : public RayEngine {
   // `entry`: leafEntry(b, ray of slot, leaf), the level's footprint distance and the hit's floor.
   void intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m,
                      float entry);
-  DiceBuffer& localDiceBuffer();
+  // This thread's dice buffer: sized for residentLevel(), or (`whole`, the one-ray debug walk
+  // only) for maxLod.
+  DiceBuffer& localDiceBuffer(bool whole = false);
 
   const TopLevelBvh& top_;
   const LeafSource& leaves_;
@@ -227,7 +249,15 @@ class SortedEngine : public RayEngine {
   std::vector<uint32_t> resumeLeaf_;
   std::vector<uint16_t> count_;  // candidates got this iteration (N <= kMaxCandidatesPerIteration)
   std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
-  tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_;
+  tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_, wholeDice_;
+  int residentLevel_ = 0;  // residentLevel()
+  // Per thread: a split run's slots by level and the sub-leaf's slots (rays/sub_leaf_runs.cpp).
+  struct SplitScratch {
+    std::vector<uint32_t> coarse, fine, sub, subSlot;
+    std::vector<uint8_t> level;
+    std::vector<float> entry, best;
+  };
+  tbb::enumerable_thread_specific<SplitScratch> split_;
   tbb::enumerable_thread_specific<TraversalScratch> scratch_;
   // Per thread: a moving leaf's slots regrouped by time interval (stable), and the counts.
   struct IntervalScratch {

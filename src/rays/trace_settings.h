@@ -24,6 +24,15 @@ struct TraceSettings {
   // level it hit it (that level already carries the bias).
   int lodBias = 0;
   static constexpr int kMaxLodBias = 12;  // |lodBias| beyond the finest level changes nothing
+  // The finest level a dice buffer holds (--resident-lod; issue 33 item 2): a run of rays that
+  // needs a leaf finer than this dices it as 4^d sub-leaves (geometry/sub_patch.h, d = the
+  // excess), each at most at this level, the same micro-triangles for every ray. The per-thread
+  // dice buffers are sized for min(maxLod, the effective level): SortedEngine::residentLevel,
+  // which is never below kMinResidentLod (the thin seam regions end there) nor below
+  // ceil(maxLod / 2) (each ray's level on a sub-leaf must stay >= 0).
+  static constexpr int kDefaultResidentLod = 7;
+  static constexpr int kMinResidentLod = 6;
+  int residentLod = kDefaultResidentLod;
   int samplesPerPixel = 1;          // only for LodRule::Density
   size_t candidateCapacity = 1 << 20;
   // N, the candidate leaves a ray gets per iteration, is capacity / active rays clipped to this
@@ -75,6 +84,10 @@ struct GenerationStats {
   // (§6.2.1: continuation rays intersected with their still-diced leaf) could save at most.
   uint64_t originLeafDicings = 0;
   uint64_t gridCacheHits = 0;        // leaf visits served by the grid cache instead of a dicing
+  // Runs of rays that needed a leaf finer than the resident level, and the sub-leaves they
+  // diced (each also one of leavesDiced, at its own level in dicingsByLevel).
+  uint64_t splitRuns = 0;
+  uint64_t subLeafDicings = 0;
   // Dicings per level of detail m (4^m micro-quads), the sorted pipeline's; --max-lod is at most 12.
   static constexpr size_t kLevels = 13;
   std::array<uint64_t, kLevels> dicingsByLevel{};

@@ -481,6 +481,8 @@ std::vector<HostileCase> catalogue() {
       {"CandidatesPerRayText", {validScene()}, renderWith({"--candidates-per-ray", "many"}), "--candidates-per-ray", ""},
       {"MaxLodNegative", {validScene()}, renderWith({"--max-lod", "-1"}), "--max-lod", "must be in [0, 12]"},
       {"MaxLod13", {validScene()}, renderWith({"--max-lod", "13"}), "--max-lod", "must be in [0, 12]"},
+      {"ResidentLodNegative", {validScene()}, renderWith({"--resident-lod", "-1"}), "--resident-lod", "must be in [0, 12]"},
+      {"ResidentLod13", {validScene()}, renderWith({"--resident-lod", "13"}), "--resident-lod", "must be in [0, 12]"},
       {"LodUnknownRule", {validScene()}, renderWith({"--lod", "random"}), "--lod", ""},
       {"TraceModeUnknown", {validScene()}, renderWith({"--trace-mode", "fast"}), "--trace-mode", ""},
       {"UnknownOption", {validScene()}, renderWith({"--fast"}), "--fast", ""},

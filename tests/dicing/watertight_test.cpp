@@ -2,6 +2,9 @@
 // grid, and across the seam of two teapot patches diced into separate buffers, at several
 // scales and far from the origin -- never slip through (docs/design.md, "Precision").
 //
+// Sub-leaves (geometry/sub_patch.h): rays aimed at the edges and corners that sub-leaves of a
+// curved displaced patch share, each sub-leaf in its own buffer, are caught the same way.
+//
 // A ray counts as caught when, following it through its successive hits, it hits one of the
 // micro-quads around the aimed point; a hit elsewhere in front (the patch folding over) is
 // skipped by restarting after it. So a tunnelling ray is found even if it hits something else
@@ -22,6 +25,8 @@
 #include <string>
 #include <tuple>
 #include "geometry/bezier_patch.h"
+#include "geometry/displaced_patch.h"
+#include "geometry/sub_patch.h"
 #include "dicing/dice_buffer.h"
 #include "support/patch_test_util.h"
 
@@ -85,6 +90,13 @@ class Harness {
         if (all[k] == all[k - 1] && (dup.empty() || !(dup.back() == all[k]))) dup.push_back(all[k]);
       duplicated_.push_back(dup);
     }
+  }
+
+  // The buffers hold sub-leaves of one parent split `depth` times, buffer k the sub-leaf at
+  // places[k]: their hits are numbered on the parent's grid (DiceBuffer, "Sub-leaves").
+  void setSubLeaves(int depth, std::vector<std::array<uint32_t, 2>> places) {
+    depth_ = depth;
+    places_ = std::move(places);
   }
 
   void shoot(test::Random& rng, const Aim& aim, float distance, Counts& counts) {
@@ -198,7 +210,12 @@ class Harness {
       }
       if (bestBuffer < 0) return false;
       const int n = 1 << level_;
-      const StarQuad q{bestBuffer, int(best.quad) % n, int(best.quad) / n};
+      StarQuad q{bestBuffer, int(best.quad) % n, int(best.quad) / n};
+      if (depth_ > 0) {  // back from the parent's numbering to the buffer's own
+        const int np = n << depth_;
+        q.qx = int(best.quad) % np - int(places_[size_t(bestBuffer)][0]) * n;
+        q.qy = int(best.quad) / np - int(places_[size_t(bestBuffer)][1]) * n;
+      }
       if (std::find(star_.begin(), star_.end(), q) != star_.end()) return true;
       tmin = best.t;
     }
@@ -208,6 +225,8 @@ class Harness {
   std::vector<const DiceBuffer*> buffers_;
   std::vector<bool> flip_;
   int level_;
+  int depth_ = 0;
+  std::vector<std::array<uint32_t, 2>> places_;
   std::vector<std::vector<Vec3>> duplicated_;
   std::vector<StarQuad> star_;
   std::vector<Vec3> normals_;
@@ -371,6 +390,73 @@ TEST(Watertight, HeightFieldSeamsTranslated1e6AtEveryLevelSkipNoAim) {
     const size_t borders = level >= 8 ? 1 : 4;
     seams({1e3f, {1e6f, 1e6f, 1e6f}, level, what.c_str(), 0.0, borders}, 1500, 80 + level, quilt);
   }
+}
+
+// The seams between sub-leaves (a leaf split at set-up, issue 33 item 2): a displaced teapot
+// body patch (curved, and its height noise curved again) split 2^depth times each way, every
+// sub-leaf in its own buffer at level m, rays aimed at the vertices and edges on the lines
+// the sub-leaves share, their crossings included (four sub-leaves meet there).
+void subLeafSeams(int depth, int m, long rays, uint64_t seed, const char* what) {
+  const auto base = std::make_shared<BezierPatch>(test::loadTeapot()[0]);
+  NoiseParams noise;
+  const float size = base->bounds().longestSide();
+  noise.amplitude = 0.05f * size;
+  noise.frequency = 3.0f / size;
+  noise.octaves = 3;
+  const auto parent = std::make_shared<DisplacedPatch>(base, std::make_shared<NoiseDisplacement>(noise));
+  const uint32_t side = 1u << depth;
+  const int n = 1 << m, N = n << depth;  // cells per sub-leaf, per parent
+  std::vector<std::unique_ptr<DiceBuffer>> owned;
+  std::vector<const DiceBuffer*> buffers;
+  std::vector<std::array<uint32_t, 2>> places;
+  for (uint32_t y = 0; y < side; ++y)
+    for (uint32_t x = 0; x < side; ++x) {
+      owned.push_back(std::make_unique<DiceBuffer>(m));
+      owned.back()->dice(SubPatch(parent, depth, x, y), m);
+      buffers.push_back(owned.back().get());
+      places.push_back({x, y});
+    }
+  Harness harness(buffers, std::vector<bool>(buffers.size(), false), m);
+  harness.setSubLeaves(depth, places);
+  // Every buffer holding parent vertex (I, J), with its indices there.
+  auto holders = [&](int I, int J) {
+    std::vector<StarVertex> out;
+    for (int k = 0; k < int(places.size()); ++k) {
+      const int i = I - int(places[size_t(k)][0]) * n, j = J - int(places[size_t(k)][1]) * n;
+      if (i >= 0 && j >= 0 && i <= n && j <= n) out.push_back({k, i, j});
+    }
+    return out;
+  };
+  auto position = [&](int I, int J) {
+    const StarVertex v = holders(I, J).front();
+    return buffers[size_t(v.buffer)]->position(v.i, v.j);
+  };
+  test::Random rng(seed);
+  Counts counts;
+  for (long s = 0; s < rays; ++s) {
+    // A shared line: a vertical (u = const) or horizontal one inside the parent.
+    const bool vertical = rng.below(2) == 0;
+    const int line = (1 + int(rng.below(side - 1))) * n;
+    const bool vertex = rng.below(3) == 0;
+    const int along = vertex ? 1 + int(rng.below(uint32_t(N - 1))) : int(rng.below(uint32_t(N)));
+    const int I0 = vertical ? line : along, J0 = vertical ? along : line;
+    const int I1 = vertical ? I0 : (vertex ? I0 : I0 + 1), J1 = vertical ? (vertex ? J0 : J0 + 1) : J0;
+    Aim aim;
+    aim.va = position(I0, J0);
+    aim.vb = position(I1, J1);
+    const float lambda = vertex ? 0.0f : rng.uniform();
+    aim.p = aim.va * (1.0f - lambda) + aim.vb * lambda;
+    aim.star = holders(I0, J0);
+    for (const StarVertex& v : holders(I1, J1)) aim.star.push_back(v);
+    harness.shoot(rng, aim, parent->sizeBound() * rng.uniform(0.5f, 2.0f), counts);
+  }
+  expectCaught(counts, rays, what);
+}
+
+TEST(Watertight, SeamsBetweenSubLeavesOfADisplacedPatch) {
+  subLeafSeams(1, 5, 60000, 91, "2x2 sub-leaves of a displaced teapot patch, m=5");
+  subLeafSeams(2, 4, 60000, 92, "4x4 sub-leaves of a displaced teapot patch, m=4");
+  subLeafSeams(3, 3, 30000, 93, "8x8 sub-leaves of a displaced teapot patch, m=3");
 }
 
 }  // namespace

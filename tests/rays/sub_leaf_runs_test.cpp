@@ -1,0 +1,142 @@
+// Runs finer than the resident level (rays/sub_leaf_runs.cpp, issue 33 item 2): the leaf is
+// diced as sub-leaves into a buffer of the resident level only. What could go wrong:
+// - a hit differs from the whole leaf's (a sub-leaf's vertex, parameter, quad number or
+//   crack-closing region not the whole leaf's): every hit is compared bit for bit with the same
+//   rays traced with no split, on a displaced teapot (curved, border regions everywhere) with
+//   each ray at its own level on each leaf, coarse and fine rays in one run;
+// - the sub-leaves diced depend on thread timing: counts and hits at 1 and 2 threads;
+// - the memory floor does not fall: the dice buffers' bytes.
+// (Rays aimed at the seams between sub-leaves are in tests/dicing/watertight_test.cpp; the same
+// image at the render level in tests/app/sub_leaf_render_test.cpp.)
+#include <gtest/gtest.h>
+#include <cstring>
+#include <limits>
+#include <tbb/task_arena.h>
+#include "core/rng.h"
+#include "geometry/displaced_patch.h"
+#include "geometry/displacement.h"
+#include "rays/sorted_engine.h"
+#include "rays/teapot_on_floor.h"
+
+namespace rayes {
+namespace {
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr int kMaxLod = 9;
+
+// The teapot's patches displaced by noise, on the floor.
+test::TracedWorld displacedTeapot() {
+  std::vector<PatchPtr> leaves = test::teapotOnFloor();
+  NoiseParams noise;
+  noise.amplitude = 0.04f;
+  noise.frequency = 4.0f;
+  noise.octaves = 3;
+  const auto d = std::make_shared<NoiseDisplacement>(noise);
+  for (size_t k = 0; k < 32; ++k) leaves[k] = std::make_shared<DisplacedPatch>(leaves[k], d);
+  return test::TracedWorld(std::move(leaves));
+}
+
+RayBatch raysAtTheTeapot(int n, bool shadow) {
+  RayBatch b;
+  b.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const RngKey k{uint32_t(i), shadow ? 1u : 0u, 0, 23};
+    const float a = 6.2831853f * sampleUniform(k, 0);
+    const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
+    const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
+    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, normalize(target - o), shadow ? 8.0f : kInf,
+                     0.0f, 0.0f);
+  }
+  return b;
+}
+
+struct Traced {
+  RayBatch batch;
+  GenerationStats stats;
+  size_t diceBufferBytes = 0;
+};
+
+// Each (ray, leaf) at a level of its own, 0..kMaxLod (a hash of the pair), so a leaf's run
+// mixes rays coarser and finer than the resident level.
+Traced trace(const test::TracedWorld& w, int residentLod, bool shadow, int threads, bool cache = false) {
+  Traced out;
+  out.batch = raysAtTheTeapot(4000, shadow);
+  TraceSettings s;
+  s.maxLod = kMaxLod;
+  s.residentLod = residentLod;
+  s.gridCacheBytes = cache ? size_t(64) << 20 : 0;
+  s.levelHook = [](uint32_t ray, uint32_t leaf, int) {
+    return int((ray * 2654435761u ^ leaf * 40503u) >> 7) % (kMaxLod + 1);
+  };
+  SortedEngine engine(w.top, w.source, s);
+  TraceTimes times;
+  tbb::task_arena(threads).execute([&] { engine.trace(out.batch, out.stats, times); });
+  out.diceBufferBytes = engine.diceBufferBytes();
+  return out;
+}
+
+void expectSameHits(const Traced& a, const Traced& b) {
+  int hits = 0;
+  for (uint32_t i = 0; i < a.batch.size(); ++i) {
+    const RayHit &x = a.batch.hit[i], &y = b.batch.hit[i];
+    ASSERT_EQ(x.leaf, y.leaf) << "ray " << i;
+    if (!x.valid()) continue;
+    ++hits;
+    ASSERT_EQ(std::memcmp(&x, &y, sizeof x), 0) << "ray " << i << ": t " << x.t << " / " << y.t << ", quad " << x.quad
+                                                << " / " << y.quad << ", u " << x.u << " / " << y.u;
+  }
+  EXPECT_GT(hits, int(a.batch.size()) / 4);
+}
+
+TEST(SubLeafRuns, SplitRunsFindTheWholeLeafsHitsBitForBit) {
+  const auto w = displacedTeapot();
+  const Traced whole = trace(w, kMaxLod, false, 2), split = trace(w, 6, false, 2);
+  EXPECT_EQ(whole.stats.splitRuns, 0u);
+  EXPECT_GT(split.stats.splitRuns, 0u);
+  EXPECT_GT(split.stats.subLeafDicings, 0u);
+  for (size_t m = 7; m < GenerationStats::kLevels; ++m) EXPECT_EQ(split.stats.dicingsByLevel[m], 0u) << m;
+  expectSameHits(whole, split);
+  // With the grid cache, a split run bypasses it: still the same hits.
+  expectSameHits(whole, trace(w, 6, false, 2, true));
+}
+
+TEST(SubLeafRuns, SplitShadowRaysAreOccludedExactlyAsWhole) {
+  const auto w = displacedTeapot();
+  const Traced whole = trace(w, kMaxLod, true, 2), split = trace(w, 6, true, 2);
+  int occluded = 0;
+  for (uint32_t i = 0; i < whole.batch.size(); ++i) {
+    ASSERT_EQ(whole.batch.hit[i].valid(), split.batch.hit[i].valid()) << "ray " << i;
+    occluded += whole.batch.hit[i].valid();
+  }
+  EXPECT_GT(occluded, 100);
+}
+
+TEST(SubLeafRuns, SameHitsAndDicingsAtOneAndTwoThreads) {
+  const auto w = displacedTeapot();
+  const Traced one = trace(w, 6, false, 1), two = trace(w, 6, false, 2);
+  expectSameHits(one, two);
+  EXPECT_EQ(one.stats.leavesDiced, two.stats.leavesDiced);
+  EXPECT_EQ(one.stats.subLeafDicings, two.stats.subLeafDicings);
+  EXPECT_EQ(one.stats.dicingsByLevel, two.stats.dicingsByLevel);
+}
+
+TEST(SubLeafRuns, TheDiceBuffersHoldOnlyTheResidentLevel) {
+  const auto w = displacedTeapot();
+  const Traced whole = trace(w, kMaxLod, false, 1), split = trace(w, 6, false, 1);
+  DiceBuffer six(6), nine(9);
+  six.dice(*w.leaves[0], 6);
+  nine.dice(*w.leaves[0], 9);
+  EXPECT_EQ(split.diceBufferBytes, six.bytesAllocated());
+  EXPECT_EQ(whole.diceBufferBytes, nine.bytesAllocated());
+  EXPECT_GT(double(whole.diceBufferBytes), 40.0 * double(split.diceBufferBytes));  // 4^3 less, less a little for the border tables
+}
+
+TEST(SubLeafRuns, TheResidentLevelStaysWhereEveryRayKeepsALevel) {
+  EXPECT_EQ(SortedEngine::residentLevelFor(7, 10), 7);
+  EXPECT_EQ(SortedEngine::residentLevelFor(3, 10), TraceSettings::kMinResidentLod);
+  EXPECT_EQ(SortedEngine::residentLevelFor(6, 12), 6);
+  EXPECT_EQ(SortedEngine::residentLevelFor(7, 4), 4);   // never above --max-lod
+  EXPECT_EQ(SortedEngine::residentLevelFor(12, 10), 10);
+}
+
+}  // namespace
+}  // namespace rayes
