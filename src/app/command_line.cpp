@@ -103,7 +103,7 @@ void addSharedOptions(CLI::App* c, RenderArgs& a) {
   c->add_option("--dice-cache", a.diceCache, "trace rays one at a time, unsorted, keeping the last K diced patches "
                                              "in an LRU cache (the thesis's alternative to reordering; same image, "
                                              "one thread, for counting dicings). K >= 1");
-  c->add_option("--resident-lod", a.residentLod, "finest level a dice buffer holds, 0..12 (default 7; raised to 6 and "
+  c->add_option("--resident-lod", a.residentLod, "finest level a dice buffer holds, 0..12 (default 8; raised to 6 and "
                                                  "to half of --max-lod): a leaf a ray needs finer is diced as "
                                                  "sub-leaves, the same micro-triangles");
   c->add_option("--lod-bias", a.lodBias, "shift every ray's dicing level by B levels, -12..12 (default 0; negative: "

@@ -30,7 +30,10 @@ struct TraceSettings {
   // dice buffers are sized for min(maxLod, the effective level): SortedEngine::residentLevel,
   // which is never below kMinResidentLod (the thin seam regions end there) nor below
   // ceil(maxLod / 2) (each ray's level on a sub-leaf must stay >= 0).
-  static constexpr int kDefaultResidentLod = 7;
+  // 8, not 7: sub-leaf grids are not kept in the grid cache, so a run finer than R re-dices;
+  // measured (bench/history/2026-11.md, "Sub-leaves"), R = 7 cost +37 % CPU on
+  // displaced-terrain (+9 % teapot-field), R = 8 +5 % for 0.87x its memory.
+  static constexpr int kDefaultResidentLod = 8;
   static constexpr int kMinResidentLod = 6;
   int residentLod = kDefaultResidentLod;
   int samplesPerPixel = 1;          // only for LodRule::Density
