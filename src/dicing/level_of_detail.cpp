@@ -33,6 +33,15 @@ int levelForDicingError(float patchSize, float errorCoefficient, int maxLevel) {
   return maxLevel;
 }
 
+int floorAtDistance(int floorAtSize, float patchSize, float distance) {
+  if (!(patchSize > 0.0f) || !std::isfinite(patchSize)) return std::max(floorAtSize, 0);
+  // 4 * reach is exact (or +inf, which no finite distance reaches), so k is the exact largest
+  // k <= floorAtSize with patchSize * 4^k <= distance.
+  int level = floorAtSize;
+  for (float reach = patchSize; level > 0 && 4.0f * reach <= distance; reach *= 4.0f) --level;
+  return std::max(level, 0);
+}
+
 int biasedLevel(int level, int bias, int maxLevel) {
   // In int64 so no bias can overflow; the clamp keeps the result a level the buffer holds.
   return int(std::clamp<int64_t>(int64_t(level) + bias, 0, std::max(maxLevel, 0)));

@@ -104,8 +104,10 @@ int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float
     level = std::min<int>(b.ray[ray].originLevel, settings_.maxLod);  // carries the bias already
   } else {
     const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread;
-    // No coarser than the patch's dicing error allows (docs/design.md, "Level of detail and energy").
-    const int footprint = std::max(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), int(leafFloor_[leaf]));
+    // No coarser than the patch's dicing error allows at this distance (docs/design.md, "Level of
+    // detail and energy").
+    const int floor = floorAtDistance(leafFloor_[leaf], leafSize_[leaf], entry);
+    const int footprint = std::max(levelForFootprint(leafSize_[leaf], width, settings_.maxLod), floor);
     level = biasedLevel(footprint, settings_.lodBias, settings_.maxLod);
   }
   if (settings_.levelHook) level = std::clamp(settings_.levelHook(ray, leaf, level), 0, settings_.maxLod);

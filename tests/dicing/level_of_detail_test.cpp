@@ -1,6 +1,7 @@
 // Specification of per-ray level of detail: a ray traced at level k on a finer dicing gets
 // exactly the hit of a level-k dicing (docs/design.md, invariant 2), and the level rules.
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -91,21 +92,21 @@ TEST(LevelOfDetail, FootprintRule) {
   EXPECT_EQ(levelForFootprint(3e38f, 1e-38f, 1000), 255);  // 2^255 * 1e-38 overflows to inf: still >=
 }
 
-// The per-ray rule's floor: the coarsest m with C / 4^m <= size / 1024, so a curved patch is
-// never seen as chords that stray more than 2^-10 of its size (docs/design.md, "Level of detail
+// The per-ray rule's floor: the coarsest m with C / 4^m <= size / 256, so a curved patch is
+// never seen as chords that stray more than 2^-8 of its size (docs/design.md, "Level of detail
 // and energy"); planar patches keep level 0.
 TEST(LevelOfDetail, DicingErrorFloor) {
   const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_EQ(kRelativeDicingError, 1.0 / 1024);
+  EXPECT_EQ(kRelativeDicingError, 1.0 / 256);
   EXPECT_EQ(levelForDicingError(1, 0, 10), 0);                 // planar
-  EXPECT_EQ(levelForDicingError(1024, 1, 10), 0);              // C = size / 1024: level 0 suffices
-  EXPECT_EQ(levelForDicingError(1, 1, 10), 5);                 // 4^5 = 1024, exactly on the boundary
-  EXPECT_EQ(levelForDicingError(1, 1.0001f, 10), 6);
-  EXPECT_EQ(levelForDicingError(1, 0.25f, 10), 4);
+  EXPECT_EQ(levelForDicingError(256, 1, 10), 0);               // C = size / 256: level 0 suffices
+  EXPECT_EQ(levelForDicingError(1, 1, 10), 4);                 // 4^4 = 256, exactly on the boundary
+  EXPECT_EQ(levelForDicingError(1, 1.0001f, 10), 5);
+  EXPECT_EQ(levelForDicingError(1, 0.25f, 10), 3);
   EXPECT_EQ(levelForDicingError(1, 1, 3), 3);                  // clamped
   for (int m = 0; m <= 10; ++m) {                              // the definition, level by level
     const int level = levelForDicingError(3, 0.7f, 10);
-    EXPECT_EQ(m >= level, 0.7 * std::ldexp(1.0, -2 * m) <= 3.0 / 1024 || m == 10) << m;
+    EXPECT_EQ(m >= level, 0.7 * std::ldexp(1.0, -2 * m) <= 3.0 / 256 || m == 10) << m;
   }
   // Documented edge cases: finite, in [0, maxLevel], for any input.
   EXPECT_EQ(levelForDicingError(1, -1, 10), 0);
@@ -114,9 +115,43 @@ TEST(LevelOfDetail, DicingErrorFloor) {
   EXPECT_EQ(levelForDicingError(0, 1, 10), 10);
   EXPECT_EQ(levelForDicingError(nan, 1, 10), 10);
   EXPECT_EQ(levelForDicingError(inf, 1, 10), 0);
-  EXPECT_EQ(levelForDicingError(1e-45f, 3e38f, 300), 144);  // in double: neither underflows to 0
+  EXPECT_EQ(levelForDicingError(1e-45f, 3e38f, 300), 143);  // in double: neither underflows to 0
   EXPECT_EQ(levelForDicingError(1, 1, 0), 0);
   EXPECT_EQ(levelForDicingError(1, 1, -3), 0);
+}
+
+// Beyond the patch's own size the floor bounds the error as an angle from the ray's origin:
+// it is levelForDicingError against the size quadrupled as often as the distance allows, so a
+// patch far away is not diced finer than a pixel-wide cone needs (forest-100: 49x the
+// micropolygons otherwise), and a near one (distance <= size) keeps its floor.
+TEST(LevelOfDetail, DicingErrorFloorRelaxesWithDistanceAsAnAngle) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  for (float c : {0.0f, 0.01f, 0.3f, 1.0f, 2.5f})
+    for (float size : {0.5f, 1.0f, 3.0f})
+      for (float distance : {0.0f, 0.1f, 1.0f, 3.9f, 4.0f, 17.0f, 64.0f, 300.0f, 1e5f}) {
+        const int atSize = levelForDicingError(size, c, 30);
+        // The size quadrupled k times, k the most that stays within the distance.
+        float reach = size;
+        while (4 * reach <= distance) reach *= 4;
+        const int floor = floorAtDistance(atSize, size, distance);
+        EXPECT_EQ(floor, levelForDicingError(reach, c, 30)) << c << " " << size << " " << distance;
+        // Never coarser than the rule against the distance itself, and at most one level finer.
+        const int againstDistance = levelForDicingError(std::max(size, distance), c, 30);
+        EXPECT_GE(floor, againstDistance);
+        EXPECT_LE(floor, againstDistance + 1);
+      }
+  EXPECT_EQ(floorAtDistance(5, 1, 3.99f), 5);  // not yet four times the size
+  EXPECT_EQ(floorAtDistance(5, 1, 4), 4);      // exactly on the boundary
+  EXPECT_EQ(floorAtDistance(5, 1, 1e30f), 0);  // never below 0
+  // Edge cases keep the floor at the size (a NaN distance, a degenerate size) and stay finite.
+  EXPECT_EQ(floorAtDistance(5, 1, nan), 5);
+  EXPECT_EQ(floorAtDistance(5, 1, -7), 5);
+  EXPECT_EQ(floorAtDistance(5, 0, 100), 5);
+  EXPECT_EQ(floorAtDistance(5, nan, 100), 5);
+  EXPECT_EQ(floorAtDistance(5, inf, inf), 5);
+  EXPECT_EQ(floorAtDistance(5, 1, inf), 0);
+  EXPECT_EQ(floorAtDistance(5, 3e38f, 3.4e38f), 5);  // 4 x size overflows to inf: never reached
+  EXPECT_EQ(floorAtDistance(-2, 1, 100), 0);
 }
 
 // The rule doubles the width instead of calling ldexp per level; doubling is exact, so the two
