@@ -33,8 +33,8 @@ TEST(DefaultRayBudget, IsTheRenderOptionsDefault) {
 TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
   const Scene scene = testing::smallTeapot();
   const Renderer r(scene, RenderOptions{});
-  ASSERT_FALSE(r.raysTimed());
-  ASSERT_FALSE(r.raysKeepDerivatives());
+  ASSERT_EQ(r.stats().features.movingLeaves, 0u);  // no shutter time per slot
+  ASSERT_EQ(r.stats().features.texturedMaterials, 0u);  // no surface derivatives per slot
   EXPECT_EQ(sizeof(Ray) + sizeof(RayHit) + SortedEngine::bytesPerRaySlot(LodRule::PerRay), 48u + 28u + 19u + 12u);
   EXPECT_EQ(r.stats().bytesPerPath, 83u + 2 * (48u + 28u + 19u + 12u));
   EXPECT_EQ(r.stats().candidateCapacity, r.stats().pathsPerBatch * 2);
