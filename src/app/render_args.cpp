@@ -6,6 +6,7 @@
 #include <iterator>
 #include "app/image_io.h"
 #include "core/error.h"
+#include "core/ray_batch.h"
 #include "core/memory.h"
 #include "scene/compiled_scene.h"
 #include "scene/scene_loader.h"
@@ -87,7 +88,9 @@ RenderOptions checkedOptions(const RenderArgs& a) {
   method.laterGatherProbability = a.laterGathers;
   method.photons.radius = a.photonRadius;
   method.photons.alpha = a.photonAlpha;
-  if (a.maxLod < 0 || a.maxLod > 12) throw InputError("--max-lod", "", "must be in [0, 12]");
+  // A hit keeps its micro-quad index in 2 * kMaxHitLevel bits (core/ray_batch.h).
+  if (a.maxLod < 0 || a.maxLod > kMaxHitLevel)
+    throw InputError("--max-lod", "", "must be in [0, " + std::to_string(kMaxHitLevel) + "]");
   options.maxLod = a.maxLod;
   if (a.residentLod < 0 || a.residentLod > 12) throw InputError("--resident-lod", "", "must be in [0, 12]");
   options.residentLod = a.residentLod;

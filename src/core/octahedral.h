@@ -1,5 +1,5 @@
 // Unit vectors packed into 32 bits (octahedral mapping, 2 x 16-bit snorm). Used for the two
-// normals of a ray's hit record (core/ray_batch.h, RayHit), which keeps it at 32 bytes per ray
+// normals of a ray's hit record (core/ray_batch.h, RayHit), which keeps it at 28 bytes per ray
 // slot. Worst-case angular error about 3e-5 rad. decode() always returns a unit vector, for
 // every code; a zero, infinite or NaN input encodes to +z.
 #pragma once

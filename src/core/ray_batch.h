@@ -28,18 +28,21 @@ enum class RayKind : uint8_t {
   Shadow = 2,    // any hit wanted (next-event rays)
 };
 
-// 32 bytes: the normals are kept octahedral-encoded (core/octahedral.h, 2 x 16-bit snorm, at most
+// 28 bytes: the normals are kept octahedral-encoded (core/octahedral.h, 2 x 16-bit snorm, at most
 // 1e-4 rad from the exact unit normal; decoding never gives NaN). The SortedEngine always
 // quantised its normals this way, so storing the code changes none of its images; the Embree
-// engine's normals are quantised too since the record became compact.
+// engine's normals are quantised too since the record became compact. The micro-quad index,
+// the level and the border flag share one word (exact: --max-lod is at most kMaxHitLevel, so a
+// quad index at the ray's level has at most 2 * kMaxHitLevel bits).
+inline constexpr int kMaxHitLevel = 12;
 struct RayHit {
   float t = std::numeric_limits<float>::infinity();
   float u = 0, v = 0;       // patch parameters
   uint32_t leaf = kNoLeaf;  // kNoLeaf: no hit (for a shadow ray: not occluded)
-  uint32_t quad = 0;        // micro-quad index at the ray's level
+  uint32_t quad : 2 * kMaxHitLevel = 0;  // micro-quad index at the ray's level
+  uint32_t level : 7 = 0;   // level of detail the ray was intersected at (<= kMaxHitLevel)
+  uint32_t border : 1 = 0;  // the hit lies in a crack-closing border region, not on a micro-quad
   uint32_t ngCode = 0, nsCode = 0;  // encodeOctahedral of the two normals (0 is +z)
-  uint8_t level = 0;        // level of detail the ray was intersected at
-  bool border = false;      // the hit lies in a crack-closing border region, not on a micro-quad
   bool valid() const { return leaf != kNoLeaf; }
   Vec3 ng() const { return decodeOctahedral(ngCode); }  // unit geometric normal of the micro-triangle hit
   Vec3 ns() const { return decodeOctahedral(nsCode); }  // unit shading normal
@@ -49,9 +52,9 @@ struct RayHit {
   }
 };
 
-// 32 bytes; SortedEngine::offerHit copies it field by field (two fields atomically): a new field
+// 28 bytes; SortedEngine::offerHit copies it field by field (two fields atomically): a new field
 // must be added there too.
-static_assert(sizeof(RayHit) == 32);
+static_assert(sizeof(RayHit) == 28);
 
 // What to trace, one record per ray (48 bytes): the engine reads most of these fields together
 // for every (ray, leaf) pair of the bottom level and the top level, in an order set by the sort, so

@@ -89,7 +89,7 @@ Scatter scatterAt(const ShadingScene& scene, const Corner& c, const RayHit& h, f
   }
   const float offset = originOffset(scene.sideOf(h.leaf), scene.dicingErrorOf(h.leaf), h.level, p, c.org);
   const SurfaceHit at{p, ng, offset};
-  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, h.level, false, c.reflectAt, SeedAim{}};
+  s.next = {at.originToward(next), next, c.width + h.t * c.spread, c.spread, h.leaf, uint8_t(h.level), false, c.reflectAt, SeedAim{}};
   return s;
 }
 

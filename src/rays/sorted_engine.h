@@ -74,7 +74,7 @@ class SortedEngine : public RayEngine {
 
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
-  size_t bytesPerRay() const override { return bytesPerRaySlot(); }
+  size_t bytesPerRay() const override { return bytesPerRaySlot(settings_.lod); }
   size_t fixedBytes() const override { return diceBufferBytes() + cache_.peakBytes() + borderBounds_.bytes(); }
   EngineStats engineStats() const override;
   size_t limitKeptGrids(size_t bytes) override {
@@ -120,16 +120,20 @@ class SortedEngine : public RayEngine {
     return CandidateBuffer::bytesPerSlot() + CandidateSort::bytesPerSlot();
   }
   // The candidate buffer should hold this many slots per ray slot of a full batch: the first
-  // iteration of the camera generation then gets N = 4 candidates per ray (2 ray slots per
-  // path; later iterations up to the clip, TraceSettings::maxCandidatesPerRay, as rays
-  // finish). 2 instead of 4 saves 32 bytes per ray slot; the hits do not depend on N.
-  static constexpr size_t kCandidatesPerRay = 2;
+  // iteration of the camera generation then gets N = 2 candidates per ray (2 ray slots per
+  // path, the shadow slots empty), later generations N = 1 at first and up to the clip
+  // (TraceSettings::maxCandidatesPerRay) as rays finish. 1 instead of 2 saves 12 bytes per
+  // ray slot for a few more iterations (bench/history/2026-11.md, "Compact ray slots"); the
+  // hits do not depend on N. The density rule (--lod density) does: it dices a leaf for the
+  // rays of its run in one iteration, and fewer candidates per ray make shorter runs and
+  // coarser grids, so it keeps the 2 slots its images were made with.
+  static constexpr size_t candidatesPerRaySlot(LodRule lod) { return lod == LodRule::Density ? 2 : 1; }
   // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
   static constexpr size_t kBorderBoundsPerLeaf = 64;
-  // Per ray slot: the trace state and kCandidatesPerRay candidate slots. (bytesPerRay() of a
+  // Per ray slot: the trace state and candidatesPerRaySlot candidate slots. (bytesPerRay() of a
   // SortedEngine; static so the budget can be set before the SortedEngine exists.)
-  static constexpr size_t bytesPerRaySlot() {
-    return bytesPerRayState() + kCandidatesPerRay * bytesPerCandidate();
+  static constexpr size_t bytesPerRaySlot(LodRule lod) {
+    return bytesPerRayState() + candidatesPerRaySlot(lod) * bytesPerCandidate();
   }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;

@@ -1,4 +1,4 @@
-// The compact per-ray record: the hit keeps its normals as octahedral codes (32 bytes), and a
+// The compact per-ray record: the hit keeps its normals as octahedral codes (28 bytes), and a
 // batch keeps a shutter time per ray only when asked to. The bound is the encoding's: two
 // 16-bit snorm coordinates on the octahedron, at most 1e-4 rad from the exact normal.
 #include <cmath>
@@ -14,8 +14,8 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 bool unitAndFinite(Vec3 d) { return isFinite(d) && std::fabs(length(d) - 1.0f) < 1e-6f; }
 
-TEST(RayHit, IsThirtyTwoBytesAndDecodesANormalWithinTheEncodingBound) {
-  EXPECT_EQ(sizeof(RayHit), 32u);
+TEST(RayHit, IsTwentyEightBytesAndDecodesANormalWithinTheEncodingBound) {
+  EXPECT_EQ(sizeof(RayHit), 28u);
   RayHit h;
   EXPECT_FALSE(h.valid());
   EXPECT_EQ(h.ng(), (Vec3{0, 0, 1}));  // a record no engine filled still decodes to a unit normal
@@ -25,6 +25,31 @@ TEST(RayHit, IsThirtyTwoBytesAndDecodesANormalWithinTheEncodingBound) {
   EXPECT_GT(dot(h.ng(), g), 0);
   EXPECT_LT(length(cross(h.ns(), s)), 1e-4f);
   EXPECT_GT(dot(h.ns(), s), 0);
+}
+
+// The micro-quad index, the level and the border flag share one word: each keeps its largest
+// value at the finest level --max-lod allows, and none spills into another.
+TEST(RayHit, KeepsTheLastQuadOfTheFinestLevelBesideItsLevelAndBorderFlag) {
+  RayHit h;
+  const uint32_t lastQuad = (uint32_t(1) << (2 * kMaxHitLevel)) - 1;  // 4^12 quads at level 12
+  h.quad = lastQuad;
+  h.level = kMaxHitLevel;
+  h.border = true;
+  EXPECT_EQ(h.quad, lastQuad);
+  EXPECT_EQ(h.level, uint32_t(kMaxHitLevel));
+  EXPECT_TRUE(h.border);
+  h.quad = 0;
+  EXPECT_EQ(h.level, uint32_t(kMaxHitLevel));
+  EXPECT_TRUE(h.border);
+  h.border = false;
+  h.level = 0;
+  h.quad = lastQuad;
+  EXPECT_EQ(h.level, 0u);
+  EXPECT_FALSE(h.border);
+  const RayHit none;
+  EXPECT_EQ(none.quad, 0u);
+  EXPECT_EQ(none.level, 0u);
+  EXPECT_FALSE(none.border);
 }
 
 TEST(Octahedral, AxisAlignedNormalsRoundTripExactlyWhateverTheSignOfZero) {
