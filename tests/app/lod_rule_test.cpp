@@ -10,14 +10,10 @@
 namespace rayes {
 namespace {
 
-// A GenerationStats counter summed over the render.
-uint64_t total(const RenderStats& s, uint64_t GenerationStats::*counter) {
-  uint64_t n = 0;
-  for (const auto& g : s.generations) n += g.stats.*counter;
-  return n;
+uint64_t micropolygons(const RenderStats& s) {
+  return testing::totalOf(s, &GenerationStats::micropolygonsCreated);
 }
-uint64_t micropolygons(const RenderStats& s) { return total(s, &GenerationStats::micropolygonsCreated); }
-uint64_t dicings(const RenderStats& s) { return total(s, &GenerationStats::leavesDiced); }
+uint64_t dicings(const RenderStats& s) { return testing::totalOf(s, &GenerationStats::leavesDiced); }
 
 TEST(LodRule, DensityRuleRendersAndDicesByRayCount) {
   const Scene s = testing::smallTeapot(32, 24, 1);

@@ -14,12 +14,6 @@
 namespace rayes {
 namespace {
 
-uint64_t total(const RenderStats& s, uint64_t GenerationStats::*counter) {
-  uint64_t n = 0;
-  for (const auto& g : s.generations) n += g.stats.*counter;
-  return n;
-}
-
 Scene displacedTeapot(int w, int h, int spp, uint64_t seed) {
   Scene s = testing::resized(loadScene(testing::sourcePath("scenes/displaced-teapot.json")), w, h, spp);
   s.integrator.seed = seed;
@@ -45,8 +39,8 @@ TEST(SubLeafRender, SplitLeavesRenderTheWholeLeavesImage) {
   const auto a2 = testing::renderBeauty(displacedTeapot(kWidth, kHeight, kSpp, 2), split, 2);
   const auto b3 = testing::renderBeauty(displacedTeapot(kWidth, kHeight, kSpp, 3), whole, 2, &wholeStats);
   const auto b4 = testing::renderBeauty(displacedTeapot(kWidth, kHeight, kSpp, 4), whole, 2);
-  EXPECT_GT(total(splitStats, &GenerationStats::subLeafDicings), 0u);
-  EXPECT_EQ(total(wholeStats, &GenerationStats::subLeafDicings), 0u);
+  EXPECT_GT(testing::totalOf(splitStats, &GenerationStats::subLeafDicings), 0u);
+  EXPECT_EQ(testing::totalOf(wholeStats, &GenerationStats::subLeafDicings), 0u);
   // Means of the green channel over two seeds each; the standard error of the difference of
   // the means from the per-pixel differences' spread (as tests/app/lod_rule_test.cpp).
   const size_t n = size_t(kWidth) * kHeight;
@@ -84,7 +78,7 @@ TEST(SubLeafRender, ASceneNeverFinerThanTheResidentLevelSplitsNothing) {
   resident.lodBias = none.lodBias = -2;  // every ray at most level 6 here
   RenderStats stats;
   const auto image = testing::renderBeauty(s, resident, 2, &stats);
-  EXPECT_EQ(total(stats, &GenerationStats::splitRuns), 0u);
+  EXPECT_EQ(testing::totalOf(stats, &GenerationStats::splitRuns), 0u);
   EXPECT_EQ(testing::renderBeauty(s, none, 2), image);
 }
 

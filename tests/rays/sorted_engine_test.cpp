@@ -28,19 +28,7 @@ struct World : test::TracedWorld {
 };
 
 // Random rays from around the teapot toward it; zero footprint, so every ray uses kLod.
-RayBatch randomRays(int n, bool shadow) {
-  RayBatch b;
-  b.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const RngKey k{uint32_t(i), shadow ? 1u : 0u, 0, 11};
-    const float a = 6.2831853f * sampleUniform(k, 0);
-    const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
-    const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
-    const Vec3 d = normalize(target - o);
-    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, d, shadow ? 8.0f : kInf, 0.0f, 0.0f);
-  }
-  return b;
-}
+RayBatch randomRays(int n, bool shadow) { return test::raysAtTheTeapot(n, shadow, 11); }
 
 // Every leaf is seen at kLod here, so (SortedEngine::bordersClosedByNeighbours) a leaf's border
 // regions are tested except on borders whose Bézier neighbour the ray's line reaches: equal

@@ -35,19 +35,7 @@ test::TracedWorld displacedTeapot() {
   return test::TracedWorld(std::move(leaves));
 }
 
-RayBatch raysAtTheTeapot(int n, bool shadow) {
-  RayBatch b;
-  b.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const RngKey k{uint32_t(i), shadow ? 1u : 0u, 0, 23};
-    const float a = 6.2831853f * sampleUniform(k, 0);
-    const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
-    const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
-    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, normalize(target - o), shadow ? 8.0f : kInf,
-                     0.0f, 0.0f);
-  }
-  return b;
-}
+RayBatch raysAtTheTeapot(int n, bool shadow) { return test::raysAtTheTeapot(n, shadow, 23); }
 
 struct Traced {
   RayBatch batch;

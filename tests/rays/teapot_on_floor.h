@@ -1,10 +1,14 @@
 // The scene the rays tests trace: the Utah teapot (32 Bézier patches) on a floor of four
-// bilinear quads sharing edges, x and y in [-5, 5], z = 0; and `TracedWorld`, leaves with what
-// the engines read of them (the source, the boxes, the top level).
+// bilinear quads sharing edges, x and y in [-5, 5], z = 0; `TracedWorld`, leaves with what
+// the engines read of them (the source, the boxes, the top level); and rays toward the teapot.
 #pragma once
+#include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
+#include "core/ray_batch.h"
+#include "core/rng.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
 #include "geometry/leaf_source.h"
@@ -42,6 +46,23 @@ inline std::vector<PatchPtr> teapotOnFloorAnd(std::vector<PatchPtr> more) {
   std::vector<PatchPtr> leaves = teapotOnFloor();
   leaves.insert(leaves.end(), more.begin(), more.end());
   return leaves;
+}
+
+// n rays from a ring around the teapot (radius 7, heights 0.5-5.5) toward random points of its
+// box, with zero footprint (so every ray takes the engine's fixed or finest level); `stream`
+// keeps tests' ray sets independent. Shadow rays stop at t = 8.
+inline RayBatch raysAtTheTeapot(int n, bool shadow, uint32_t stream) {
+  RayBatch b;
+  b.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const RngKey k{uint32_t(i), shadow ? 1u : 0u, 0, stream};
+    const float a = 6.2831853f * sampleUniform(k, 0);
+    const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
+    const Vec3 target{-2 + 4 * sampleUniform(k, 2), -2 + 4 * sampleUniform(k, 3), 3 * sampleUniform(k, 4)};
+    const float tMax = shadow ? 8.0f : std::numeric_limits<float>::infinity();
+    b.setFromNowhere(i, shadow ? RayKind::Shadow : RayKind::Closest, o, normalize(target - o), tMax, 0.0f, 0.0f);
+  }
+  return b;
 }
 
 }  // namespace rayes::test

@@ -90,4 +90,11 @@ inline RunResult runRayes(std::vector<std::string> args) {
   return {code, ::testing::internal::GetCapturedStderr()};
 }
 
+// A GenerationStats counter summed over the render's generations.
+inline uint64_t totalOf(const RenderStats& s, uint64_t GenerationStats::*counter) {
+  uint64_t n = 0;
+  for (const auto& g : s.generations) n += g.stats.*counter;
+  return n;
+}
+
 }  // namespace rayes::testing
