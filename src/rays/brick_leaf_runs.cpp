@@ -6,12 +6,10 @@
 #include <atomic>
 #include <limits>
 #include <vector>
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 #include "core/medium_leaves.h"
 #include "rays/kept_hit.h"
+#include "rays/run_chunks.h"
 #include "rays/sorted_engine.h"
 
 namespace rayes {
@@ -57,15 +55,7 @@ void SortedEngine::trackBrickRun(RayBatch& b, const uint32_t* slots, size_t coun
     }
   };
   (void)times;
-  // As intersectRun: a long run in chunks other threads may take, isolated.
-  constexpr size_t kChunk = 1024;
-  if (count <= 2 * kChunk) {
-    trackRange(0, count);
-  } else {
-    tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kChunk), [&](const auto& c) { trackRange(c.begin(), c.end()); });
-    });
-  }
+  forRunChunks(count, trackRange);
 }
 
 }  // namespace rayes

@@ -15,6 +15,7 @@
 #include "core/medium_leaves.h"
 #include "geometry/moving_patch.h"
 #include "rays/kept_hit.h"
+#include "rays/run_chunks.h"
 
 namespace rayes {
 namespace {
@@ -442,15 +443,7 @@ void SortedEngine::intersectRun(RayBatch& b, const DiceBuffer& dice, const uint3
       intersectSlot(b, dice, slots[k], leaf, patch, m, entry);
     }
   };
-  constexpr size_t kChunk = 1024;
-  if (count <= 2 * kChunk) {
-    intersectRange(0, count);
-  } else {
-    tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kChunk),
-                        [&](const auto& c) { intersectRange(c.begin(), c.end()); });
-    });
-  }
+  forRunChunks(count, intersectRange);
 }
 
 // 5. A ray stays active while a leaf it has not seen could still hold a nearer hit (a shadow
