@@ -166,9 +166,11 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   // docs/design.md, invariant 4: what this scene used, and what it did not need and was not done.
   const SceneFeatures& f = s.features;
   uint64_t movingDicings = 0, borderHits = 0, originLeafDicings = 0, gridCacheHits = 0, splitRuns = 0, subLeafDicings = 0;
+  uint64_t subLeafCacheHits = 0;
   for (const auto& g : s.generations) {
     splitRuns += g.stats.splitRuns;
     subLeafDicings += g.stats.subLeafDicings;
+    subLeafCacheHits += g.stats.subLeafCacheHits;
     gridCacheHits += g.stats.gridCacheHits;
     movingDicings += g.stats.movingDicings;
     borderHits += g.stats.borderHits;
@@ -178,6 +180,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   j["totals"]["grid_cache_hits"] = gridCacheHits;
   j["totals"]["split_runs"] = splitRuns;
   j["totals"]["sub_leaf_dicings"] = subLeafDicings;
+  j["totals"]["sub_leaf_cache_hits"] = subLeafCacheHits;
   j["features"] = {
       {"motion_blur", f.movingLeaves > 0 && f.shutterOpen},
       {"moving_leaves", f.movingLeaves},

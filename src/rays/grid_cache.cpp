@@ -2,9 +2,9 @@
 
 namespace rayes {
 
-GridCache::Entry* GridCache::acquire(uint32_t leaf, int level) {
+GridCache::Entry* GridCache::acquire(GridKey key, int level) {
   if (!enabled()) return nullptr;
-  if (auto found = index_.find(leaf); found != index_.end()) {
+  if (auto found = index_.find(key.packed()); found != index_.end()) {
     auto it = found->second;
     if (it->grid->level() >= level) {
       lru_.splice(lru_.begin(), lru_, it);
@@ -18,8 +18,8 @@ GridCache::Entry* GridCache::acquire(uint32_t leaf, int level) {
   auto grid = std::make_unique<DiceBuffer>(level);
   const size_t need = grid->bytesAllocated();
   if (!makeRoom(need)) return nullptr;
-  lru_.push_front(Entry{leaf, std::move(grid), nullptr, true, iteration_});
-  index_[leaf] = lru_.begin();
+  lru_.push_front(Entry{key, std::move(grid), nullptr, true, iteration_});
+  index_[key.packed()] = lru_.begin();
   bytes_ += need;
   if (bytes_ > peakBytes_) peakBytes_ = bytes_;
   return &lru_.front();
@@ -39,9 +39,14 @@ void GridCache::setBudget(size_t budgetBytes) {
   while (bytes_ > budget_ && !lru_.empty()) erase(std::prev(lru_.end()));
 }
 
+void GridCache::discard(Entry* entry) {
+  if (!entry || !entry->toDice || entry->patch) return;
+  if (auto found = index_.find(entry->key.packed()); found != index_.end() && &*found->second == entry) erase(found->second);
+}
+
 void GridCache::erase(std::list<Entry>::iterator it) {
   bytes_ -= it->grid->bytesAllocated();
-  index_.erase(it->leaf);
+  index_.erase(it->key.packed());
   lru_.erase(it);
 }
 

@@ -270,21 +270,31 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
   // sort, which left it as long as `order`.
   auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
+  runPlan_.clear();
   if (cache_.enabled()) {
     // The level of every static run (a moving leaf's levels are per time interval, later),
-    // computed once: for the cache's decision and for the dicing, cached or not.
+    // computed once: for the cache's decision and for the dicing, cached or not; a run finer
+    // than the resident level is planned here, so that its grids can be asked for serially.
     runLevel_.assign(nRuns, -1);
+    runPlan_.resize(nRuns);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nRuns, 64), [&](const auto& r) {
       for (size_t run = r.begin(); run != r.end(); ++run) {
         const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-        if (!isBrickLeaf(leaf) && !leafMoving_[leaf]) runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf, runEntries(run));
+        if (isBrickLeaf(leaf) || leafMoving_[leaf]) continue;
+        runLevel_[run] = runLevel(b, runSlots(run), runCount(run), leaf, runEntries(run));
+        if (runLevel_[run] <= residentLevel_) continue;
+        runPlan_[run] = std::make_unique<SplitPlan>();
+        planSplitRun(b, runSlots(run), runCount(run), leaf, leaves_.patch(leaf), runLevel_[run], runEntries(run), *runPlan_[run]);
       }
     });
     uint64_t hits = 0;
     for (size_t run = 0; run < nRuns; ++run) {
       const uint32_t leaf = cand_.leaf[runSlots(run)[0]];
-      // A run finer than the resident level dices sub-leaves, which the cache does not keep.
-      if (isBrickLeaf(leaf) || leafMoving_[leaf] || runLevel_[run] > residentLevel_) continue;
+      if (isBrickLeaf(leaf) || leafMoving_[leaf]) continue;
+      if (runPlan_[run]) {
+        hits += acquireSplitGrids(leaf, *runPlan_[run]);
+        continue;
+      }
       runEntry_[run] = cache_.acquire(leaf, runLevel_[run]);
       hits += runEntry_[run] && !runEntry_[run]->toDice;
     }
@@ -323,6 +333,10 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
         intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], runEntries(run), times, counters);
         continue;
       }
+      if (!runPlan_.empty() && runPlan_[run]) {
+        runSplitPlan(b, nullptr, slots, leaf, *runPlan_[run], -1, times, counters);
+        continue;
+      }
       DiceBuffer& dice = localDiceBuffer();
       // A generated leaf's patch lives only for this run.
       const PatchPtr patch = leaves_.patch(leaf);
@@ -336,6 +350,13 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
     }
   });
   queries_.clear();
+  // Grids acquired for sub-leaves no ray of their run reached after all go back, in run order.
+  for (const auto& plan : runPlan_)
+    if (plan)
+      for (const SplitPlan::Sub& sub : plan->subs) cache_.discard(sub.grid);
+  runPlan_.clear();  // with the plans, the generated leaves' patches
+  stats.gridCacheHits += counters.subLeafCacheHits.load();
+  stats.subLeafCacheHits += counters.subLeafCacheHits.load();
   stats.leavesDiced += counters.dicings.load();
   stats.micropolygonsCreated += counters.micropolygons.load();
   stats.movingDicings += counters.movingDicings.load();

@@ -35,8 +35,9 @@
 // their first occluder. Memory: the candidate buffer with its sort (bytesPerCandidate() per
 // slot of fixed capacity), per-ray state (bytesPerRayState() per ray of the largest batch) and
 // one DiceBuffer per thread of the resident level (residentLevel(): a run needing a leaf finer
-// dices it as sub-leaves, rays/sub_leaf_runs.cpp), allocated on first use and kept, plus the grid cache (bounded by
-// TraceSettings::gridCacheBytes; fixedBytes() counts its peak). Not thread-safe: one trace() at
+// dices it as sub-leaves, rays/sub_leaf_runs.cpp), allocated on first use and kept, plus the grid
+// cache of whole leaves and sub-leaves (bounded by TraceSettings::gridCacheBytes; fixedBytes()
+// counts its peak). Not thread-safe: one trace() at
 // a time; trace() itself is parallel.
 //
 // Motion blur (thesis §6.3): a leaf whose patch has K > 1 time samples has its rays regrouped,
@@ -150,7 +151,7 @@ class SortedEngine : public RayEngine {
   // active rays with N candidate slots each.
   struct DicingCounters {
     std::atomic<uint64_t> micropolygons{0}, dicings{0}, movingDicings{0}, originLeafDicings{0}, splitRuns{0},
-        subLeafDicings{0};
+        subLeafDicings{0}, subLeafCacheHits{0};
     std::array<std::atomic<uint64_t>, GenerationStats::kLevels> byLevel{};  // the level-of-detail histogram
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
@@ -171,9 +172,37 @@ class SortedEngine : public RayEngine {
   // whole, the others against the 4^d sub-leaves their rays cross (d = the run's level minus
   // residentLevel()), each ray at its own level minus d: the same micro-triangles as the whole
   // leaf at its level, the hit reported in the leaf's own parameters and quad numbering.
+  // Planned first (planSplitRun), then run (runSplitPlan): with the grid cache the plan is made
+  // before the serial cache pass, which acquires its grids (acquireSplitGrids).
+  struct SplitPlan {
+    PatchPtr patch;                      // the leaf's
+    int depth = 0, coarseLevel = -1;     // coarseLevel: the coarse rays' finest; -1: none
+    std::vector<uint32_t> coarse, fine;  // coarse: slots; fine: indices k into the run
+    std::vector<uint8_t> level;          // per slot k of the run: its level on the leaf
+    std::vector<float> entry;            // per slot k: leafEntry
+    struct Sub {
+      std::shared_ptr<const SubPatch> patch;
+      int level = 0;                      // the finest of its fine rays' levels, minus depth
+      GridCache::Entry* grid = nullptr;   // from the cache (toDice: to be diced), or none
+    };
+    std::vector<Sub> subs;               // those some fine ray's box test reaches, row order
+    GridCache::Entry* whole = nullptr;   // the coarse rays' grid from the cache, or none
+  };
   void diceAndIntersectSplit(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                              const PatchPtr& patch, int interval, int m, const uint32_t* entryBits, TraceTimes& times,
                              DicingCounters& counters);
+  // The plan of a run at level m > residentLevel(): a function of the run's rays alone (each
+  // fine ray's box test up to its own tmax), so a superset of the sub-leaves runSplitPlan dices.
+  void planSplitRun(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, PatchPtr patch, int m,
+                    const uint32_t* entryBits, SplitPlan& plan) const;
+  // The serial cache pass for a split run: its whole leaf at coarseLevel, then its sub-leaves
+  // in row order, keyed (leaf, depth, x, y). Returns the whole leaf's hit (0 or 1).
+  uint64_t acquireSplitGrids(uint32_t leaf, SplitPlan& plan);
+  // Dices and intersects a planned run; sub-leaves in row order, each diced (into its cache
+  // entry, or into `dice`, or this thread's buffer when null) only when a fine ray crosses its
+  // box before the nearest hit this run has found for that ray.
+  void runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* slots, uint32_t leaf, SplitPlan& plan, int interval,
+                    TraceTimes& times, DicingCounters& counters);
   // One slot against sub-leaf `sub` of `leaf` (diced in `dice`), the ray at `level` on the leaf,
   // searching up to `best` (its nearest hit in this run so far). Returns the kept distance of
   // the hit offered, infinity for none, -1 for a shadow ray occluded.
@@ -255,11 +284,12 @@ class SortedEngine : public RayEngine {
   std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
   tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_, wholeDice_;
   int residentLevel_ = 0;  // residentLevel()
-  // Per thread: a split run's slots by level and the sub-leaf's slots (rays/sub_leaf_runs.cpp).
+  // Per thread: an uncached split run's plan, a sub-leaf's rays and each fine ray's nearest
+  // hit so far (rays/sub_leaf_runs.cpp).
   struct SplitScratch {
-    std::vector<uint32_t> coarse, fine, sub, subSlot;
-    std::vector<uint8_t> level;
-    std::vector<float> entry, best;
+    SplitPlan plan;
+    std::vector<uint32_t> sub, subSlot;
+    std::vector<float> best;
   };
   tbb::enumerable_thread_specific<SplitScratch> split_;
   tbb::enumerable_thread_specific<TraversalScratch> scratch_;
@@ -285,6 +315,7 @@ class SortedEngine : public RayEngine {
   }
   std::vector<int> runLevel_;                  // per static run of the current iteration (cache on)
   std::vector<GridCache::Entry*> runEntry_;    // its cache entry, or nullptr (diced per thread)
+  std::vector<std::unique_ptr<SplitPlan>> runPlan_;  // a static run finer than residentLevel() (cache on)
   // The batch's leaf queries grouped by leaf, run in the first iteration's per-leaf tasks; and
   // those tasks: a run of rays, of queries or both on one leaf (kNoRun: none).
   LeafQueryRuns queries_;

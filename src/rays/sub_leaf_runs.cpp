@@ -1,6 +1,6 @@
 // Runs of rays finer than the resident level (issue 33, item 2): the leaf is diced as 4^d
-// sub-leaves (geometry/sub_patch.h), each into this thread's dice buffer, which then needs to
-// hold only the resident level (TraceSettings::residentLod). A ray at level l on the leaf sees
+// sub-leaves (geometry/sub_patch.h), each into a grid of the grid cache or this thread's dice
+// buffer, which then needs to hold only the resident level (TraceSettings::residentLod). A ray at level l on the leaf sees
 // each sub-leaf at l - d: the vertices of those grids are the leaf's level-l grid, bit for bit,
 // and the hits are reported on it (DiceBuffer, "Sub-leaves"), so a split run finds the hits the
 // whole leaf would. Seams between sub-leaves need no crack-closing regions (both sides are the
@@ -9,7 +9,11 @@
 //
 // Which sub-leaves are diced is a function of the run alone (its rays' boxes crossings and
 // the hits this run has found so far, in a fixed order), never of what other threads' leaves
-// offered meanwhile: the dicing counts stay the same at any thread count.
+// offered meanwhile: the dicing counts stay the same at any thread count. With the grid cache,
+// the sub-leaves are keyed (leaf, depth, x, y) and asked for in the serial cache pass, before
+// any hit is known: so the run is planned first, each sub-leaf some fine ray's box test reaches
+// up to the ray's tmax (a superset of those diced), at the finest of those rays' levels; the
+// entries made for sub-leaves the run then does not dice are discarded after the step.
 #include <algorithm>
 #include <bit>
 #include <limits>
@@ -20,84 +24,159 @@
 namespace rayes {
 namespace {
 constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Whether a ray may hit a sub-leaf before `limit`: its box grown by the margin the dicing's
+// traversal takes for that ray from the leaf's box (DiceBuffer), so a sub-leaf whose traversal
+// could report a hit is never skipped. One test for the plan and the run, so the run's
+// sub-leaves are among the plan's.
+class SubLeafReach {
+ public:
+  explicit SubLeafReach(const Patch& leaf)
+      : whole_(leaf.bounds()), magnitude_(maxComponent(vmax(vabs(whole_.lo), vabs(whole_.hi)))) {}
+  bool crosses(Vec3 org, Vec3 dir, const Box3& box, float limit) const {
+    const float farthest = maxComponent(vmax(vabs(whole_.lo - org), vabs(whole_.hi - org)));
+    const float margin = gammaBound(16) * farthest + 0x1p-22f * magnitude_;
+    const Vec3 pad{margin, margin, margin};
+    float entry, exit;
+    return intersectBox(RayBoxQuery(org, dir), box.lo - pad, box.hi + pad, 0.0f, limit, entry, exit);
+  }
+
+ private:
+  Box3 whole_;
+  float magnitude_;
+};
 }  // namespace
 
 void SortedEngine::diceAndIntersectSplit(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
                                          uint32_t leaf, const PatchPtr& patch, int interval, int m,
                                          const uint32_t* entryBits, TraceTimes& times, DicingCounters& counters) {
-  SplitScratch& sc = split_.local();
+  SplitPlan& plan = split_.local().plan;
+  planSplitRun(b, slots, count, leaf, patch, m, entryBits, plan);
+  runSplitPlan(b, &dice, slots, leaf, plan, interval, times, counters);
+  plan.subs.clear();  // a generated leaf's patch lives only for its run
+  plan.patch.reset();
+}
+
+void SortedEngine::planSplitRun(const RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, PatchPtr patch,
+                                int m, const uint32_t* entryBits, SplitPlan& p) const {
   const bool density = settings_.lod == LodRule::Density;
   const int resident = residentLevel_;
-  sc.coarse.clear();
-  sc.fine.clear();
-  sc.level.resize(count);
-  sc.entry.resize(count);
-  int coarseLevel = 0;
+  p.patch = std::move(patch);
+  p.depth = subLeafDepth(m, resident);
+  p.coarseLevel = -1;
+  p.coarse.clear();
+  p.fine.clear();
+  p.subs.clear();
+  p.whole = nullptr;
+  p.level.resize(count);
+  p.entry.resize(count);
   for (size_t k = 0; k < count; ++k) {
     const uint32_t i = rayOfSlot(slots[k]);
     const float entry = entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, i, leaf);
     const int level = density ? m : levelFor(b, i, leaf, entry);
-    sc.entry[k] = entry;
-    sc.level[k] = uint8_t(level);
+    p.entry[k] = entry;
+    p.level[k] = uint8_t(level);
     if (level <= resident) {
-      sc.coarse.push_back(slots[k]);
-      coarseLevel = std::max(coarseLevel, level);
+      p.coarse.push_back(slots[k]);
+      p.coarseLevel = std::max(p.coarseLevel, level);
     } else {
-      sc.fine.push_back(uint32_t(k));
+      p.fine.push_back(uint32_t(k));
     }
   }
-  counters.splitRuns.fetch_add(1, std::memory_order_relaxed);
-  // The run's rays that need no more than the resident level: the whole leaf, as usual.
-  if (!sc.coarse.empty()) {
-    diceRun(b, dice, sc.coarse.data(), sc.coarse.size(), leaf, *patch, interval, coarseLevel, times, counters);
-    ScopedTimer timer(times.bottom);
-    size_t c = 0;
-    for (size_t k = 0; k < count; ++k)
-      if (sc.level[k] <= resident) intersectSlot(b, dice, sc.coarse[c++], leaf, *patch, coarseLevel, sc.entry[k]);
-  }
-  if (sc.fine.empty()) return;
-  // The others: sub-leaves of depth d, row by row. A ray's nearest hit in this run so far
-  // bounds its search in the sub-leaves after (a shadow ray's first occluder ends it).
-  const int d = subLeafDepth(m, resident);
-  const uint32_t n = 1u << d;
-  sc.best.assign(sc.fine.size(), kInf);
-  // Each ray's box margin as the dicing's traversal takes it from the leaf's box (DiceBuffer):
-  // a sub-leaf whose traversal could report a hit is never skipped by this test.
-  const Box3 whole = patch->bounds();
-  const float magnitude = maxComponent(vmax(vabs(whole.lo), vabs(whole.hi)));
-  auto marginOf = [&](Vec3 org) {
-    const float farthest = maxComponent(vmax(vabs(whole.lo - org), vabs(whole.hi - org)));
-    return gammaBound(16) * farthest + 0x1p-22f * magnitude;
-  };
+  if (p.fine.empty()) return;
+  const SubLeafReach reach(*p.patch);
+  const uint32_t n = 1u << p.depth;
   for (uint32_t y = 0; y < n; ++y)
     for (uint32_t x = 0; x < n; ++x) {
-      const SubPatch sub(patch, d, x, y);
-      const Box3 box = sub.bounds();
-      sc.sub.clear();
-      sc.subSlot.clear();
-      int subLevel = 0;
-      for (size_t f = 0; f < sc.fine.size(); ++f) {
-        if (sc.best[f] < 0) continue;  // a shadow ray already occluded
-        const uint32_t k = sc.fine[f], i = rayOfSlot(slots[k]);
-        float entry, exit;
-        const float margin = marginOf(b.ray[i].org);
-        const Vec3 pad{margin, margin, margin};
-        if (!intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir), box.lo - pad, box.hi + pad, 0.0f,
-                          searchLimit(b, i, sc.best[f]), entry, exit))
-          continue;
-        sc.sub.push_back(uint32_t(f));
-        sc.subSlot.push_back(slots[k]);
-        subLevel = std::max(subLevel, int(sc.level[k]) - d);
+      auto sub = std::make_shared<const SubPatch>(p.patch, p.depth, x, y);
+      int level = -1;
+      for (const uint32_t k : p.fine) {
+        const uint32_t i = rayOfSlot(slots[k]);
+        // levelFor > resident >= depth (residentLevelFor): each level on a sub-leaf is >= 0.
+        if (reach.crosses(b.ray[i].org, b.ray[i].dir, sub->bounds(), searchLimit(b, i, kInf)))
+          level = std::max(level, int(p.level[k]) - p.depth);
       }
-      if (sc.sub.empty()) continue;
-      diceRun(b, dice, sc.subSlot.data(), sc.subSlot.size(), leaf, sub, interval, subLevel, times, counters);
-      ScopedTimer timer(times.bottom);
-      for (const uint32_t f : sc.sub) {
-        const uint32_t k = sc.fine[f];
-        const float t = intersectSubLeafSlot(b, dice, slots[k], leaf, *patch, sub, sc.level[k], sc.entry[k], sc.best[f]);
-        sc.best[f] = std::min(sc.best[f], t);
-      }
+      if (level >= 0) p.subs.push_back({std::move(sub), level, nullptr});
     }
+}
+
+uint64_t SortedEngine::acquireSplitGrids(uint32_t leaf, SplitPlan& p) {
+  uint64_t hit = 0;
+  if (p.coarseLevel >= 0) {
+    p.whole = cache_.acquire(leaf, p.coarseLevel);
+    hit = p.whole && !p.whole->toDice;
+  }
+  for (SplitPlan::Sub& s : p.subs) s.grid = cache_.acquire(GridKey(leaf, p.depth, s.patch->x(), s.patch->y()), s.level);
+  return hit;
+}
+
+void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* slots, uint32_t leaf, SplitPlan& p,
+                                int interval, TraceTimes& times, DicingCounters& counters) {
+  SplitScratch& sc = split_.local();
+  const int resident = residentLevel_;
+  auto buffer = [&]() -> DiceBuffer& { return dice ? *dice : localDiceBuffer(); };
+  counters.splitRuns.fetch_add(1, std::memory_order_relaxed);
+  // The run's rays that need no more than the resident level: the whole leaf, as usual.
+  if (!p.coarse.empty()) {
+    const DiceBuffer* grid;
+    if (p.whole) {
+      if (p.whole->toDice && !p.whole->patch) {
+        p.whole->patch = p.patch;  // kept with the grid: border queries read it
+        diceRun(b, *p.whole->grid, p.coarse.data(), p.coarse.size(), leaf, *p.patch, interval, p.coarseLevel, times,
+                counters);
+      }
+      grid = p.whole->grid.get();
+    } else {
+      DiceBuffer& d = buffer();
+      diceRun(b, d, p.coarse.data(), p.coarse.size(), leaf, *p.patch, interval, p.coarseLevel, times, counters);
+      grid = &d;
+    }
+    ScopedTimer timer(times.bottom);
+    size_t c = 0;
+    for (size_t k = 0; k < p.level.size(); ++k)
+      if (p.level[k] <= resident) intersectSlot(b, *grid, p.coarse[c++], leaf, *p.patch, p.coarseLevel, p.entry[k]);
+  }
+  if (p.fine.empty()) return;
+  // The others: the planned sub-leaves, row by row. A ray's nearest hit in this run so far
+  // bounds its search in the sub-leaves after (a shadow ray's first occluder ends it).
+  sc.best.assign(p.fine.size(), kInf);
+  const SubLeafReach reach(*p.patch);
+  for (SplitPlan::Sub& s : p.subs) {
+    const SubPatch& sub = *s.patch;
+    sc.sub.clear();
+    sc.subSlot.clear();
+    int subLevel = 0;
+    for (size_t f = 0; f < p.fine.size(); ++f) {
+      if (sc.best[f] < 0) continue;  // a shadow ray already occluded
+      const uint32_t k = p.fine[f], i = rayOfSlot(slots[k]);
+      if (!reach.crosses(b.ray[i].org, b.ray[i].dir, sub.bounds(), searchLimit(b, i, sc.best[f]))) continue;
+      sc.sub.push_back(uint32_t(f));
+      sc.subSlot.push_back(slots[k]);
+      subLevel = std::max(subLevel, int(p.level[k]) - p.depth);
+    }
+    if (sc.sub.empty()) continue;
+    const DiceBuffer* grid;
+    if (s.grid) {
+      // Diced at the planned level, which serves every ray of the plan (subLevel <= s.level).
+      if (s.grid->toDice && !s.grid->patch) {
+        s.grid->patch = s.patch;
+        diceRun(b, *s.grid->grid, sc.subSlot.data(), sc.subSlot.size(), leaf, sub, interval, s.level, times, counters);
+      } else {
+        counters.subLeafCacheHits.fetch_add(1, std::memory_order_relaxed);
+      }
+      grid = s.grid->grid.get();
+    } else {
+      DiceBuffer& d = buffer();
+      diceRun(b, d, sc.subSlot.data(), sc.subSlot.size(), leaf, sub, interval, subLevel, times, counters);
+      grid = &d;
+    }
+    ScopedTimer timer(times.bottom);
+    for (const uint32_t f : sc.sub) {
+      const uint32_t k = p.fine[f];
+      const float t = intersectSubLeafSlot(b, *grid, slots[k], leaf, *p.patch, sub, p.level[k], p.entry[k], sc.best[f]);
+      sc.best[f] = std::min(sc.best[f], t);
+    }
+  }
 }
 
 float SortedEngine::intersectSubLeafSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s, uint32_t leaf,

@@ -91,6 +91,7 @@ struct GenerationStats {
   // diced (each also one of leavesDiced, at its own level in dicingsByLevel).
   uint64_t splitRuns = 0;
   uint64_t subLeafDicings = 0;
+  uint64_t subLeafCacheHits = 0;  // sub-leaf grids a split run took from the grid cache (also in gridCacheHits)
   // Dicings per level of detail m (4^m micro-quads), the sorted pipeline's; --max-lod is at most 12.
   static constexpr size_t kLevels = 13;
   std::array<uint64_t, kLevels> dicingsByLevel{};

@@ -4,6 +4,9 @@
 //   (the brief's bound), and, since the micro-triangles and the hits' bits are the same, the
 //   same bytes at one seed.
 // - It does not depend on the thread count.
+// - With the grid cache, which keeps sub-leaf grids: the same bytes at any budget (none, one
+//   that evicts sub-leaf grids, a large one) and thread count, and the same counts at 1 and 2
+//   threads; every visit is a dicing or a cache hit.
 // - A scene no ray needs finer than the resident level splits nothing and pays nothing: the
 //   same bytes as with no resident level.
 // - The memory floor falls: the dice buffers' bytes in the stats.
@@ -67,6 +70,34 @@ TEST(SubLeafRender, SplitImageDoesNotDependOnThreads) {
   const Scene s = displacedTeapot(24, 18, 2, 5);
   const RenderOptions split = fixedAt8(6);
   EXPECT_EQ(testing::renderBeauty(s, split, 1), testing::renderBeauty(s, split, 2));
+}
+
+TEST(SubLeafRender, SubLeafGridsInTheGridCacheRenderTheSameImage) {
+  const Scene s = displacedTeapot(24, 18, 2, 7);
+  const auto whole = testing::renderBeauty(s, fixedAt8(12), 2);
+  struct Run {
+    size_t cacheBytes;
+    int threads;
+    RenderStats stats;
+  };
+  Run runs[] = {{0, 2, {}}, {size_t(1) << 20, 1, {}}, {size_t(1) << 20, 2, {}}, {size_t(256) << 20, 2, {}}};
+  for (Run& r : runs) {
+    RenderOptions o = fixedAt8(6);
+    o.gridCacheBytes = r.cacheBytes;
+    EXPECT_EQ(testing::renderBeauty(s, o, r.threads, &r.stats), whole) << r.cacheBytes << " bytes, " << r.threads;
+  }
+  auto total = [](const Run& r, uint64_t GenerationStats::*counter) { return testing::totalOf(r.stats, counter); };
+  const Run &off = runs[0], &smallOne = runs[1], &smallTwo = runs[2], &large = runs[3];
+  for (const Run* r : {&smallOne, &smallTwo, &large})
+    EXPECT_EQ(total(*r, &GenerationStats::leavesDiced) + total(*r, &GenerationStats::gridCacheHits),
+              total(off, &GenerationStats::leavesDiced));
+  EXPECT_EQ(total(off, &GenerationStats::subLeafCacheHits), 0u);
+  EXPECT_GT(total(large, &GenerationStats::subLeafCacheHits), total(smallTwo, &GenerationStats::subLeafCacheHits));
+  EXPECT_LT(total(large, &GenerationStats::subLeafDicings), total(off, &GenerationStats::subLeafDicings));
+  for (uint64_t GenerationStats::*counter : {&GenerationStats::leavesDiced, &GenerationStats::subLeafDicings,
+                                             &GenerationStats::subLeafCacheHits, &GenerationStats::gridCacheHits})
+    EXPECT_EQ(total(smallOne, counter), total(smallTwo, counter));
+  EXPECT_LE(smallTwo.stats.memory.diceCache, size_t(1) << 20);
 }
 
 TEST(SubLeafRender, ASceneNeverFinerThanTheResidentLevelSplitsNothing) {

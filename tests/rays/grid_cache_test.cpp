@@ -1,7 +1,8 @@
 // GridCache (rays/grid_cache.h): a leaf held at level m serves any level <= m without a new
 // dicing; a finer request re-dices; the byte budget is never exceeded; entries handed out in the
 // current iteration are never evicted (the parallel step is still using them), least recently used
-// ones are.
+// ones are. A leaf's sub-leaves are grids of their own, under their own keys, evicted like any
+// other; an entry made to dice into and not diced goes back whole.
 #include <gtest/gtest.h>
 #include "geometry/bilinear_patch.h"
 #include "rays/grid_cache.h"
@@ -12,8 +13,8 @@ namespace {
 size_t gridBytes(int level) { return DiceBuffer(level).bytesAllocated(); }
 
 // What the SortedEngine does with an entry: dices into it when asked to.
-GridCache::Entry* acquireAndDice(GridCache& cache, uint32_t leaf, int level) {
-  GridCache::Entry* e = cache.acquire(leaf, level);
+GridCache::Entry* acquireAndDice(GridCache& cache, GridKey key, int level) {
+  GridCache::Entry* e = cache.acquire(key, level);
   if (e && e->toDice) {
     e->patch = std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{1, 1, 0.5f});
     e->grid->dice(*e->patch, level);
@@ -59,7 +60,7 @@ TEST(GridCache, NeverEvictsAnEntryOfTheCurrentIteration) {
   cache.nextIteration();
   GridCache::Entry* e = cache.acquire(2, 2);  // now leaf 1 may go
   ASSERT_NE(e, nullptr);
-  EXPECT_EQ(e->leaf, 2u);
+  EXPECT_EQ(e->key.leaf, 2u);
   EXPECT_EQ(cache.entries(), 1u);
   EXPECT_LE(cache.peakBytes(), gridBytes(2) + gridBytes(2) / 2);
 }
@@ -87,6 +88,65 @@ TEST(GridCache, AGridLargerThanTheBudgetIsNotCached) {
   GridCache off(0);
   EXPECT_FALSE(off.enabled());
   EXPECT_EQ(off.acquire(1, 0), nullptr);
+}
+
+TEST(GridCache, ALeafWholeAndEachOfItsSubLeavesAreSeparateGrids) {
+  GridCache cache(1 << 20);
+  const GridKey whole(7), sub(7, 1, 0, 1), sibling(7, 1, 1, 0), deeper(7, 2, 0, 1);
+  GridCache::Entry* entries[4];
+  int k = 0;
+  for (const GridKey& key : {whole, sub, sibling, deeper}) {
+    entries[k] = acquireAndDice(cache, key, 2);
+    ASSERT_NE(entries[k], nullptr);
+    EXPECT_TRUE(entries[k]->toDice) << k;  // none served by another
+    EXPECT_EQ(entries[k]->key, key);
+    ++k;
+  }
+  EXPECT_EQ(cache.entries(), 4u);
+  EXPECT_EQ(cache.bytes(), 4 * gridBytes(2));
+  cache.nextIteration();
+  k = 0;
+  for (const GridKey& key : {whole, sub, sibling, deeper}) {
+    GridCache::Entry* again = acquireAndDice(cache, key, 1);
+    EXPECT_EQ(again, entries[k++]);
+    EXPECT_FALSE(again->toDice);
+  }
+  EXPECT_EQ(cache.hits(), 4u);
+}
+
+TEST(GridCache, AnEntryMadeAndNotDicedIsDiscardedWhole) {
+  GridCache cache(1 << 20);
+  GridCache::Entry* kept = acquireAndDice(cache, GridKey(3, 1, 1, 1), 2);
+  GridCache::Entry* unused = cache.acquire(GridKey(3, 1, 0, 1), 2);
+  ASSERT_NE(unused, nullptr);
+  ASSERT_TRUE(unused->toDice);
+  cache.discard(unused);
+  cache.discard(kept);     // diced: stays
+  cache.discard(nullptr);  // not cached: nothing to give back
+  EXPECT_EQ(cache.entries(), 1u);
+  EXPECT_EQ(cache.bytes(), gridBytes(2));
+  EXPECT_EQ(cache.peakBytes(), 2 * gridBytes(2));
+  cache.nextIteration();
+  EXPECT_TRUE(cache.acquire(GridKey(3, 1, 0, 1), 2)->toDice);  // made again, not a hit
+  EXPECT_FALSE(cache.acquire(GridKey(3, 1, 1, 1), 2)->toDice);
+  EXPECT_EQ(cache.hits(), 1u);
+}
+
+TEST(GridCache, EvictsTheLeastRecentlyUsedSubLeaf) {
+  GridCache cache(3 * gridBytes(1));
+  for (uint32_t x : {0u, 1u}) acquireAndDice(cache, GridKey(5, 1, x, 0), 1);
+  acquireAndDice(cache, GridKey(5), 1);
+  cache.nextIteration();
+  acquireAndDice(cache, GridKey(5, 1, 0, 0), 1);  // sub-leaf (1, 0) is now the least recently used
+  cache.nextIteration();
+  EXPECT_TRUE(acquireAndDice(cache, GridKey(9, 1, 1, 1), 1)->toDice);
+  cache.nextIteration();
+  EXPECT_EQ(cache.entries(), 3u);
+  EXPECT_FALSE(acquireAndDice(cache, GridKey(5), 1)->toDice);
+  EXPECT_FALSE(acquireAndDice(cache, GridKey(5, 1, 0, 0), 1)->toDice);
+  cache.nextIteration();
+  EXPECT_TRUE(acquireAndDice(cache, GridKey(5, 1, 1, 0), 1)->toDice);  // evicted, diced again
+  EXPECT_LE(cache.peakBytes(), 3 * gridBytes(1));
 }
 
 }  // namespace

@@ -5,7 +5,11 @@
 //   rays traced with no split, on a displaced teapot (curved, border regions everywhere) with
 //   each ray at its own level on each leaf, coarse and fine rays in one run;
 // - the sub-leaves diced depend on thread timing: counts and hits at 1 and 2 threads;
-// - the memory floor does not fall: the dice buffers' bytes.
+// - the memory floor does not fall: the dice buffers' bytes;
+// - a sub-leaf grid kept in the grid cache (rays/grid_cache.h) serves a later run wrongly, or
+//   is not served at all: the same rays traced again take every sub-leaf from the cache, with
+//   the same hits; evicted and diced again under a small budget, still the same hits, and the
+//   cache's counts the same at 1 and 2 threads; every visit is a dicing or a hit.
 // (Rays aimed at the seams between sub-leaves are in tests/dicing/watertight_test.cpp; the same
 // image at the render level in tests/app/sub_leaf_render_test.cpp.)
 #include <gtest/gtest.h>
@@ -45,21 +49,29 @@ struct Traced {
 
 // Each (ray, leaf) at a level of its own, 0..kMaxLod (a hash of the pair), so a leaf's run
 // mixes rays coarser and finer than the resident level.
-Traced trace(const test::TracedWorld& w, int residentLod, bool shadow, int threads, bool cache = false) {
-  Traced out;
-  out.batch = raysAtTheTeapot(4000, shadow);
+TraceSettings settings(int residentLod, size_t gridCacheBytes) {
   TraceSettings s;
   s.maxLod = kMaxLod;
   s.residentLod = residentLod;
-  s.gridCacheBytes = cache ? size_t(64) << 20 : 0;
+  s.gridCacheBytes = gridCacheBytes;
   s.levelHook = [](uint32_t ray, uint32_t leaf, int) {
     return int((ray * 2654435761u ^ leaf * 40503u) >> 7) % (kMaxLod + 1);
   };
-  SortedEngine engine(w.top, w.source, s);
+  return s;
+}
+
+Traced traceWith(SortedEngine& engine, bool shadow, int threads, int rays = 4000) {
+  Traced out;
+  out.batch = raysAtTheTeapot(rays, shadow);
   TraceTimes times;
   tbb::task_arena(threads).execute([&] { engine.trace(out.batch, out.stats, times); });
   out.diceBufferBytes = engine.diceBufferBytes();
   return out;
+}
+
+Traced trace(const test::TracedWorld& w, int residentLod, bool shadow, int threads, size_t gridCacheBytes = 0) {
+  SortedEngine engine(w.top, w.source, settings(residentLod, gridCacheBytes));
+  return traceWith(engine, shadow, threads);
 }
 
 void expectSameHits(const Traced& a, const Traced& b) {
@@ -83,8 +95,9 @@ TEST(SubLeafRuns, SplitRunsFindTheWholeLeafsHitsBitForBit) {
   EXPECT_GT(split.stats.subLeafDicings, 0u);
   for (size_t m = 7; m < GenerationStats::kLevels; ++m) EXPECT_EQ(split.stats.dicingsByLevel[m], 0u) << m;
   expectSameHits(whole, split);
-  // With the grid cache, a split run bypasses it: still the same hits.
-  expectSameHits(whole, trace(w, 6, false, 2, true));
+  // With the grid cache, large or evicting sub-leaf grids: still the same hits.
+  expectSameHits(whole, trace(w, 6, false, 2, size_t(256) << 20));
+  expectSameHits(whole, trace(w, 6, false, 2, size_t(1) << 20));
 }
 
 TEST(SubLeafRuns, SplitShadowRaysAreOccludedExactlyAsWhole) {
@@ -105,6 +118,63 @@ TEST(SubLeafRuns, SameHitsAndDicingsAtOneAndTwoThreads) {
   EXPECT_EQ(one.stats.leavesDiced, two.stats.leavesDiced);
   EXPECT_EQ(one.stats.subLeafDicings, two.stats.subLeafDicings);
   EXPECT_EQ(one.stats.dicingsByLevel, two.stats.dicingsByLevel);
+}
+
+// The same rays traced twice by one engine (two generations of a batch, say): the first trace
+// as `first`, the second as `again`. Fewer rays than above: every grid they need, the whole
+// leaves' and the sub-leaves', fits in the large budget.
+struct TracedTwice {
+  Traced first, again;
+};
+TracedTwice traceTwice(const test::TracedWorld& w, int threads, size_t gridCacheBytes) {
+  SortedEngine engine(w.top, w.source, settings(6, gridCacheBytes));
+  TracedTwice out;
+  out.first = traceWith(engine, false, threads, 1000);
+  out.again = traceWith(engine, false, threads, 1000);
+  return out;
+}
+
+TEST(SubLeafRuns, SubLeafGridsAreCacheHitsWhenTheSameRaysComeAgain) {
+  const auto w = displacedTeapot();
+  SortedEngine wholeEngine(w.top, w.source, settings(kMaxLod, 0));
+  const Traced whole = traceWith(wholeEngine, false, 2, 1000);
+  const TracedTwice t = traceTwice(w, 2, size_t(1) << 30);
+  ASSERT_GT(t.first.stats.subLeafDicings, 0u);
+  // The same runs and plans: every grid is in the cache, the whole leaves' and the sub-leaves'.
+  EXPECT_EQ(t.again.stats.leavesDiced, 0u);
+  EXPECT_EQ(t.again.stats.subLeafDicings, 0u);
+  EXPECT_EQ(t.again.stats.subLeafCacheHits, t.first.stats.subLeafDicings + t.first.stats.subLeafCacheHits);
+  EXPECT_EQ(t.again.stats.gridCacheHits, t.first.stats.leavesDiced + t.first.stats.gridCacheHits);
+  expectSameHits(whole, t.first);
+  expectSameHits(whole, t.again);
+}
+
+TEST(SubLeafRuns, EvictedSubLeafGridsAreDicedAgainTheSameAtAnyThreadCount) {
+  const auto w = displacedTeapot();
+  SortedEngine uncachedEngine(w.top, w.source, settings(6, 0));
+  const Traced uncached = traceWith(uncachedEngine, false, 2, 1000);
+  const size_t small = size_t(4) << 20;  // 16 level-6 grids
+  const TracedTwice one = traceTwice(w, 1, small), two = traceTwice(w, 2, small);
+  const TracedTwice large = traceTwice(w, 2, size_t(1) << 30);
+  for (const TracedTwice* t : {&one, &two, &large})
+    for (const Traced* trace : {&t->first, &t->again}) {
+      expectSameHits(uncached, *trace);
+      // A sub-leaf a run reaches is diced or taken from the cache: never both, never neither.
+      EXPECT_EQ(trace->stats.leavesDiced + trace->stats.gridCacheHits, uncached.stats.leavesDiced);
+      EXPECT_EQ(trace->stats.splitRuns, uncached.stats.splitRuns);
+    }
+  // The small cache evicted sub-leaf grids before the rays came again, but kept some.
+  EXPECT_GT(one.again.stats.subLeafCacheHits, 0u);
+  EXPECT_GT(one.again.stats.subLeafDicings, 0u);
+  EXPECT_GT(large.again.stats.subLeafCacheHits, one.again.stats.subLeafCacheHits);
+  for (const auto member : {&TracedTwice::first, &TracedTwice::again}) {
+    const GenerationStats &a = (one.*member).stats, &b = (two.*member).stats;
+    EXPECT_EQ(a.leavesDiced, b.leavesDiced);
+    EXPECT_EQ(a.subLeafDicings, b.subLeafDicings);
+    EXPECT_EQ(a.subLeafCacheHits, b.subLeafCacheHits);
+    EXPECT_EQ(a.gridCacheHits, b.gridCacheHits);
+    EXPECT_EQ(a.dicingsByLevel, b.dicingsByLevel);
+  }
 }
 
 TEST(SubLeafRuns, TheDiceBuffersHoldOnlyTheResidentLevel) {
