@@ -30,10 +30,9 @@ struct TraceSettings {
   // dice buffers are sized for min(maxLod, the effective level): SortedEngine::residentLevel,
   // which is never below kMinResidentLod (the thin seam regions end there) nor below
   // ceil(maxLod / 2) (each ray's level on a sub-leaf must stay >= 0).
-  // 8, not 7, even with sub-leaf grids kept in the grid cache (bench/history/2026-11.md,
-  // "Sub-leaf grids in the grid cache"): against no split, R = 7 still costs displaced-terrain
-  // +18 % CPU (+11 % teapot-field; sub-leaf dicings and their boxes) for 0.97x the peak of
-  // R = 8, which costs +4 % (+3 %) for 0.90x (0.98x).
+  // 8, not 7, with sub-leaf grids cached too (history/2026-11.md, "Sub-leaf grids in the grid
+  // cache"): against no split, R = 7 costs displaced-terrain +18 % CPU (teapot-field +11 %) for
+  // 0.97x the peak of R = 8, which costs +4 % (+3 %) for 0.90x (0.98x) the peak of no split.
   static constexpr int kDefaultResidentLod = 8;
   static constexpr int kMinResidentLod = 6;
   int residentLod = kDefaultResidentLod;
