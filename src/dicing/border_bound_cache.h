@@ -3,9 +3,9 @@
 //
 // Contract:
 // - What it holds: per (leaf, border e, level, segment j) the box of the true border curve over
-//   the segment and the two radii of its region (DiceBuffer::curveBox, cachedRadius), and per
-//   (leaf, border, level) the gap to a displaced neighbour's border vertices
-//   (SortedEngine::seamGap, segment 0). Each is a
+//   the segment and the two radii of its region (DiceBuffer::curveBox, cachedRadius); or, in a
+//   table of its own, per displaced seam and level the gap between its two sides' border
+//   vertices (SortedEngine::seamGap, segment 0, under SortedEngine::seamKey). Each is a
 //   pure function of its key (the leaf's patch is generated the same way every time), so a hit
 //   returns exactly the value a recomputation would give: images do not depend on the table,
 //   its capacity or which thread filled an entry (docs/design.md, invariant on determinism).

@@ -230,6 +230,12 @@ Box3 DiceBuffer::node(int treeLevel, int x, int y) const {
 
 size_t DiceBuffer::nodeCount() const { return levelOffset(level_ + 1); }
 
+size_t DiceBuffer::bytesFor(int maxLevel) {
+  const size_t res = (size_t(1) << maxLevel) + 1;
+  return res * res * 2 * sizeof(Vec3) + levelOffset(maxLevel + 1) * 6 * sizeof(float) +
+         4 * ((size_t(2) << maxLevel) - 1) * sizeof(BorderSegment);  // segments_: borderOffset(4, 0, 0) / 6
+}
+
 size_t DiceBuffer::bytesAllocated() const {
   size_t b = 0;
   for (const Sample* s : {&a_, &b_})

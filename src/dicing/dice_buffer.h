@@ -151,6 +151,9 @@ class DiceBuffer {
   Box3 borderNode(int e, int treeLevel, int j) const;
   size_t nodeCount() const;                                  // sum_{i<=level} 4^i
   size_t bytesAllocated() const;
+  // bytesAllocated() of a new DiceBuffer(maxLevel) (before a moving dicing allocates its second
+  // sample): what a cache can charge for a grid before it makes it.
+  static size_t bytesFor(int maxLevel);
 
  private:
   // An array a dicing writes before anything reads it: resize() constructs nothing (Vec3 and

@@ -140,22 +140,12 @@ double SortedEngine::seamGap(uint32_t leaf, const Patch& patch, const DiceBuffer
   }
   const uint32_t bit = 1u << (e * 8 + k);
   if (memo.known & bit) return memo.gap[e][k];
-  const BorderBoundCache::Key key{leaf, BorderBoundCache::Kind::SeamGap, e, k, 0};
   double gap;
   const bool cached = settings_.borderBoundEntries > 0;
-  if (!(cached && borderBounds_.find(key, gap))) {
+  const BorderBoundCache::Key key = seamKey(leaf, e, borderNeighbour_[leaf][size_t(e)], borderSide_[leaf][size_t(e)], k);
+  if (!(cached && seamGaps_.find(key, gap))) {
     gap = measuredSeamGap(leaf, patch, dice, e, k);
-    if (cached) {
-      borderBounds_.insert(key, gap);
-      // The neighbour's gap across this seam at level k is the same number: the same pairs of
-      // points, each difference rounded alike (round-to-nearest is symmetric) and the maximum
-      // (NaN included) independent of the order. Measuring each seam once halved the seam
-      // gaps' cost, which was half the bottom stage of teapot-field (bench/history/2026-11.md,
-      // "Where the bottom level's instructions go").
-      const BorderBoundCache::Key across{borderNeighbour_[leaf][size_t(e)], BorderBoundCache::Kind::SeamGap,
-                                         borderSide_[leaf][size_t(e)] & 3, k, 0};
-      borderBounds_.insert(across, gap);
-    }
+    if (cached) seamGaps_.insert(key, gap);
   }
   memo.gap[e][k] = gap;
   memo.known |= bit;

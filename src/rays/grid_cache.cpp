@@ -6,7 +6,7 @@ GridCache::Entry* GridCache::acquire(GridKey key, int level) {
   if (!enabled()) return nullptr;
   if (auto found = index_.find(key.packed()); found != index_.end()) {
     auto it = found->second;
-    if (it->grid->level() >= level) {
+    if (it->level >= level) {
       lru_.splice(lru_.begin(), lru_, it);
       it->lastUse = iteration_;
       it->toDice = false;
@@ -15,10 +15,9 @@ GridCache::Entry* GridCache::acquire(GridKey key, int level) {
     }
     erase(it);  // held too coarse: diced again, finer, as a new entry
   }
-  auto grid = std::make_unique<DiceBuffer>(level);
-  const size_t need = grid->bytesAllocated();
+  const size_t need = DiceBuffer::bytesFor(level);
   if (!makeRoom(need)) return nullptr;
-  lru_.push_front(Entry{key, std::move(grid), nullptr, true, iteration_});
+  lru_.push_front(Entry{key, level, nullptr, nullptr, true, iteration_});
   index_[key.packed()] = lru_.begin();
   bytes_ += need;
   if (bytes_ > peakBytes_) peakBytes_ = bytes_;
@@ -45,7 +44,7 @@ void GridCache::discard(Entry* entry) {
 }
 
 void GridCache::erase(std::list<Entry>::iterator it) {
-  bytes_ -= it->grid->bytesAllocated();
+  bytes_ -= DiceBuffer::bytesFor(it->level);
   index_.erase(it->key.packed());
   lru_.erase(it);
 }

@@ -50,18 +50,28 @@ class GridCache {
  public:
   struct Entry {
     GridKey key = 0;
-    std::unique_ptr<DiceBuffer> grid;
+    int level = 0;          // the grid's level (its DiceBuffer's maxLevel)
+    std::unique_ptr<DiceBuffer> grid;  // null until the caller first dices into the entry
     PatchPtr patch;        // set by whoever dices into `grid`
-    bool toDice = false;   // acquire() made or re-made the grid: the caller dices into it
+    bool toDice = false;   // acquire() made or re-made the entry: the caller dices into it
     uint64_t lastUse = 0;  // iteration of the last acquire
+    // The grid to dice into, made on first use. The serial acquire() only decides and charges
+    // the bytes (DiceBuffer::bytesFor): making each new grid there (allocating it, clearing
+    // its border table) was a serial part of every iteration, 2.6 % of forest-100's samples at
+    // 2 threads (bench/history/2026-11.md, "1 -> 2 threads"); the parallel step makes it.
+    DiceBuffer& gridToDice() {
+      if (!grid) grid = std::make_unique<DiceBuffer>(level);
+      return *grid;
+    }
   };
 
   explicit GridCache(size_t budgetBytes) : budget_(budgetBytes) {}
   bool enabled() const { return budget_ > 0; }
 
-  // The entry holding the grid `key` names diced at `level` or finer (toDice false), or one with
-  // an empty grid made for `level` (toDice true: the caller must dice it at `level` and set
-  // patch, or discard it, before the next acquire of that key), evicting least recently used
+  // The entry holding the grid `key` names diced at `level` or finer (toDice false), or one for
+  // a new grid of `level` (toDice true: the caller must dice gridToDice() at `level` and set
+  // patch, or discard it, before the next acquire of that key; entries of one iteration may do
+  // so concurrently), evicting least recently used
   // entries that are not pinned; nullptr when the grid does not fit beside the pinned ones. A
   // leaf whole and its sub-leaves are separate entries: neither serves the other.
   Entry* acquire(GridKey key, int level);

@@ -34,7 +34,8 @@ SortedEngine::SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, con
       cache_(s.gridCacheBytes),
       // A small scene needs a small table: 64 entries per leaf at most, so forest-1's 664 leaves
       // take 2.6 MiB instead of the 160 MiB that forest-100's re-dicings pay for.
-      borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)) {
+      borderBounds_(std::min(s.borderBoundEntries, std::max<size_t>(leaves.size(), 1) * kBorderBoundsPerLeaf)),
+      seamGaps_(std::min(s.borderBoundEntries / kSeamGapShare, std::max<size_t>(leaves.size(), 1) * kSeamGapsPerLeaf)) {
   // The top level holds these leaves, then perhaps the bricks of media (core/medium_leaves.h).
   if (top.leafBoxes().size() < leaves.size()) throw std::logic_error("SortedEngine: the top level is not over these leaves");
   leafSize_.resize(leaves.size());
@@ -87,7 +88,7 @@ EngineStats SortedEngine::engineStats() const {
   s.cacheHits = cache_.hits();
   s.cachePeakBytes = cache_.peakBytes();
   s.cacheBytes = cache_.bytes();
-  s.borderBoundBytes = borderBounds_.bytes();
+  s.borderBoundBytes = borderBounds_.bytes() + seamGaps_.bytes();
   return s;
 }
 
@@ -328,7 +329,7 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
       if (GridCache::Entry* e = runEntry_[run]) {
         if (e->toDice) {
           e->patch = leaves_.patch(leaf);  // kept with the grid: border queries read it
-          diceRun(b, *e->grid, slots, count, leaf, *e->patch, -1, runLevel_[run], times, counters);
+          diceRun(b, e->gridToDice(), slots, count, leaf, *e->patch, -1, runLevel_[run], times, counters);
         }
         intersectRun(b, *e->grid, slots, count, leaf, *e->patch, runLevel_[run], runEntries(run), times, counters);
         continue;

@@ -76,7 +76,9 @@ class SortedEngine : public RayEngine {
   // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
   size_t bytesPerRay() const override { return bytesPerRaySlot(settings_.lod); }
-  size_t fixedBytes() const override { return diceBufferBytes() + cache_.peakBytes() + borderBounds_.bytes(); }
+  size_t fixedBytes() const override {
+    return diceBufferBytes() + cache_.peakBytes() + borderBounds_.bytes() + seamGaps_.bytes();
+  }
   EngineStats engineStats() const override;
   size_t limitKeptGrids(size_t bytes) override {
     cache_.setBudget(std::min(bytes, settings_.gridCacheBytes));
@@ -109,6 +111,15 @@ class SortedEngine : public RayEngine {
   static constexpr uint8_t kReversedSeam = 4, kDisplacedSeam = 8;
   static std::vector<std::array<uint32_t, 4>> borderNeighbours(const LeafSource& leaves, const TopLevelBvh& top,
                                                                std::vector<std::array<uint8_t, 4>>* sides = nullptr);
+  // The seam-gap table's key of the displaced seam on `leaf`'s border e at level k, given the
+  // neighbour across it and borderNeighbours' `side` byte: the same key from either side (the
+  // side with the smaller leaf id, then the smaller border, names it), since the gap is the
+  // same number from either side (seamGap).
+  static BorderBoundCache::Key seamKey(uint32_t leaf, int e, uint32_t neighbour, uint8_t side, int k) {
+    const int across = side & 3;
+    const bool mine = leaf < neighbour || (leaf == neighbour && e < across);
+    return {mine ? leaf : neighbour, BorderBoundCache::Kind::SeamGap, mine ? e : across, k, 0};
+  }
   // Per ray: resume entry and leaf, next entry, candidate count, hit lock, and its place in the
   // active list (compacted in place each iteration). The search limit is the ray's own hit.
   static constexpr size_t bytesPerRayState() {
@@ -131,6 +142,10 @@ class SortedEngine : public RayEngine {
   static constexpr size_t candidatesPerRaySlot(LodRule lod) { return lod == LodRule::Density ? 2 : 1; }
   // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
   static constexpr size_t kBorderBoundsPerLeaf = 64;
+  // The seam gaps' own table: entries per leaf at most (a leaf has at most 2 seams of its own,
+  // each with a gap per level <= BottomQuery::kMaxThinLevel: 14), and at most this share of
+  // TraceSettings::borderBoundEntries.
+  static constexpr size_t kSeamGapsPerLeaf = 16, kSeamGapShare = 16;
   // Per ray slot: the trace state and candidatesPerRaySlot candidate slots. (bytesPerRay() of a
   // SortedEngine; static so the budget can be set before the SortedEngine exists.)
   static constexpr size_t bytesPerRaySlot(LodRule lod) {
@@ -247,9 +262,11 @@ class SortedEngine : public RayEngine {
   // in `dice`) and those of its displaced neighbour across it at the same parameters, from both
   // patches' evaluate(), which their dicings equal bit for bit (Patch contract): this side's are
   // read from `dice` when it holds level k, the neighbour's evaluated (its patch is made for it).
-  // A pure function of the seam and k: kept in the border-bound table under both sides' keys
-  // (the neighbour's gap is the same number). Not finite when a vertex is not (then the seam
-  // keeps its full region).
+  // A pure function of the seam and k, the same number from either side: kept once per seam and
+  // level (seamKey) in a table of its own, seamGaps_ (in the border-bound table the far more
+  // numerous curve boxes evicted it, and teapot-field measured 5,888 gaps of ~2,500 seams:
+  // bench/history/2026-11.md, "Seam gaps once per seam"). Not finite when a vertex is not (then
+  // the seam keeps its full region).
   double seamGap(uint32_t leaf, const Patch& patch, const DiceBuffer& dice, int e, int k) const;
   double measuredSeamGap(uint32_t leaf, const Patch& patch, const DiceBuffer& dice, int e,
                          int k) const;  // seamGap without the table
@@ -302,6 +319,10 @@ class SortedEngine : public RayEngine {
   // Mutable: seamGap fills it from const queries (the table is lock-free and its values are
   // pure functions of their keys).
   mutable BorderBoundCache borderBounds_;
+  // The displaced seams' gaps, one entry per seam and level (seamKey); bounded like the table
+  // above (kSeamGapsPerLeaf, kSeamGapShare), allocated on the first displaced seam's gap. A
+  // dense per-seam array was measured too: it cost forest-1000 62 bytes a leaf (121 MB).
+  mutable BorderBoundCache seamGaps_;
   // Per thread, the seam gaps of the last leaf asked: a run's rays all ask about one leaf, so
   // they need not each read the table (a random access) per border.
   struct SeamGapMemo {

@@ -122,7 +122,7 @@ void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* s
     if (p.whole) {
       if (p.whole->toDice && !p.whole->patch) {
         p.whole->patch = p.patch;  // kept with the grid: border queries read it
-        diceRun(b, *p.whole->grid, p.coarse.data(), p.coarse.size(), leaf, *p.patch, interval, p.coarseLevel, times,
+        diceRun(b, p.whole->gridToDice(), p.coarse.data(), p.coarse.size(), leaf, *p.patch, interval, p.coarseLevel, times,
                 counters);
       }
       grid = p.whole->grid.get();
@@ -160,7 +160,7 @@ void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* s
       // Diced at the planned level, which serves every ray of the plan (subLevel <= s.level).
       if (s.grid->toDice && !s.grid->patch) {
         s.grid->patch = s.patch;
-        diceRun(b, *s.grid->grid, sc.subSlot.data(), sc.subSlot.size(), leaf, sub, interval, s.level, times, counters);
+        diceRun(b, s.grid->gridToDice(), sc.subSlot.data(), sc.subSlot.size(), leaf, sub, interval, s.level, times, counters);
       } else {
         counters.subLeafCacheHits.fetch_add(1, std::memory_order_relaxed);
       }

@@ -17,9 +17,23 @@ GridCache::Entry* acquireAndDice(GridCache& cache, GridKey key, int level) {
   GridCache::Entry* e = cache.acquire(key, level);
   if (e && e->toDice) {
     e->patch = std::make_shared<BilinearPatch>(Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{1, 1, 0.5f});
-    e->grid->dice(*e->patch, level);
+    e->gridToDice().dice(*e->patch, level);
   }
   return e;
+}
+
+// acquire() charges a new grid's bytes before the grid exists (it is made by the parallel step
+// that dices it): what it charges is what the grid then holds.
+TEST(GridCache, ChargesANewGridWhatItHoldsAndLeavesItToTheDicer) {
+  for (int level = 0; level <= 8; ++level) EXPECT_EQ(DiceBuffer::bytesFor(level), gridBytes(level)) << level;
+  GridCache cache(1 << 20);
+  GridCache::Entry* e = cache.acquire(3, 2);
+  ASSERT_NE(e, nullptr);
+  EXPECT_TRUE(e->toDice);
+  EXPECT_EQ(e->grid, nullptr);
+  EXPECT_EQ(cache.bytes(), gridBytes(2));
+  EXPECT_EQ(e->gridToDice().maxLevel(), 2);
+  EXPECT_EQ(&e->gridToDice(), e->grid.get()) << "made once";
 }
 
 TEST(GridCache, HoldsALeafAndServesItsLevelAndCoarserOnes) {
@@ -46,7 +60,8 @@ TEST(GridCache, AFinerRequestIsDicedAgainAtTheFinerLevel) {
   GridCache::Entry* e = cache.acquire(7, 4);
   ASSERT_NE(e, nullptr);
   EXPECT_TRUE(e->toDice);
-  EXPECT_EQ(e->grid->maxLevel(), 4);
+  EXPECT_EQ(e->level, 4);
+  EXPECT_EQ(e->gridToDice().maxLevel(), 4);
   EXPECT_EQ(cache.entries(), 1u);
   EXPECT_EQ(cache.bytes(), gridBytes(4));  // the coarse grid's bytes are given back
   EXPECT_EQ(cache.hits(), 0u);

@@ -4,12 +4,15 @@
 // (distance, leaf, micro-quad), the distance never less than the ray's entry into the leaf's
 // box; shadow rays are occluded exactly when some leaf has a hit before tmax.
 #include <limits>
+#include <map>
+#include <tuple>
 #include <gtest/gtest.h>
 #include "core/rng.h"
 #include "geometry/bezier_patch.h"
 #include "geometry/bilinear_patch.h"
 #include "geometry/displaced_patch.h"
 #include "geometry/displacement.h"
+#include "rays/closed_surfaces.h"
 #include "rays/sorted_engine.h"
 #include "rays/teapot_on_floor.h"
 
@@ -256,6 +259,43 @@ TEST(SortedEngine, DisplacedNeighboursArePairedWithTheirBorderAndDirection) {
       EXPECT_NE(nb[1][3], 0u);
     }
   }
+}
+
+// A displaced seam's gap is the same number from either side (SortedEngine::seamGap), so it is
+// measured once: both sides name one entry of the seam-gap table (seamKey), and no two seams or
+// levels share one. A sphere of displaced Bézier patches, every border a displaced seam.
+TEST(SortedEngine, BothSidesOfADisplacedSeamNameOneSeamGapEntry) {
+  const auto leaves = test::displacedBezierSphere(3, 0.1f);
+  std::vector<Box3> boxes;
+  for (const auto& l : leaves) boxes.push_back(l->bounds());
+  TopLevelBvh top;
+  top.build(boxes);
+  std::vector<std::array<uint8_t, 4>> sides;
+  const auto nb = SortedEngine::borderNeighbours(StoredLeaves(leaves), top, &sides);
+  ASSERT_EQ(nb.size(), leaves.size());
+  std::map<std::tuple<uint32_t, int, int, uint32_t>, int> namedBy;  // key -> sides naming it
+  size_t displacedSides = 0;
+  for (uint32_t leaf = 0; leaf < nb.size(); ++leaf)
+    for (int e = 0; e < 4; ++e) {
+      if (!(sides[leaf][size_t(e)] & SortedEngine::kDisplacedSeam)) continue;
+      ++displacedSides;
+      const uint32_t other = nb[leaf][size_t(e)];
+      const int across = sides[leaf][size_t(e)] & 3;
+      ASSERT_LT(other, nb.size());
+      ASSERT_EQ(nb[other][size_t(across)], leaf) << "a seam's far side points back";
+      for (int k = 0; k <= BottomQuery::kMaxThinLevel; ++k) {
+        const auto mine = SortedEngine::seamKey(leaf, e, other, sides[leaf][size_t(e)], k);
+        const auto theirs = SortedEngine::seamKey(other, across, leaf, sides[other][size_t(across)], k);
+        EXPECT_EQ(std::tie(mine.leaf, mine.border, mine.level), std::tie(theirs.leaf, theirs.border, theirs.level))
+            << "leaf " << leaf << " border " << e << " level " << k;
+        EXPECT_EQ(mine.kind, BorderBoundCache::Kind::SeamGap);
+        EXPECT_EQ(mine.level, k);
+        ++namedBy[{mine.leaf, mine.border, mine.level, mine.segment}];
+      }
+    }
+  EXPECT_EQ(displacedSides, 4 * leaves.size()) << "the sphere is closed: every border a displaced seam";
+  EXPECT_EQ(namedBy.size(), displacedSides / 2 * (BottomQuery::kMaxThinLevel + 1));
+  for (const auto& [key, count] : namedBy) EXPECT_EQ(count, 2) << "an entry named by " << count << " sides";
 }
 
 TEST(SortedEngine, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
