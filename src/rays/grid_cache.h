@@ -58,7 +58,7 @@ class GridCache {
     // The grid to dice into, made on first use. The serial acquire() only decides and charges
     // the bytes (DiceBuffer::bytesFor): making each new grid there (allocating it, clearing
     // its border table) was a serial part of every iteration, 2.6 % of forest-100's samples at
-    // 2 threads (bench/history/2026-11.md, "1 -> 2 threads"); the parallel step makes it.
+    // 2 threads (bench/history/2026-11.md, "quiet figures at 7069dff"); the parallel step makes it.
     DiceBuffer& gridToDice() {
       if (!grid) grid = std::make_unique<DiceBuffer>(level);
       return *grid;
