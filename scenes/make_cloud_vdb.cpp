@@ -3,9 +3,12 @@
 // value-noise erosion so the null-collision trackers see a heterogeneous medium. Built by the
 // project (target make_cloud_vdb) so no binary grid is kept in git:
 //   build/bin/make_cloud_vdb scenes/cloud.vdb
+// With --temperature, a "temperature" grid too (equal to the density on the same voxels), for
+// an emitting cloud ("temperature_grid": "temperature"; bench/RESULTS.md's emission figure).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <string>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
@@ -34,8 +37,9 @@ float valueNoise(float x, float y, float z) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: make_cloud_vdb OUT.vdb\n");
+  const bool temperature = argc == 3 && std::string(argv[2]) == "--temperature";
+  if (argc != 2 && !temperature) {
+    std::fprintf(stderr, "usage: make_cloud_vdb OUT.vdb [--temperature]\n");
     return 2;
   }
   openvdb::initialize();
@@ -61,7 +65,13 @@ int main(int argc, char** argv) {
         if (density > 0) acc.setValue({x, y, z}, std::min(1.0f, density));
       }
   grid->pruneGrid();
-  openvdb::io::File(argv[1]).write({grid});
+  openvdb::GridPtrVec grids{grid};
+  if (temperature) {
+    openvdb::FloatGrid::Ptr t = grid->deepCopy();
+    t->setName("temperature");
+    grids.push_back(t);
+  }
+  openvdb::io::File(argv[1]).write(grids);
   std::printf("%s: %zu leaf nodes, %zu active voxels\n", argv[1], size_t(grid->tree().leafCount()),
               size_t(grid->tree().activeVoxelCount()));
   return 0;

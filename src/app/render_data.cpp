@@ -178,19 +178,22 @@ RenderData::RenderData(const Scene& scene) {
   chunkBoxes = {};
   leafKinds.assign(kinds.begin(), kinds.end());
   countScene(features, scene);
-  // The media's bricks are top-level leaves after the patches (core/medium_leaves.h), so the
-  // sorted engine sorts rays by brick; a scene without media adds none.
+  // The media's bricks (or groups of them: BrickNumbering) are top-level leaves after the
+  // patches (core/medium_leaves.h), so the sorted engine sorts rays by brick; a scene without
+  // media adds none.
   shading.bricks = BrickNumbering(scene.media);
   shading.firstBrickLeaf = uint32_t(n);
-  if (!adopted && shading.bricks.total() > 0) {
-    leafBoxes.resize(n + shading.bricks.total());
-    for (size_t i = 0; i < scene.media.size(); ++i) {
-      const Medium& m = *scene.media[i];
-      const size_t first = n + shading.bricks.firstOf(i);
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, m.bricks(), 4096), [&](const auto& r) {
-        for (size_t b = r.begin(); b != r.end(); ++b) leafBoxes[first + b] = m.brickWorldBounds(int32_t(b));
-      });
-    }
+  if (!adopted && shading.bricks.leaves() > 0) {
+    const BrickNumbering& bricks = shading.bricks;
+    leafBoxes.resize(n + bricks.leaves());
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, bricks.leaves(), 1024), [&](const auto& r) {
+      for (uint32_t l = r.begin(); l != r.end(); ++l) {
+        const Medium& m = *scene.media[bricks.mediumOfLeaf(l)];
+        Box3 box;
+        for (const uint32_t global : bricks.bricksOfLeaf(l)) box.extend(m.brickWorldBounds(bricks.brickOf(global).brick));
+        leafBoxes[n + l] = box;
+      }
+    });
   }
   // Built before the tables below are made: its build (Embree's primitives and nodes) is the
   // set-up's peak, which they would add to.

@@ -1,10 +1,10 @@
 // Top-level leaves that are bricks of participating media (docs/design.md, "Volumes"): a scene
-// with media appends one leaf per brick after its patch leaves, so the ray engine sorts rays by
-// brick as it sorts them by patch, and runs the null-collision tracking of a brick for the whole
+// with media appends one leaf per brick (or per block of bricks: shading's BrickNumbering) after
+// its patch leaves, so the ray engine sorts rays by brick as it sorts them by patch, and runs the null-collision tracking of a brick for the whole
 // run of its rays while that brick's voxels are held. Like LeafQueries, the type lives in core so
 // shading implements the tracking and src/rays drives it without knowing each other.
 //
-// Contract: leaves [firstLeaf, firstLeaf + bricks) of the top level are bricks. During trace()
+// Contract: leaves [firstLeaf, firstLeaf + bricks) of the top level are brick leaves. During trace()
 // an engine that sorts by leaf calls track() once per brick run (or per chunk of a long run; the
 // calls may be concurrent, within a brick too) with each ray's search limit, takes each closest
 // ray's collision as a hit on that leaf (competing with surface hits under the usual total order),

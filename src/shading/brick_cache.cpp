@@ -13,7 +13,8 @@ struct BrickCache::Slot {
   uint32_t pins = 0;
   bool referenced = false;
   uint32_t shard = 0;
-  std::array<float, kBrickVoxels> voxels;
+  std::atomic<uint32_t> apron{kInterior};  // the regions readable (apronRegion bits)
+  std::array<float, kSlotVoxels> voxels;
 };
 
 struct BrickCache::Shard {
@@ -103,7 +104,13 @@ const float* BrickCache::acquire(uint32_t grid, uint32_t stored, const BrickSour
     ++shard.evictions;
   }
   const Clock::time_point t0 = Clock::now();
-  source.read(stored, slot->voxels.data());
+  std::array<float, kBrickVoxels> brick;
+  source.read(stored, brick.data());
+  for (int32_t x = 0; x < 8; ++x)
+    for (int32_t y = 0; y < 8; ++y)
+      std::copy_n(brick.data() + (x * 8 + y) * 8, 8, slot->voxels.data() + paddedIndex(x, y, 0));
+  // Relaxed: whoever pins this slot next does so under the shard's lock, which orders it.
+  slot->apron.store(kInterior, std::memory_order_relaxed);
   shard.loadSeconds += secondsSince(t0);
   ++shard.loads;
   slot->key = key;
@@ -111,6 +118,30 @@ const float* BrickCache::acquire(uint32_t grid, uint32_t stored, const BrickSour
   slot->referenced = true;
   shard.byKey.emplace(key, slot);
   return slot->voxels.data();
+}
+
+BrickCache::ApronBox BrickCache::apronBox(uint32_t region) {
+  ApronBox b{{int32_t(region / 9), int32_t(region / 3 % 3), int32_t(region % 3)}, {}, {}};
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = b.part[a] == 0 ? -1 : b.part[a] == 1 ? 0 : 8;
+    b.hi[a] = b.part[a] == 0 ? -1 : b.part[a] == 1 ? 7 : 8;
+  }
+  return b;
+}
+
+uint32_t BrickCache::apronFilled(const Slot* slot) { return slot->apron.load(std::memory_order_acquire); }
+
+void BrickCache::fillApron(Slot* slot, uint32_t region, const float* values) {
+  const uint32_t bit = 1u << region;
+  Shard& shard = *shards_[slot->shard];
+  std::lock_guard lock(shard.mutex);
+  if (slot->apron.load(std::memory_order_relaxed) & bit) return;  // another reader filled it
+  const ApronBox box = apronBox(region);
+  for (int32_t x = box.lo[0]; x <= box.hi[0]; ++x)
+    for (int32_t y = box.lo[1]; y <= box.hi[1]; ++y)
+      for (int32_t z = box.lo[2]; z <= box.hi[2]; ++z) slot->voxels[size_t(paddedIndex(x, y, z))] = *values++;
+  // Release: a reader that sees the bit (apronFilled's acquire) sees the voxels written above.
+  slot->apron.fetch_or(bit, std::memory_order_release);
 }
 
 void BrickCache::release(Slot* slot) {

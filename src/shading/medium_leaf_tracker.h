@@ -1,9 +1,10 @@
 // The path tracer's side of the brick leaves (core/medium_leaves.h): what the sorted engine
-// runs for a run of rays of one brick — each closest ray's delta tracking and each shadow ray's
-// ratio (or delta) tracking restricted to that brick, with the brick's stream of each ray's
-// vertex (shading/volume_tracking.h: brickCollision, brickTransmittance, brickStream, the one
-// implementation the per-ray walk calls too). One GridReader per call, so a run's rays share
-// one cache lookup of the brick's voxels (and of a neighbour's at its faces).
+// runs for a run of rays of one brick leaf (a brick, or a block of them: BrickNumbering) — each
+// closest ray's delta tracking and each shadow ray's ratio (or delta) tracking restricted to
+// each of its bricks, with the brick's stream of each ray's vertex (shading/volume_tracking.h:
+// brickCollision, brickTransmittance, brickStream, the one implementation the per-ray walk calls
+// too). One GridReader per call, so a run's rays share one cache lookup of each brick's voxels
+// (and its slot's apron, filled once from the neighbours).
 //
 // Owned by a PathBatch; the path tracer sets the vertex keys of the generation in flight before
 // each trace (keyOf) and reads the shadow rays' products after it. Thread-safe: track() may run

@@ -254,7 +254,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     if (paths.media && paths.media->tracked) {
       // The engine ran the brick leaves: a collision is the hit on a brick's leaf.
       if (h.valid() && paths.media->isBrick(h.leaf))
-        c = {h.t, int32_t(scene_.bricks.brickOf(h.leaf - scene_.firstBrickLeaf).medium)};
+        c = {h.t, int32_t(scene_.bricks.mediumOfLeaf(h.leaf - scene_.firstBrickLeaf))};
     } else {
       ScopedTimer timer(stats.volume);
       TrackingRng rng{key, kFreeFlightDimensions};

@@ -1,5 +1,7 @@
 #include "shading/volume_tracking.h"
 #include <algorithm>
+#include <array>
+#include <map>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -177,12 +179,32 @@ float brickTransmittance(const Medium& m, int32_t brick, const IndexRay& r, floa
   return T;
 }
 
-BrickNumbering::BrickNumbering(MediumList media) {
+BrickNumbering::BrickNumbering(MediumList media, int32_t leafSide) {
   forEachMediumWithFirstBrick(media, [&](size_t, const Medium&, uint32_t first) {
     first_.push_back(first);
     return false;
   });
   total_ = media.empty() ? 0 : first_.back() + uint32_t(media.back()->bricks());
+  // Each medium's bricks grouped by floor(cell / leafSide), leaves in order of their first brick.
+  leafBricks_.reserve(total_);
+  leafStart_.push_back(0);
+  const auto groupOf = [leafSide](int32_t c) { return c >= 0 ? c / leafSide : -((-c + leafSide - 1) / leafSide); };
+  for (size_t i = 0; i < media.size(); ++i) {
+    const Medium& m = *media[i];
+    std::map<std::array<int32_t, 3>, uint32_t> leafOfGroup;
+    std::vector<std::vector<uint32_t>> members;
+    for (int32_t b = 0; b < int32_t(m.bricks()); ++b) {
+      const BrickCoord c = m.densityGrid().coord(b);
+      const auto [it, added] = leafOfGroup.try_emplace({groupOf(c.x), groupOf(c.y), groupOf(c.z)}, uint32_t(members.size()));
+      if (added) members.emplace_back();
+      members[it->second].push_back(first_[i] + uint32_t(b));
+    }
+    for (const std::vector<uint32_t>& leaf : members) {
+      leafBricks_.insert(leafBricks_.end(), leaf.begin(), leaf.end());
+      leafStart_.push_back(uint32_t(leafBricks_.size()));
+      leafMedium_.push_back(uint32_t(i));
+    }
+  }
 }
 
 BrickNumbering::Brick BrickNumbering::brickOf(uint32_t global) const {

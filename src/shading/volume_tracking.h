@@ -63,11 +63,16 @@ struct IndexRay {
 IndexRay toIndex(const Medium& m, Vec3 org, Vec3 dir);
 
 // Bricks numbered across a list of media, in list order (medium i's brick b is the number of
-// the bricks before medium i, plus b): the top level's brick leaves, and the brick streams' key.
+// the bricks before medium i, plus b): the brick streams' key. The top level's brick leaves are
+// groups of them: the bricks of one medium whose cells share floor(cell / leafSide), leafSide³
+// at most (kBrickLeafSide: one brick per leaf), numbered by medium, then by their first brick.
+// Memory: 12 bytes per brick (the leaves' tables), only in a scene with media.
 class BrickNumbering {
  public:
   BrickNumbering() = default;
-  explicit BrickNumbering(MediumList media);
+  explicit BrickNumbering(MediumList media, int32_t leafSide = kBrickLeafSide);
+  // Bricks per top-level leaf along each axis (docs/design.md, "Bricks as top-level leaves").
+  static constexpr int32_t kBrickLeafSide = 1;
   struct Brick {
     uint32_t medium;
     int32_t brick;
@@ -75,10 +80,17 @@ class BrickNumbering {
   Brick brickOf(uint32_t global) const;  // global < total()
   uint32_t firstOf(size_t medium) const { return first_[medium]; }
   uint32_t total() const { return total_; }
+  // The top-level leaves: their number, leaf l's medium and its bricks' global numbers.
+  uint32_t leaves() const { return uint32_t(leafMedium_.size()); }
+  uint32_t mediumOfLeaf(uint32_t leaf) const { return leafMedium_[leaf]; }
+  std::span<const uint32_t> bricksOfLeaf(uint32_t leaf) const {
+    return {leafBricks_.data() + leafStart_[leaf], leafStart_[leaf + 1] - leafStart_[leaf]};
+  }
 
  private:
   std::vector<uint32_t> first_;
   uint32_t total_ = 0;
+  std::vector<uint32_t> leafStart_, leafBricks_, leafMedium_;
 };
 
 // The stream of one brick's tracking at a path vertex: the vertex key's seed mixed with the

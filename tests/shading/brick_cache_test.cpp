@@ -2,7 +2,8 @@
 // acquire and served from memory after; under a budget smaller than the bricks it evicts and
 // re-reads, never holds more slots than the budget allows, never evicts a pinned brick, and
 // never more than once when the budget holds every brick; whatever it holds, every acquire
-// returns the brick's own voxels, also from many threads at once.
+// returns the brick's own voxels, also from many threads at once. A slot's apron holds what was
+// filled into it while the slot keeps its brick, and is empty again when the slot is reused.
 #include <gtest/gtest.h>
 #include <atomic>
 #include <tbb/global_control.h>
@@ -23,9 +24,12 @@ class CountingSource final : public BrickSource {
   mutable std::atomic<uint64_t> reads{0};
 };
 
-bool holdsBrick(const float* voxels, uint32_t stored) {
-  for (uint32_t v = 0; v < BrickCache::kBrickVoxels; ++v)
-    if (voxels[v] != float(stored) * 1000 + float(v)) return false;
+// The slot's brick (its padded interior, local 0 … 7) is stored brick `stored`.
+bool holdsBrick(const float* padded, uint32_t stored) {
+  for (int32_t x = 0; x < 8; ++x)
+    for (int32_t y = 0; y < 8; ++y)
+      for (int32_t z = 0; z < 8; ++z)
+        if (padded[BrickCache::paddedIndex(x, y, z)] != float(stored) * 1000 + float((x * 8 + y) * 8 + z)) return false;
   return true;
 }
 
@@ -91,6 +95,43 @@ TEST(BrickCache, APinnedBrickIsNeverEvicted) {
   }
   EXPECT_TRUE(holdsBrick(voxels, 7));  // still in place, not overwritten
   cache.release(pinned);
+}
+
+TEST(BrickCache, AnApronRegionFilledOnceStaysUntilTheSlotHoldsAnotherBrick) {
+  CountingSource source;
+  BrickCache cache(BrickCache::minimumBytes(1), 1, 100);
+  BrickCache::Slot* slot = nullptr;
+  const float* voxels = cache.acquire(0, 5, source, slot);
+  EXPECT_EQ(BrickCache::apronFilled(slot), BrickCache::kInterior);
+  // The upper-x face (local x = 8, y and z 0 … 7): 64 values in x-major order of its box.
+  const uint32_t face = BrickCache::apronRegion(2, 1, 1), corner = BrickCache::apronRegion(0, 0, 0);
+  float values[64];
+  for (int i = 0; i < 64; ++i) values[i] = float(-1 - i);
+  cache.fillApron(slot, face, values);
+  EXPECT_EQ(BrickCache::apronFilled(slot), BrickCache::kInterior | 1u << face);
+  EXPECT_EQ(voxels[BrickCache::paddedIndex(8, 0, 0)], -1.0f);
+  EXPECT_EQ(voxels[BrickCache::paddedIndex(8, 7, 7)], -64.0f);
+  const float other[64] = {};
+  cache.fillApron(slot, face, other);  // filled already: kept as it was
+  EXPECT_EQ(voxels[BrickCache::paddedIndex(8, 3, 5)], float(-1 - (3 * 8 + 5)));
+  const float one = 7;
+  cache.fillApron(slot, corner, &one);
+  EXPECT_EQ(voxels[BrickCache::paddedIndex(-1, -1, -1)], 7.0f);
+  EXPECT_TRUE(holdsBrick(voxels, 5));  // the apron is beside the brick, not over it
+  cache.release(slot);
+  // Served again from the cache: the apron is still there.
+  cache.acquire(0, 5, source, slot);
+  EXPECT_EQ(BrickCache::apronFilled(slot), BrickCache::kInterior | 1u << face | 1u << corner);
+  cache.release(slot);
+  // Every slot reused for other bricks: brick 5 comes back with an empty apron.
+  for (uint32_t b = 20; b < 100; ++b) {
+    cache.acquire(0, b, source, slot);
+    EXPECT_EQ(BrickCache::apronFilled(slot), BrickCache::kInterior);
+    cache.release(slot);
+  }
+  EXPECT_TRUE(holdsBrick(cache.acquire(0, 5, source, slot), 5));
+  EXPECT_EQ(BrickCache::apronFilled(slot), BrickCache::kInterior);
+  cache.release(slot);
 }
 
 TEST(BrickCache, ManyThreadsAtOnceGetTheirOwnBricksVoxels) {

@@ -260,6 +260,41 @@ TEST(VolumeTracking, BrickByBrickInAnyOrderGivesTheWalksBits) {
   EXPECT_GT(partial, 40);
 }
 
+// The top level's brick leaves: one per brick by default (leaf l is brick l), or the bricks of
+// each 2 × 2 × 2 block of cells of one medium; either way every brick is in exactly one leaf, of
+// its own medium, in leaf order by first brick.
+TEST(VolumeTracking, BrickLeavesPartitionEachMediumsBricksIntoBlocksOfCells) {
+  const auto a = makeMedium(3, 1, [](int, int, int) { return 1.0f; });
+  const auto b = makeMedium(2, 1, [](int, int, int) { return 1.0f; }, Transform::translate({40, 0, 0}));
+  const std::shared_ptr<const Medium> list[] = {a, b};
+  const BrickNumbering single(list, 1);
+  ASSERT_EQ(single.leaves(), single.total());
+  for (uint32_t l = 0; l < single.leaves(); ++l) {
+    ASSERT_EQ(single.bricksOfLeaf(l).size(), 1u);
+    EXPECT_EQ(single.bricksOfLeaf(l)[0], l);
+    EXPECT_EQ(single.mediumOfLeaf(l), single.brickOf(l).medium);
+  }
+  const BrickNumbering grouped(list, 2);
+  // Medium a's 3³ cells fall in 2³ blocks (sizes 8, 4, 4, 4, 2, 2, 2, 1), medium b's 2³ in one.
+  ASSERT_EQ(grouped.leaves(), 8u + 1u);
+  std::vector<int> leafOf(grouped.total(), -1);
+  for (uint32_t l = 0; l < grouped.leaves(); ++l)
+    for (const uint32_t g : grouped.bricksOfLeaf(l)) {
+      EXPECT_EQ(leafOf[g], -1) << "brick " << g << " in two leaves";
+      leafOf[g] = int(l);
+      const BrickNumbering::Brick at = grouped.brickOf(g);
+      EXPECT_EQ(grouped.mediumOfLeaf(l), at.medium);
+      const BrickCoord c = list[at.medium]->densityGrid().coord(at.brick);
+      const BrickCoord first = list[at.medium]->densityGrid().coord(grouped.brickOf(grouped.bricksOfLeaf(l)[0]).brick);
+      EXPECT_EQ(c.x / 2, first.x / 2);
+      EXPECT_EQ(c.y / 2, first.y / 2);
+      EXPECT_EQ(c.z / 2, first.z / 2);
+    }
+  for (uint32_t g = 0; g < grouped.total(); ++g) EXPECT_GE(leafOf[g], 0) << "brick " << g << " in no leaf";
+  EXPECT_EQ(grouped.bricksOfLeaf(0).size(), 8u);
+  EXPECT_EQ(grouped.bricksOfLeaf(8).size(), 8u);
+}
+
 // A brick's world box (its top-level leaf) holds its cell: the segment the tracking clips to
 // lies inside the box's slab interval for any ray.
 TEST(VolumeTracking, BrickWorldBoundsHoldTheCellsSegment) {
