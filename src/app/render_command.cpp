@@ -100,6 +100,8 @@ int runRender(const RenderArgs& a) {
                                           ".film (its fingerprint reads the scene file again): give the scene's file");
   setStopOnSignal(resumable);
   options.frequentBatches = resumable;
+  // A preview alone reads no AOV; a checkpoint keeps them for whatever output resumes it.
+  options.firstHitAovs = !pngOnly || resumable;
   ThreadLimit limit(a.threads);
   ProgressReporter progress(a.quiet ? ProgressMode::None : progressModeFromName(a.progress));
   ProgressState& live = liveProgress();

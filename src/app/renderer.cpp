@@ -26,12 +26,17 @@ size_t defaultRayMemoryBytes() {
 Renderer::Renderer(const Scene& scene, const RenderOptions& options)
     : scene_(scene), options_(options), data_(scene), began_(Clock::now()) {
   const auto t0 = began_;
+  // A ray names the leaf it leaves from in kRayLeafBits bits (core/ray_batch.h).
+  if (const size_t leaves = data_.top.leafBoxes().size(); leaves > kMaxRayLeaves)
+    throw InputError(scene.path, "", "the scene has " + std::to_string(leaves) + " leaves (patches and volume bricks); "
+                                     "a render takes at most " + std::to_string(kMaxRayLeaves));
   // The tile cache's bound for this render (the cache is the scene's: its lookups give the same
   // values at any size).
   if (scene.textures) scene.textures->setMemoryBytes(options.textureMemoryBytes);
   // The volumes' brick cache, shared by every shading thread (none when no volume reads a file).
   if (const uint64_t bytes = volumeCacheBytes(scene, options, ThreadLimit::active()); bytes > 0)
     data_.shading.volumeCache = std::make_shared<BrickCache>(bytes, ThreadLimit::active(), storedBricks(scene));
+  data_.shading.integrator.firstHitAovs = options.firstHitAovs;
   integrator_ = makeMethod(options.method, scene, data_);
   // Some methods are defined by their passes (a photon map and a radius per pass).
   if (integrator_->traits().progressive) options_.progressive = true;
@@ -50,7 +55,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                                    : caching ? CachingEngine::bytesPerRaySlot()
                                              : SortedEngine::bytesPerRaySlot(options.lod);
   stats_.bytesPerPath =
-      integrator_->bytesPerPath() + raysPerPath * (RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives()) + engineBytesPerRay);
+      integrator_->bytesPerPath() + raysPerPath * (rayBytesPerSlot() + engineBytesPerRay);
   if (options.costLayers) stats_.bytesPerPath += PixelCost::bytesPerPath(raysPerPath);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
@@ -130,7 +135,7 @@ void Renderer::sampleMemory(bool always) {
 MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   MemoryByOwner m;
   const uint64_t slots = stats_.pathsPerBatch * raysPerPath;
-  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives()));
+  m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * rayBytesPerSlot());
   m.candidatesAndSort = size_t(slots * engine_->bytesPerRay());
   m.topLevel = data_.top.bytes();
   m.leaves = scene_.leaves.size();
@@ -174,6 +179,7 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch, const Contro
   RayBatch rays;
   rays.timed = raysTimed();
   rays.derivatives = false;  // light paths read their textures as point samples (no footprint)
+  rays.shadowPairs = integrator_->traits().shadowPairs;
   for (uint64_t first = ids.first; first < ids.end; first += stats_.pathsPerBatch, ++batch) {
     checkStop(control);
     const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(stats_.pathsPerBatch, ids.end - first));
@@ -248,6 +254,7 @@ Film Renderer::render(const Progress& progress, const Control& control) {
   RayBatch rays;
   rays.timed = raysTimed();
   rays.derivatives = raysKeepDerivatives();
+  rays.shadowPairs = integrator_->traits().shadowPairs;
   if (options_.costLayers) {
     pixelCost_ = std::make_unique<PixelCost>(window, scene_.width);
     rays.chargeDicings = true;

@@ -102,6 +102,10 @@ struct RenderOptions {
   // The per-pixel cost layers (--cost-layers, app/pixel_cost.h): dicings charged to pixels and
   // time per pixel. Off: no shares per ray, no per-path counts, nothing measured per batch.
   bool costLayers = false;
+  // Whether the outputs read the first-hit AOVs (the EXR's layers, a film's or checkpoint's
+  // sums): a render that writes only a PNG preview keeps no first hit per path
+  // (IntegratorSettings::firstHitAovs).
+  bool firstHitAovs = true;
 };
 
 inline constexpr int kCheckpointBatchesPerPass = 16;
@@ -231,6 +235,11 @@ class Renderer {
   bool raysTimed() const { return stats_.features.movingLeaves > 0; }
   // Whether they keep the surface derivatives at the hits: only when a material reads a texture.
   bool raysKeepDerivatives() const { return stats_.features.texturedMaterials > 0; }
+  // The RayBatch's bytes per ray slot: the record, and what these features and the method's
+  // slot layout keep (a shadow slot of a pair keeps only its occluder: IntegratorTraits::shadowPairs).
+  size_t rayBytesPerSlot() const {
+    return RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives(), integrator_->traits().shadowPairs);
+  }
   void traceLightPass(int s0, int s1, int pass, int& batch, const Control& control);
   struct Stopped {};  // thrown by the stop check, caught by render()
   void checkStop(const Control& control) const {

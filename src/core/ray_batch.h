@@ -1,6 +1,8 @@
-// The rays of one generation and their hits: four arrays (the Ray records, their shutter times
-// when anything moves, the RayHits, the surface derivatives at the hits when a material reads a
-// texture), indexed by ray slot. Data only: shading
+// The rays of one generation and their hits: the Ray records, their shutter times when anything
+// moves, the RayHits, the surface derivatives at the hits when a material reads a texture, indexed
+// by ray slot; or, in a batch of shadow pairs (`shadowPairs`: slot 2k any ray, slot 2k+1 shadow
+// rays only, the path tracer's layout), the hits and derivatives of the even slots alone and an
+// occluding leaf per odd slot (hitOf, occluded, occluderOf). Data only: shading
 // writes rays into a RayBatch and reads the hits back; src/rays traces it. Keeping the type
 // here lets both sides use it without knowing each other (docs/design.md, "The two seams": shading knows nothing of
 // how rays are sorted).
@@ -56,24 +58,36 @@ struct RayHit {
 // must be added there too.
 static_assert(sizeof(RayHit) == 28);
 
-// What to trace, one record per ray (48 bytes): the engine reads most of these fields together
+// The leaf ids a ray can name as its origin: [0, kMaxRayLeaves) (the Renderer refuses a scene with
+// more leaves), so the origin leaf, its level and the ray's kind share one word.
+inline constexpr uint32_t kRayLeafBits = 26;
+inline constexpr uint32_t kMaxRayLeaves = (uint32_t(1) << kRayLeafBits) - 1;
+static_assert(kMaxHitLevel < 16);  // an origin level fits 4 bits
+
+// What to trace, one record per ray (44 bytes): the engine reads most of these fields together
 // for every (ray, leaf) pair of the bottom level and the top level, in an order set by the sort, so
 // one record is one cache miss where separate arrays cost one each (bench/history/2026-11.md). A
-// ray spans t in [0, tmax] from org: it leaves a surface by originLeaf, not by an offset tmin.
+// ray spans t in [0, tmax] from org: it leaves a surface by its origin leaf, not by an offset tmin.
 struct Ray {
   Vec3 org, dir;                // dir need not be unit; t is in units of |dir|
   float tmax = 0;
   float coneWidth = 0;          // footprint width at the origin
   float coneSpread = 0;         // footprint growth per unit t (2 tan(half angle) * |dir|)
   uint32_t ignoreLeaf = kNoLeaf;  // a leaf this ray must not hit (a shadow ray's light)
-  // The leaf the ray leaves from and the level it was hit at: the ray sees that leaf at exactly
-  // that level, the same micro-grid it left, so a coarser footprint cannot make it hit its own
-  // patch again (kNoLeaf for camera rays).
-  uint32_t originLeaf = kNoLeaf;
-  uint8_t originLevel = 0;
-  RayKind kind = RayKind::Inactive;
+  // The leaf the ray leaves from (originLeaf(); kNoLeaf for camera rays) and the level it was hit
+  // at: the ray sees that leaf at exactly that level, the same micro-grid it left, so a coarser
+  // footprint cannot make it hit its own patch again. With the kind, one word: 4 bytes of the
+  // record's padding saved (bench/history/2026-11.md, "Compact ray slots").
+  uint32_t originLeafBits : kRayLeafBits = kMaxRayLeaves;  // kMaxRayLeaves: none
+  uint32_t originLevel : 4 = 0;
+  RayKind kind : 2 = RayKind::Inactive;
+  uint32_t originLeaf() const { return originLeafBits == kMaxRayLeaves ? kNoLeaf : uint32_t(originLeafBits); }
+  void setOrigin(uint32_t leaf, uint8_t level) {
+    originLeafBits = leaf == kNoLeaf ? kMaxRayLeaves : leaf;
+    originLevel = level;
+  }
 };
-static_assert(sizeof(Ray) == 48);
+static_assert(sizeof(Ray) == 44);
 
 // The surface's partial derivatives at a hit, world space per unit of the patch parameters: what
 // turns the ray's footprint into one in (u, v) for texture filtering (shading/footprint.h). The
@@ -89,11 +103,18 @@ struct RayBatch {
   // geometry at every time, so its batches leave the array empty and every ray is at time 0.
   std::vector<float> time;
   bool timed = true;                  // set before resize()
-  // What was found.
+  // What was found: hit[hitIndex(i)] for a slot that keeps a full hit (keepsFullHit), else the
+  // leaf that occludes shadow ray i in occluder[i / 2] (kNoLeaf: none). A shadow ray's result is
+  // its occluding leaf alone, so in a batch of shadow pairs (set before resize()) an odd slot,
+  // which may hold only shadow rays, keeps those 4 bytes instead of a 28-byte RayHit
+  // (bench/history/2026-11.md, "Compact ray slots"). Read slots through hitOf / occluded /
+  // occluderOf: they hold for both layouts.
   std::vector<RayHit> hit;
+  std::vector<uint32_t> occluder;
+  bool shadowPairs = false;
   // dP/du and dP/dv at each closest hit, only when `derivatives` (a scene with a textured
   // material; set before resize()): a scene without one pays neither the bytes nor the work.
-  // Meaningful only where hit[i] is a closest hit; shadow rays get none.
+  // Indexed like `hit`; meaningful only where the slot's hit is a closest hit; shadow rays get none.
   std::vector<HitDerivatives> dpd;
   bool derivatives = false;
   // Dicings charged to each ray (`--cost-layers`, app/pixel_cost.h), only when `chargeDicings`
@@ -116,34 +137,61 @@ struct RayBatch {
   void resize(size_t n) {
     ray.resize(n);
     time.resize(timed ? n : 0);
-    hit.resize(n);
-    dpd.resize(derivatives ? n : 0);
+    hit.resize(shadowPairs ? (n + 1) / 2 : n);
+    occluder.resize(shadowPairs ? n / 2 : 0);
+    dpd.resize(derivatives ? hit.size() : 0);
     dicingShare.resize(chargeDicings ? n : 0);
+  }
+  // Whether slot i keeps a full RayHit (every slot, or the even slots of shadow pairs); an odd
+  // slot of shadow pairs keeps an occluding leaf only and may hold only a shadow ray.
+  bool keepsFullHit(size_t i) const { return !shadowPairs || (i & 1) == 0; }
+  size_t hitIndex(size_t i) const { return shadowPairs ? i >> 1 : i; }
+  // Slot i's hit; i must keep a full hit.
+  RayHit& hitOf(size_t i) { return hit[hitIndex(i)]; }
+  const RayHit& hitOf(size_t i) const { return hit[hitIndex(i)]; }
+  // The leaf word of slot i's result: the hit's leaf, or an odd pair slot's occluder (engines
+  // read and write it atomically while a trace runs).
+  uint32_t& occluderOf(size_t i) { return keepsFullHit(i) ? hitOf(i).leaf : occluder[i >> 1]; }
+  // Shadow ray i found an occluder (a closest slot: it found a hit).
+  bool occluded(size_t i) const { return (keepsFullHit(i) ? hitOf(i).leaf : occluder[i >> 1]) != kNoLeaf; }
+  // Slot i's result reset to "nothing found".
+  void clearHit(size_t i) {
+    if (keepsFullHit(i)) {
+      hitOf(i) = RayHit{};
+      if (derivatives) dpd[hitIndex(i)] = HitDerivatives{};
+    } else {
+      occluder[i >> 1] = kNoLeaf;
+    }
   }
   // Adds `share` to ray i's dicings (thread-safe for distinct or equal i).
   void chargeDicing(size_t i, uint64_t share) {
     std::atomic_ref<uint64_t>(dicingShare[i]).fetch_add(share, std::memory_order_relaxed);
   }
-  // The derivatives at ray i's hit, or null when the batch keeps none.
-  const HitDerivatives* derivativesOf(size_t i) const { return derivatives ? &dpd[i] : nullptr; }
+  // The derivatives at ray i's hit (i keeps a full hit), or null when the batch keeps none.
+  const HitDerivatives* derivativesOf(size_t i) const { return derivatives ? &dpd[hitIndex(i)] : nullptr; }
+  HitDerivatives* derivativesOf(size_t i) { return derivatives ? &dpd[hitIndex(i)] : nullptr; }
   float timeOf(size_t i) const { return timed ? time[i] : 0.0f; }
   // Every argument explicit: a defaulted shutter time or origin leaf let a stale call compile
   // and trace at time 0, or re-hit the surface it leaves.
   void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread,
            uint32_t ignore, uint32_t fromLeaf, uint8_t fromLevel, float shutterTime) {
-    ray[i] = Ray{o, d, t1, width, spread, ignore, fromLeaf, fromLevel, k};
+    Ray& r = ray[i];
+    r.org = o; r.dir = d; r.tmax = t1; r.coneWidth = width; r.coneSpread = spread; r.ignoreLeaf = ignore;
+    r.setOrigin(fromLeaf, fromLevel);
+    r.kind = k;
     if (timed) time[i] = shutterTime;
-    hit[i] = RayHit{};
-    if (derivatives) dpd[i] = HitDerivatives{};
+    clearHit(i);
   }
   // A ray that leaves no surface and ignores no leaf, at shutter time 0 (tests, benchmarks).
   void setFromNowhere(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread) {
     set(i, k, o, d, t1, width, spread, kNoLeaf, kNoLeaf, 0, 0.0f);
   }
-  static constexpr size_t bytesPerRay(bool timed, bool derivatives = false) {
-    return sizeof(Ray) + (timed ? sizeof(float) : 0) + sizeof(RayHit) +
-           (derivatives ? sizeof(HitDerivatives) : 0);
+  // Per ray slot; with shadow pairs, per slot of a pair (half of the pair's, which is even).
+  static constexpr size_t bytesPerRay(bool timed, bool derivatives = false, bool shadowPairs = false) {
+    const size_t closest = sizeof(RayHit) + (derivatives ? sizeof(HitDerivatives) : 0);
+    return sizeof(Ray) + (timed ? sizeof(float) : 0) + (shadowPairs ? (closest + sizeof(uint32_t)) / 2 : closest);
   }
+  static_assert((sizeof(RayHit) + sizeof(uint32_t)) % 2 == 0 && sizeof(HitDerivatives) % 2 == 0);
 };
 
 }  // namespace rayes

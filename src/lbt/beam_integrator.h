@@ -77,7 +77,7 @@ class BeamIntegrator final : public Integrator {
                  CausticPaths causticPaths, float laterGatherProbability);
   ~BeamIntegrator() override;
 
-  IntegratorTraits traits() const override { return {.beamsUpFront = true}; }
+  IntegratorTraits traits() const override { return {.beamsUpFront = true, .shadowPairs = true}; }
   uint32_t raysPerPath() const override { return pt_->raysPerPath(); }
   size_t bytesPerPath() const override { return pt_->bytesPerPath(); }
   size_t leafTableBytes() const override { return pt_->leafTableBytes(); }

@@ -272,7 +272,7 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
       tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k != r.end(); ++k) {
           const uint32_t i = live[first + k];
-          scatter[i] = scatterAt(scene, corners[i], rays.hit[k], o.far, g);
+          scatter[i] = scatterAt(scene, corners[i], rays.hitOf(k), o.far, g);
         }
       });
       // A distant light's first corner rays start near the scatterers: their way back toward
@@ -291,7 +291,7 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
       for (size_t k = 0, b = 0; k < count; ++k) {
         const uint32_t i = live[first + k];
         if (!corners[i].fromAfar) continue;
-        if (rays.hit[b++].valid()) scatter[i].onAim = false;
+        if (rays.occluded(b++)) scatter[i].onAim = false;
       }
     }
     // Each live beam: its segment (after a scattering) and whether it goes on.

@@ -34,7 +34,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
                                              .causticLights = kAllLights,
                                              .laterGatherProbability = options.laterGatherProbability}) {}
 
-  IntegratorTraits traits() const override { return {.progressive = progressive_, .lightPasses = true}; }
+  IntegratorTraits traits() const override { return {.progressive = progressive_, .lightPasses = true, .shadowPairs = true}; }
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
     return std::max(pt_.bytesPerPath(), lightBatchBytesPerPath());

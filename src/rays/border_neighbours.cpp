@@ -105,7 +105,7 @@ void SortedEngine::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint
       query.skipBorders |= uint8_t(1u << e);
       continue;
     }
-    if (nb == kNoLeaf || nb == b.ray[i].originLeaf || nb == b.ray[i].ignoreLeaf) continue;
+    if (nb == kNoLeaf || nb == b.ray[i].originLeaf() || nb == b.ray[i].ignoreLeaf) continue;
     float entry;
     if (!crossesLeafBox(q, nb, entry)) continue;
     const int other = levelFor(b, i, nb, entry);  // as the neighbour's own runs compute it

@@ -36,10 +36,10 @@ void SortedEngine::trackBrickRun(RayBatch& b, const uint32_t* slots, size_t coun
       // transmittance); a closest ray searches up to the hit offered so far.
       float limit;
       if (b.ray[i].kind == RayKind::Shadow) {
-        if (std::atomic_ref<uint32_t>(b.hit[i].leaf).load(std::memory_order_relaxed) != kNoLeaf) continue;
+        if (std::atomic_ref<uint32_t>(b.occluderOf(i)).load(std::memory_order_relaxed) != kNoLeaf) continue;
         limit = b.ray[i].tmax;
       } else {
-        limit = searchLimit(b, i, std::atomic_ref<float>(b.hit[i].t).load(std::memory_order_relaxed));
+        limit = searchLimit(b, i, std::atomic_ref<float>(b.hitOf(i).t).load(std::memory_order_relaxed));
       }
       sc.rays.push_back(i);
       sc.limits.push_back(limit);

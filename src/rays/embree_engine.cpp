@@ -285,8 +285,9 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     uint64_t counted = 0, countedShadow = 0;
     for (size_t i = range.begin(); i != range.end(); ++i) {
       if (b.ray[i].kind == RayKind::Inactive) continue;
-      b.hit[i] = RayHit{};
-      if (b.derivatives) b.dpd[i] = HitDerivatives{};
+      if (!b.keepsFullHit(i) && b.ray[i].kind != RayKind::Shadow)
+        throw std::logic_error("RayBatch: a closest ray in a slot of shadow pairs that keeps no hit");
+      b.clearHit(i);
       ++counted;
       const bool isShadow = b.ray[i].kind == RayKind::Shadow;
       countedShadow += isShadow;
@@ -312,14 +313,14 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     for (unsigned k = 0; k < nc; ++k) {
       const RTCRayHit& rh = closest[k];
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-      closestHit(b, rh.ray.id, rh.hit.geomID, rh.ray.tfar, rh.hit.u, rh.hit.v, b.hit[rh.ray.id],
-                 b.derivatives ? &b.dpd[rh.ray.id] : nullptr);
+      closestHit(b, rh.ray.id, rh.hit.geomID, rh.ray.tfar, rh.hit.u, rh.hit.v, b.hitOf(rh.ray.id),
+                 b.derivativesOf(rh.ray.id));
     }
     for (unsigned k = 0; k < ns; ++k) {
       if (occl[k].tfar != -kInf) continue;
-      RayHit& h = b.hit[occl[k].id];
-      h.t = 0;
-      h.leaf = 0;
+      // Which leaf occludes is not known here (occluded() reads only that one does).
+      if (b.keepsFullHit(occl[k].id)) b.hitOf(occl[k].id).t = 0;
+      b.occluderOf(occl[k].id) = 0;
     }
     rays.fetch_add(counted, std::memory_order_relaxed);
     shadow.fetch_add(countedShadow, std::memory_order_relaxed);

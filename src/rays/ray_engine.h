@@ -7,9 +7,10 @@
 //   EmbreeEngine  (rays/embree_engine.h) the peer: every patch diced once up front into Embree
 //                                        grids, traced with Embree's stream API.
 //
-// Contract of trace(): every ray of the batch whose kind is not Inactive gets batch.hit filled
-// as documented in core/ray_batch.h: a closest ray its nearest hit in (0, tmax), a shadow ray
-// any hit (leaf != kNoLeaf: occluded); a ray never hits batch.ray[i].ignoreLeaf; (u, v) are the
+// Contract of trace(): every ray of the batch whose kind is not Inactive gets its result
+// filled as documented in core/ray_batch.h: a closest ray its nearest hit in (0, tmax)
+// (batch.hitOf), a shadow ray any occluder (batch.occluded; a slot of shadow pairs keeps the
+// leaf alone); a ray never hits batch.ray[i].ignoreLeaf; (u, v) are the
 // patch's parameters, level the dicing level the hit was found at, ng the micro-triangle's unit
 // normal, ns the unit normal blended from the diced vertex normals. Shading reads nothing else,
 // so the same scene shades the same way whichever engine found the hits. When batch.queries is

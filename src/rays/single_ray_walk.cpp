@@ -46,7 +46,9 @@ void SortedEngine::traceAlone(RayBatch& b, GenerationStats& stats, TraceTimes& t
 }
 
 void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const {
-  RayHit& best = b.hit[i];
+  // A shadow slot that keeps only its occluder (RayBatch::shadowPairs) walks with a local record.
+  RayHit walked;
+  RayHit& best = b.keepsFullHit(i) ? b.hitOf(i) : walked;
   float resumeEntry = -kInf;
   uint32_t resumeLeaf = 0;
   Candidate local[16];
@@ -71,6 +73,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
       if (b.ray[i].kind == RayKind::Shadow) {
         if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
+          b.occluderOf(i) = leaf;
           break;
         }
         continue;
@@ -79,7 +82,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
       if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query) &&
           nearerHit(keptDistance(h.t, entry), leaf, h.quad, best)) {
         best = hitRecord(h, leaf, level, entry);
-        if (b.derivatives) b.dpd[i] = keptDerivatives(h);
+        if (HitDerivatives* kept = b.derivativesOf(i)) *kept = keptDerivatives(h);
       }
     }
     if (got > 0) { resumeEntry = local[got - 1].entry; resumeLeaf = local[got - 1].leaf; }

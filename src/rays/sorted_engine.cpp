@@ -102,7 +102,7 @@ int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float
   int level;
   if (settings_.lod == LodRule::Fixed) {
     level = biasedLevel(settings_.maxLod, settings_.lodBias, settings_.maxLod);
-  } else if (leaf == b.ray[ray].originLeaf) {
+  } else if (leaf == b.ray[ray].originLeaf()) {
     level = std::min<int>(b.ray[ray].originLevel, settings_.maxLod);  // carries the bias already
   } else {
     const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread;
@@ -121,7 +121,6 @@ void SortedEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& ti
   resumeEntry_.assign(n, -kInf);
   resumeLeaf_.assign(n, 0);
   nextEntry_.assign(n, kInf);
-  count_.assign(n, 0);
   if (hitLock_.size() < n) hitLock_ = std::vector<std::atomic_flag>(n);  // all clear
   activeRays(batch, stats, active_);
   {
@@ -148,10 +147,10 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
   const bool shadow = b.ray[i].kind == RayKind::Shadow;
   float offered = kInf;
   if (shadow) {
-    const uint32_t occluder = std::atomic_ref<uint32_t>(b.hit[i].leaf).load(std::memory_order_relaxed);
+    const uint32_t occluder = std::atomic_ref<uint32_t>(b.occluderOf(i)).load(std::memory_order_relaxed);
     if (occluder < leaf) return;  // occluders all have t = 0: the smallest leaf wins
   } else {
-    offered = std::atomic_ref<float>(b.hit[i].t).load(std::memory_order_relaxed);
+    offered = std::atomic_ref<float>(b.hitOf(i).t).load(std::memory_order_relaxed);
     if (entry > offered) return;  // every hit here is kept at t >= entry
   }
   const int level = settings_.lod == LodRule::Density ? m : levelFor(b, i, leaf, entry);
@@ -162,11 +161,7 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, dice, query);
   if (shadow) {
-    if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
-      RayHit occluder;
-      occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
-      offerHit(b, i, occluder, nullptr);
-    }
+    if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) offerOccluder(b, i, leaf, level);
     return;
   }
   GridHit h;
@@ -184,16 +179,31 @@ void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h, const HitD
   std::atomic_flag& lock = hitLock_[i];
   while (lock.test_and_set(std::memory_order_acquire))
     while (lock.test(std::memory_order_relaxed)) spinPause();
-  if (nearerHit(h.t, h.leaf, h.quad, b.hit[i])) {
+  if (nearerHit(h.t, h.leaf, h.quad, b.hitOf(i))) {
     // t and leaf are read without the lock (intersectSlot), so they are stored atomically.
-    RayHit& dst = b.hit[i];
+    RayHit& dst = b.hitOf(i);
     dst.u = h.u; dst.v = h.v; dst.quad = h.quad; dst.ngCode = h.ngCode; dst.nsCode = h.nsCode; dst.level = h.level;
     dst.border = h.border;
-    if (b.derivatives) b.dpd[i] = d ? *d : HitDerivatives{};
+    if (HitDerivatives* kept = b.derivativesOf(i)) *kept = d ? *d : HitDerivatives{};
     std::atomic_ref<float>(dst.t).store(h.t, std::memory_order_relaxed);
     std::atomic_ref<uint32_t>(dst.leaf).store(h.leaf, std::memory_order_relaxed);
   }
   lock.clear(std::memory_order_release);
+}
+
+// A shadow ray's occluder: the smallest leaf wins (every occluder is at t = 0), as offerHit
+// would order it. A slot that keeps only the leaf (RayBatch::shadowPairs) takes it by a
+// compare-and-swap, without the lock.
+void SortedEngine::offerOccluder(RayBatch& b, uint32_t i, uint32_t leaf, int level) {
+  if (b.keepsFullHit(i)) {
+    RayHit occluder;
+    occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
+    offerHit(b, i, occluder, nullptr);
+    return;
+  }
+  std::atomic_ref<uint32_t> kept(b.occluderOf(i));
+  uint32_t now = kept.load(std::memory_order_relaxed);
+  while (leaf < now && !kept.compare_exchange_weak(now, leaf, std::memory_order_relaxed)) {}
 }
 
 // One iteration of the sorted pipeline per loop, in the five steps of the header comment.
@@ -228,16 +238,19 @@ void SortedEngine::collectCandidates(const RayBatch& b, size_t nNow, int N, Trac
     for (size_t a = r.begin(); a != r.end(); ++a) {
       const uint32_t i = active_[a];
       float next = kInf;
-      // The hit kept from earlier iterations bounds the search (no other thread writes it now).
-      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, b.hit[i].t),
-                                   resumeEntry_[i], resumeLeaf_[i], local, N, next, scratch);
+      // The hit kept from earlier iterations bounds the search (no other thread writes it now);
+      // a shadow ray searches to its tmax.
+      const float best = b.keepsFullHit(i) ? b.hitOf(i).t : kInf;
+      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best), resumeEntry_[i],
+                                   resumeLeaf_[i], local, N, next, scratch);
       const size_t base = a * size_t(N);
       for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
+      std::fill(cand_.leaf.begin() + ptrdiff_t(base + size_t(got)), cand_.leaf.begin() + ptrdiff_t(base + size_t(N)),
+                kNoLeaf);  // the slots past those got: no count is kept
       if (got > 0) {
         resumeEntry_[i] = local[got - 1].entry;
         resumeLeaf_[i] = local[got - 1].leaf;
       }
-      count_[i] = static_cast<uint16_t>(got);
       nextEntry_[i] = next;
     }
   });
@@ -251,7 +264,7 @@ size_t SortedEngine::sortCandidates(size_t nNow, int N, TraceTimes& times) {
   slotsPerRay_ = uint32_t(N);
   for (size_t a = 0; a < nNow; ++a) {
     const size_t base = a * size_t(N);
-    for (uint32_t j = 0; j < count_[active_[a]]; ++j)
+    for (size_t j = 0; j < size_t(N); ++j)
       if (cand_.leaf[base + j] != kNoLeaf) filled.push_back(static_cast<uint32_t>(base + j));
   }
   sort_.sort(cand_.leaf);
@@ -439,7 +452,7 @@ void SortedEngine::diceRun(RayBatch& b, DiceBuffer& dice, const uint32_t* slots,
   counters.dicings.fetch_add(1, std::memory_order_relaxed);
   counters.byLevel[size_t(m)].fetch_add(1, std::memory_order_relaxed);
   if (interval >= 0) counters.movingDicings.fetch_add(1, std::memory_order_relaxed);
-  if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.ray[rayOfSlot(s)].originLeaf == leaf; }))
+  if (std::all_of(slots, slots + count, [&](uint32_t s) { return b.ray[rayOfSlot(s)].originLeaf() == leaf; }))
     counters.originLeafDicings.fetch_add(1, std::memory_order_relaxed);
   if (b.chargeDicings) chargeRun(b, slots, count);
 }
@@ -480,10 +493,10 @@ uint64_t SortedEngine::keepUnfinishedRays(const RayBatch& b, size_t nActive, siz
     const uint32_t i = active_[a];
     if (a >= nNow) { active_[kept++] = i; continue; }
     const bool exhausted = !(nextEntry_[i] < kInf);
-    const bool done = b.ray[i].kind == RayKind::Shadow ? (b.hit[i].valid() || exhausted)
-                                                   : (exhausted || b.hit[i].t < nextEntry_[i]);
+    const bool done = b.ray[i].kind == RayKind::Shadow ? (b.occluded(i) || exhausted)
+                                                   : (exhausted || b.hitOf(i).t < nextEntry_[i]);
     if (done) {
-      borderHits += b.hit[i].border;
+      borderHits += b.keepsFullHit(i) && b.hitOf(i).border;
       continue;
     }
     active_[kept++] = i;
@@ -496,8 +509,9 @@ void SortedEngine::activeRays(RayBatch& batch, GenerationStats& stats, std::vect
   active.clear();
   for (uint32_t i = 0; i < batch.size(); ++i) {
     if (batch.ray[i].kind == RayKind::Inactive) continue;
-    batch.hit[i] = RayHit{};
-    if (batch.derivatives) batch.dpd[i] = HitDerivatives{};
+    if (!batch.keepsFullHit(i) && batch.ray[i].kind != RayKind::Shadow)
+      throw std::logic_error("RayBatch: a closest ray in a slot of shadow pairs that keeps no hit");
+    batch.clearHit(i);
     active.push_back(i);
     ++stats.rays;
     if (batch.ray[i].kind == RayKind::Shadow) ++stats.shadowRays;

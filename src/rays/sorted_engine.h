@@ -73,7 +73,7 @@ class SortedEngine : public RayEngine {
   // dropped after its rays are intersected.
   SortedEngine(const TopLevelBvh& top, const LeafSource& leaves, const TraceSettings& settings);
 
-  // Traces every ray of `batch` whose kind is not Inactive and fills batch.hit.
+  // Traces every ray of `batch` whose kind is not Inactive and fills its hits and occluders.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
   size_t bytesPerRay() const override { return bytesPerRaySlot(settings_.lod); }
   size_t fixedBytes() const override {
@@ -93,8 +93,8 @@ class SortedEngine : public RayEngine {
   // a static leaf) diced at `level` or finer (the coarser levels are exact subgrids). `patch` is the
   // leaf's patch as the source made it: a source that holds the grid past this call holds it too.
   using GridSource = std::function<const DiceBuffer&(uint32_t leaf, const PatchPtr& patch, int interval, int level)>;
-  // Traces ray i of `b` alone and fills b.hit[i]: its candidates front to back, each leaf at the
-  // ray's own level, the same hit as the sorted pipeline (a pure function of ray, scene, maxLod).
+  // Traces ray i of `b` alone and fills its result (hit or occluder): its candidates front to
+  // back, each leaf at the ray's own level, the same hit as the sorted pipeline (a pure function of ray, scene, maxLod).
   // Used by the debug mode (--trace-mode alone) and the CachingEngine (rays/caching_engine.h).
   // Defined, with traceAlone, in rays/single_ray_walk.cpp.
   void traceRayAlone(RayBatch& b, uint32_t i, const GridSource& gridFor, TraversalScratch& scratch) const;
@@ -120,12 +120,13 @@ class SortedEngine : public RayEngine {
     const bool mine = leaf < neighbour || (leaf == neighbour && e < across);
     return {mine ? leaf : neighbour, BorderBoundCache::Kind::SeamGap, mine ? e : across, k, 0};
   }
-  // Per ray: resume entry and leaf, next entry, candidate count, hit lock, and its place in the
-  // active list (compacted in place each iteration). The search limit is the ray's own hit.
+  // Per ray: resume entry and leaf, next entry, hit lock, and its place in the active list
+  // (compacted in place each iteration). The search limit is the ray's own hit; a ray's slots
+  // past the candidates it got are marked kNoLeaf rather than counted.
   static constexpr size_t bytesPerRayState() {
-    return 2 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(uint16_t) + sizeof(std::atomic_flag);
+    return 2 * sizeof(float) + 2 * sizeof(uint32_t) + sizeof(std::atomic_flag);
   }
-  static constexpr size_t kMaxCandidatesPerIteration = 65535;  // N per ray, so a count fits 16 bits
+  static constexpr size_t kMaxCandidatesPerIteration = 65535;  // N per ray at most
   // Everything one candidate slot costs: the slot itself and, when it is filled, its place in
   // the sort's order and its scratch.
   static constexpr size_t bytesPerCandidate() {
@@ -230,6 +231,7 @@ class SortedEngine : public RayEngine {
   void intersectRun(RayBatch& b, const DiceBuffer& dice, const uint32_t* slots, size_t count, uint32_t leaf,
                     const Patch& patch, int m, const uint32_t* entryBits, TraceTimes& times, DicingCounters& counters);
   void offerHit(RayBatch& b, uint32_t ray, const RayHit& h, const HitDerivatives* d);  // 4
+  void offerOccluder(RayBatch& b, uint32_t ray, uint32_t leaf, int level);         // 4, a shadow ray
   // A brick leaf's run (rays/brick_leaf_runs.cpp): the batch's MediumLeafTracker over all its
   // rays, each closest ray's collision offered as a hit on the leaf.
   void trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, TraceTimes& times);
@@ -273,7 +275,7 @@ class SortedEngine : public RayEngine {
   // Whether ray i also tests the border boxes of `leaf`: not on the leaf it leaves from (it
   // sees that grid exactly as it left it and starts on its outside; docs/architecture.md).
   bool closeBordersFor(const RayBatch& b, uint32_t i, uint32_t leaf) const {
-    return settings_.closeBorders && leaf != b.ray[i].originLeaf;
+    return settings_.closeBorders && leaf != b.ray[i].originLeaf();
   }
   // `entry`: leafEntry(b, ray of slot, leaf), the level's footprint distance and the hit's floor.
   void intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t slot, uint32_t leaf, const Patch& patch, int m,
@@ -297,7 +299,6 @@ class SortedEngine : public RayEngine {
   uint32_t slotsPerRay_ = 1;  // N of the current iteration
   std::vector<float> resumeEntry_, nextEntry_;
   std::vector<uint32_t> resumeLeaf_;
-  std::vector<uint16_t> count_;  // candidates got this iteration (N <= kMaxCandidatesPerIteration)
   std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
   tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_, wholeDice_;
   int residentLevel_ = 0;  // residentLevel()

@@ -197,9 +197,7 @@ float SortedEngine::intersectSubLeafSlot(RayBatch& b, const DiceBuffer& dice, ui
   const float limit = searchLimit(b, i, best);
   if (shadow) {
     if (!dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, subLevel, query)) return kInf;
-    RayHit occluder;
-    occluder.t = 0; occluder.leaf = leaf; occluder.level = static_cast<uint8_t>(level);
-    offerHit(b, i, occluder, nullptr);
+    offerOccluder(b, i, leaf, level);
     return -1.0f;  // done: no later sub-leaf can matter
   }
   GridHit h;

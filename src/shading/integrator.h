@@ -97,6 +97,10 @@ struct IntegratorTraits {
   // window only filters the splats, and a farm split divides the ids, not the pixels.
   bool lightPathIds = false;
   bool beamsUpFront = false;  // prepare() traces light beams (the progress line names the phase)
+  // Path k's slots are 2k (any ray) and 2k+1 (shadow rays only, or none), in every batch it
+  // starts: the Renderer makes its batches of shadow pairs (RayBatch::shadowPairs), whose odd
+  // slots keep an occluding leaf instead of a full hit.
+  bool shadowPairs = false;
 };
 
 class Integrator {

@@ -32,7 +32,7 @@ void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayB
 }
 
 bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, ShadeStats& stats, LightPathHit& out) {
-  const RayHit h = rays.hit[cs];
+  const RayHit h = rays.hitOf(cs);
   if (!h.valid()) return false;  // left the scene
   const Vec3 p = rays.ray[cs].org + rays.ray[cs].dir * h.t;
   const Vec3 wi = -normalize(rays.ray[cs].dir);

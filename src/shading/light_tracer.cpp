@@ -91,7 +91,7 @@ size_t LightTracer::shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) {
     size_t localEmitted = 0;
     for (uint32_t k = r.begin(); k != r.end(); ++k) {
       const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
-      if (rays.ray[ss].kind == RayKind::Shadow && !rays.hit[ss].valid()) {
+      if (rays.ray[ss].kind == RayKind::Shadow && !rays.occluded(ss)) {
         splats_[size_t(k) * splatsPerPath_ + pendingVertex_[k]] = pending_[k];
         stats.splats.fetch_add(1, std::memory_order_relaxed);
       }

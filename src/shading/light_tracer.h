@@ -40,7 +40,7 @@ class LightTracer final : public Integrator {
  public:
   explicit LightTracer(const ShadingScene& scene, CausticPaths causticPaths = CausticPaths::All);
 
-  IntegratorTraits traits() const override { return {.lightPathIds = true}; }
+  IntegratorTraits traits() const override { return {.lightPathIds = true, .shadowPairs = true}; }
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override;
   void start(uint64_t first, uint32_t count, RayBatch& rays) override;

@@ -36,6 +36,7 @@ PathTracer::PathIds PathTracer::idsOf(uint64_t id) const {
 
 void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatch& rays) const {
   paths.first = first;
+  paths.firstHits = scene_.integrator.firstHitAovs;
   paths.resize(count);
   rays.resize(kRaysPerPath * size_t(count));
   rays.queries = nullptr;  // shade() posts gathers
@@ -56,7 +57,7 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
       paths.alive[k] = 1;
-      paths.aov[k] = FirstHitRecord{};
+      if (paths.firstHits) paths.aov[k] = FirstHitRecord{};
       paths.bsdfPdf[k] = 0;
       paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
@@ -232,7 +233,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
 size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const {
   const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
   // 1. Last generation's shadow ray: its contribution counts if nothing was in the way.
-  if (rays.ray[ss].kind == RayKind::Shadow && !rays.hit[ss].valid()) {
+  if (rays.ray[ss].kind == RayKind::Shadow && !rays.occluded(ss)) {
     if (scene_.media.empty()) paths.radiance[k] += paths.shadowContribution[k];
     else paths.radiance[k] += paths.shadowContribution[k] * shadowTransmittance(bounce, k, paths, rays, stats);
   }
@@ -241,7 +242,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   rays.ray[cs].kind = RayKind::Inactive;
 
   // 2. What the ray found: the lights at infinity, or a surface and its emission.
-  const RayHit h = rays.hit[cs];
+  const RayHit h = rays.hitOf(cs);
   const Vec3 wo = -normalize(rays.ray[cs].dir);
   // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
   const uint8_t countedNow = countedLights(paths.causticRun[k] == kInCausticChain);
@@ -306,7 +307,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     const float widthScale = bounce == 0 ? cameraFootprintScale(scene_.samplesPerPixel) : 1.0f;
     v.bsdf = v.mat->bsdfAt(textureQueryAt(scene_, rays.ray[cs], h, rays.derivativesOf(cs), widthScale));
   }
-  if (bounce == 0) recordFirstHit(v, paths);
+  if (bounce == 0 && paths.firstHits) recordFirstHit(v, paths);
   if (int(bounce) >= scene_.integrator.maxDepth || !v.reflects) {
     paths.alive[k] = 0;
     return 0;
@@ -508,7 +509,7 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
   order_.clear();
   for (uint32_t k = 0; k < n; ++k) {
     const size_t cs = kRaysPerPath * size_t(k);
-    const RayHit& h = rays.hit[cs];
+    const RayHit& h = rays.hitOf(cs);
     const bool traced = rays.ray[cs].kind == RayKind::Closest;
     const bool shadowed = rays.ray[cs + 1].kind == RayKind::Shadow;
     if (!traced && !shadowed) continue;
@@ -546,7 +547,7 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
       for (uint64_t s = s0; s <= s1; ++s) {
         const uint64_t id = base + s * size;
         if (id < first || id >= end) continue;
-        PixelSample sample{paths.aov[id - first].unpack(), paths.radiance[id - first]};
+        PixelSample sample{paths.firstHits ? paths.aov[id - first].unpack() : FirstHit{}, paths.radiance[id - first]};
         if (!isFinite(sample.radiance)) {
           sample.radiance = {0, 0, 0};
           stats.nonFinite.fetch_add(1, std::memory_order_relaxed);

@@ -90,7 +90,10 @@ struct PathBatch {
   std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
   std::vector<uint8_t> alive;
   std::vector<uint8_t> causticRun;  // CausticRun: where the path stands in a diffuse -> caustic chain
+  // The first hits for the AOVs, only when `firstHits` (set before resize(); the render's
+  // outputs read them: IntegratorSettings::firstHitAovs).
   std::vector<FirstHitRecord> aov;
+  bool firstHits = true;
   // Caustic gathers as leaf queries: slot k is path k's, at most one per generation, posted
   // by shade() and added to the radiance by the next shade(), after trace() ran it.
   LeafQueries gatherQueries;
@@ -100,10 +103,12 @@ struct PathBatch {
   std::shared_ptr<BrickLeafTracker> media;
   size_t size() const { return alive.size(); }
   void resize(size_t n) {
-    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(n);
+    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(firstHits ? n : 0);
     bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n); causticRun.resize(n);
   }
-  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + sizeof(FirstHitRecord); }
+  static constexpr size_t bytesPerPath(bool firstHits) {
+    return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + (firstHits ? sizeof(FirstHitRecord) : 0);
+  }
   static constexpr size_t bytesPerGather() { return sizeof(PostedGather) + LeafQueries::bytesPerSlot(); }
 };
 
@@ -156,9 +161,11 @@ class PathTracer final : public Integrator {
 
 
   // The Integrator interface over the tracer's own PathBatch (`--method pt`).
+  IntegratorTraits traits() const override { return {.shadowPairs = true}; }
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
-    return PathBatch::bytesPerPath() + sizeof(SortItem) + (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0) +
+    return PathBatch::bytesPerPath(scene_.integrator.firstHitAovs) + sizeof(SortItem) +
+           (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0) +
            (scene_.media.empty() ? 0 : sizeof(uint64_t));  // BrickLeafTracker's product
   }
   size_t leafTableBytes() const override { return shadeRank_.capacity() * sizeof(uint32_t); }

@@ -22,6 +22,9 @@ struct IntegratorSettings {
   // binary estimate (true: 1 when no real collision, for comparing the two; scene key
   // integrator.transmittance).
   bool deltaTransmittance = false;
+  // Whether camera paths keep their first hit for the film's AOVs (28 bytes a path): set by the
+  // render from its outputs, not by the scene; without, the film gets no AOVs, coverage included.
+  bool firstHitAovs = true;
 };
 
 // What shading reads of a leaf at a hit, as a compiled scene stores it (one 16-byte row per

@@ -2,10 +2,12 @@
 // machine, never below 256 MiB nor above 2 GiB (peak memory under 4 GiB), 1 GiB when the
 // machine's size is unknown. What one path of it costs: the integrator's state and its ray
 // slots, each the RayBatch's record and hit and the engine's state and candidate slots.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include "app/renderer.h"
 #include "core/ray_batch.h"
 #include "rays/sorted_engine.h"
+#include "shading/path_tracer.h"
 #include "support/render_fixtures.h"
 
 namespace rayes {
@@ -27,18 +29,40 @@ TEST(DefaultRayBudget, IsTheRenderOptionsDefault) {
   EXPECT_LE(RenderOptions{}.rayMemoryBytes, 2 * kGiB);
 }
 
-// A pt path of a scene where nothing moves and no texture is read: 83 bytes of path state and
-// two slots of a 48-byte ray, a 28-byte hit, 19 bytes of trace state and one 12-byte candidate
-// slot; the candidate buffer holds one slot per ray slot of the batch.
+// A pt path of a scene where nothing moves and no texture is read: 83 bytes of path state (28
+// of them the first hit the AOVs need) and a pair of ray slots, each a 44-byte ray, half of the
+// pair's 28-byte hit and 4-byte occluder (the shadow slot keeps no hit), 17 bytes of trace state
+// and one 12-byte candidate slot; the candidate buffer holds one slot per ray slot of the batch.
 TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
   const Scene scene = testing::smallTeapot();
   const Renderer r(scene, RenderOptions{});
   ASSERT_EQ(r.stats().features.movingLeaves, 0u);  // no shutter time per slot
   ASSERT_EQ(r.stats().features.texturedMaterials, 0u);  // no surface derivatives per slot
-  EXPECT_EQ(sizeof(Ray) + sizeof(RayHit) + SortedEngine::bytesPerRaySlot(LodRule::PerRay), 48u + 28u + 19u + 12u);
-  EXPECT_EQ(r.stats().bytesPerPath, 83u + 2 * (48u + 28u + 19u + 12u));
+  EXPECT_EQ(sizeof(Ray), 44u);
+  EXPECT_EQ(RayBatch::bytesPerRay(false, false, true) + SortedEngine::bytesPerRaySlot(LodRule::PerRay),
+            44u + 16u + 17u + 12u);
+  EXPECT_EQ(r.stats().bytesPerPath, 83u + 2 * (44u + 16u + 17u + 12u));
   EXPECT_EQ(r.stats().candidateCapacity, r.stats().pathsPerBatch * 2);
-  EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * 2 * (19u + 12u));
+  EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * 2 * (17u + 12u));
+  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (83u + 2 * (44u + 16u)));
+}
+
+// bytes_per_ray (the stats' memory.bytes_per_ray, per ray slot) of pt with the AOVs the EXR
+// writes, and without them (a PNG preview alone: RenderOptions::firstHitAovs), pinned so that a
+// slot growing again is caught; the image's radiance is the same either way.
+TEST(RayBudget, APtPathWithoutAovsKeepsNoFirstHit) {
+  const Scene scene = testing::smallTeapot();
+  RenderOptions without;
+  without.firstHitAovs = false;
+  Renderer withAovs(scene, RenderOptions{}), noAovs(scene, without);
+  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 130u);
+  EXPECT_EQ(noAovs.stats().bytesPerPath / noAovs.stats().raysPerPath, 116u);
+  EXPECT_EQ(withAovs.stats().bytesPerPath - noAovs.stats().bytesPerPath, sizeof(FirstHitRecord));
+  const Film a = withAovs.render(), b = noAovs.render();
+  EXPECT_EQ(a.sums().rgb, b.sums().rgb);
+  EXPECT_EQ(a.sums().count, b.sums().count);
+  EXPECT_GT(*std::max_element(a.sums().hits.begin(), a.sums().hits.end()), 0u);
+  EXPECT_EQ(*std::max_element(b.sums().hits.begin(), b.sums().hits.end()), 0u);  // no AOV sums kept
 }
 
 // The density rule's levels count the rays of a leaf's run, which depend on the candidates per

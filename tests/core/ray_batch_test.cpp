@@ -113,5 +113,77 @@ TEST(RayBatch, AnUntimedBatchStoresNoTimeAndReadsTimeZero) {
   EXPECT_EQ(RayBatch::bytesPerRay(true) - RayBatch::bytesPerRay(false), sizeof(float));
 }
 
+// Shadow pairs: slot 2k keeps a full hit (and its derivatives), slot 2k+1 only the leaf that
+// occludes its shadow ray, so a pair costs one 28-byte hit and 4 bytes instead of two hits.
+TEST(RayBatch, ShadowPairsKeepAFullHitInEvenSlotsAndAnOccluderLeafInOddSlots) {
+  RayBatch b;
+  b.shadowPairs = true;
+  b.derivatives = true;
+  b.resize(6);
+  EXPECT_EQ(b.hit.size(), 3u);
+  EXPECT_EQ(b.occluder.size(), 3u);
+  EXPECT_EQ(b.dpd.size(), 3u);
+  b.set(2, RayKind::Closest, {0, 0, 0}, {0, 0, 1}, kInf, 0, 0, kNoLeaf, kNoLeaf, 0, 0.0f);
+  b.set(3, RayKind::Shadow, {0, 0, 0}, {1, 0, 0}, 2.0f, 0, 0, kNoLeaf, kNoLeaf, 0, 0.0f);
+  EXPECT_TRUE(b.keepsFullHit(2));
+  EXPECT_FALSE(b.keepsFullHit(3));
+  b.hitOf(2).leaf = 7;
+  b.hitOf(2).t = 1.5f;
+  b.derivativesOf(2)->dpdu = {1, 2, 3};
+  b.occluderOf(3) = 9;
+  EXPECT_EQ(b.hit[1].leaf, 7u);  // slot 2's hit is the pair's
+  EXPECT_EQ(b.dpd[1].dpdu, (Vec3{1, 2, 3}));
+  EXPECT_EQ(b.occluder[1], 9u);
+  EXPECT_TRUE(b.occluded(2));
+  EXPECT_TRUE(b.occluded(3));
+  b.clearHit(1);  // a slot's result means something once set, cleared or traced
+  EXPECT_FALSE(b.occluded(1));
+  EXPECT_EQ(b.occluderOf(2), 7u);  // a full slot's leaf word is its hit's
+  b.clearHit(3);
+  EXPECT_FALSE(b.occluded(3));
+  EXPECT_TRUE(b.occluded(2));
+  b.clearHit(2);
+  EXPECT_FALSE(b.occluded(2));
+  EXPECT_EQ(b.dpd[1].dpdu, (Vec3{0, 0, 0}));
+  // An odd slot count: the last slot is even and keeps a full hit.
+  b.resize(5);
+  EXPECT_EQ(b.hit.size(), 3u);
+  EXPECT_EQ(b.occluder.size(), 2u);
+}
+
+// What a slot costs: the 44-byte ray and, per slot of a pair, half of one 28-byte hit and one
+// 4-byte occluder (half of the 24-byte derivatives too, when kept); a full slot its own hit.
+TEST(RayBatch, AShadowPairCostsOneHitAndOneOccluderLeaf) {
+  EXPECT_EQ(RayBatch::bytesPerRay(false, false, false), 44u + 28u);
+  EXPECT_EQ(RayBatch::bytesPerRay(false, false, true), 44u + (28u + 4u) / 2);
+  EXPECT_EQ(RayBatch::bytesPerRay(false, true, true), 44u + (28u + 24u + 4u) / 2);
+  EXPECT_EQ(RayBatch::bytesPerRay(true, false, true) - RayBatch::bytesPerRay(false, false, true), sizeof(float));
+}
+
+// The origin leaf, its level and the kind share one word of the 44-byte record: each keeps its
+// extremes (the last leaf id a ray can name, the finest level, every kind) beside the others.
+TEST(Ray, KeepsItsOriginLeafLevelAndKindInOneWord) {
+  EXPECT_EQ(sizeof(Ray), 44u);
+  RayBatch b;
+  b.resize(1);
+  const uint32_t lastLeaf = kMaxRayLeaves - 1;
+  for (RayKind k : {RayKind::Inactive, RayKind::Closest, RayKind::Shadow}) {
+    b.set(0, k, {0, 0, 0}, {0, 0, 1}, kInf, 0, 0, kNoLeaf, lastLeaf, uint8_t(kMaxHitLevel), 0.0f);
+    EXPECT_EQ(b.ray[0].originLeaf(), lastLeaf);
+    EXPECT_EQ(b.ray[0].originLevel, uint32_t(kMaxHitLevel));
+    EXPECT_EQ(b.ray[0].kind, k);
+    b.set(0, k, {0, 0, 0}, {0, 0, 1}, kInf, 0, 0, kNoLeaf, kNoLeaf, 0, 0.0f);
+    EXPECT_EQ(b.ray[0].originLeaf(), kNoLeaf);
+    EXPECT_EQ(b.ray[0].originLevel, 0u);
+    EXPECT_EQ(b.ray[0].kind, k);
+    b.set(0, k, {0, 0, 0}, {0, 0, 1}, kInf, 0, 0, kNoLeaf, 0, 1, 0.0f);
+    EXPECT_EQ(b.ray[0].originLeaf(), 0u);
+    EXPECT_EQ(b.ray[0].originLevel, 1u);
+    EXPECT_EQ(b.ray[0].kind, k);
+  }
+  EXPECT_EQ(Ray{}.originLeaf(), kNoLeaf);
+  EXPECT_EQ(Ray{}.kind, RayKind::Inactive);
+}
+
 }  // namespace
 }  // namespace rayes

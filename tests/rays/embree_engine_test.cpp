@@ -142,6 +142,37 @@ TEST(EmbreeEngine, ShadowRaysAreOccludedLikeTheRayesTracer) {
   EXPECT_LT(occluded, 18000);
 }
 
+// In a batch of shadow pairs (RayBatch::shadowPairs) the odd slots keep an occluder only: the
+// closest hits of the even slots and the shadow rays' occlusion are those of a full batch.
+TEST(EmbreeEngine, ShadowPairsKeepTheSameHitsAndOcclusion) {
+  const World w(false);
+  constexpr int kPaths = 5000;
+  const RayBatch closest = randomRays(kPaths, RayKind::Closest, 5), shadow = randomRays(kPaths, RayKind::Shadow, 6);
+  RayBatch full, pairs;
+  pairs.shadowPairs = true;
+  for (RayBatch* b : {&full, &pairs}) {
+    b->resize(2 * size_t(kPaths));
+    for (size_t k = 0; k < size_t(kPaths); ++k) {
+      b->ray[2 * k] = closest.ray[k];
+      b->ray[2 * k + 1] = shadow.ray[k];
+    }
+    traceEmbree(w, *b);
+  }
+  int occluded = 0;
+  for (size_t i = 0; i < full.size(); ++i) {
+    ASSERT_EQ(pairs.occluded(i), full.hit[i].valid()) << "slot " << i;
+    if (i % 2 == 1) {
+      occluded += pairs.occluded(i);
+      continue;
+    }
+    ASSERT_EQ(pairs.hitOf(i).leaf, full.hit[i].leaf) << "slot " << i;
+    ASSERT_EQ(pairs.hitOf(i).t, full.hit[i].t) << "slot " << i;
+    ASSERT_EQ(pairs.hitOf(i).u, full.hit[i].u) << "slot " << i;
+  }
+  EXPECT_GT(occluded, 500);
+  EXPECT_LT(occluded, 4500);
+}
+
 TEST(EmbreeEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
   const World w(false);
   RayBatch b;

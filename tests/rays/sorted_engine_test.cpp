@@ -5,6 +5,7 @@
 // box; shadow rays are occluded exactly when some leaf has a hit before tmax.
 #include <limits>
 #include <map>
+#include <stdexcept>
 #include <tuple>
 #include <gtest/gtest.h>
 #include "core/rng.h"
@@ -312,6 +313,64 @@ TEST(SortedEngine, ShadowRaysAreOccludedExactlyWhenSomethingIsInTheWay) {
   EXPECT_GT(occluded, 200);
   EXPECT_LT(occluded, 1900);
   EXPECT_EQ(stats.shadowRays, 2000u);
+}
+
+// Closest rays in the even slots and shadow rays in the odd ones (the path tracer's layout), in a
+// batch of shadow pairs or with a full hit per slot.
+RayBatch pairedRays(int n, bool shadowPairs) {
+  const RayBatch closest = randomRays(n, false), shadow = randomRays(n, true);
+  RayBatch b;
+  b.shadowPairs = shadowPairs;
+  b.resize(2 * size_t(n));
+  for (int k = 0; k < n; ++k) {
+    b.ray[2 * size_t(k)] = closest.ray[size_t(k)];
+    b.ray[2 * size_t(k) + 1] = shadow.ray[size_t(k)];
+  }
+  return b;
+}
+
+// A shadow slot of a pair keeps only its occluding leaf (RayBatch::shadowPairs): every walk of
+// the engine finds the same closest hits and the same occluders (the smallest leaf, as the full
+// record orders them) as with a full hit per slot.
+TEST(SortedEngine, ShadowPairsKeepTheSameHitsAndOneOccluderLeafPerShadowSlot) {
+  World w;
+  constexpr int kPaths = 1500;
+  struct Walk { size_t capacity; bool sorted; int perRay; };
+  for (const Walk walk : {Walk{1 << 16, true, 100}, Walk{700, true, 1}, Walk{1, false, 100}}) {
+    RayBatch full = pairedRays(kPaths, false), pairs = pairedRays(kPaths, true);
+    ASSERT_EQ(pairs.hit.size(), size_t(kPaths));
+    ASSERT_EQ(pairs.occluder.size(), size_t(kPaths));
+    traceAll(w, full, walk.capacity, walk.sorted, walk.perRay);
+    traceAll(w, pairs, walk.capacity, walk.sorted, walk.perRay);
+    int occluded = 0, hits = 0;
+    for (size_t i = 0; i < full.size(); ++i) {
+      ASSERT_EQ(pairs.occluded(i), full.hit[i].valid()) << "slot " << i << ", capacity " << walk.capacity;
+      ASSERT_EQ(pairs.occluderOf(i), full.hit[i].leaf) << "slot " << i << ", capacity " << walk.capacity;
+      if (i % 2 == 1) {
+        EXPECT_FALSE(pairs.keepsFullHit(i));
+        occluded += pairs.occluded(i);
+        continue;
+      }
+      const RayHit &a = full.hit[i], &p = pairs.hitOf(i);
+      hits += a.valid();
+      ASSERT_EQ(p.t, a.t) << "slot " << i;
+      ASSERT_EQ(p.quad, a.quad) << "slot " << i;
+      ASSERT_EQ(p.u, a.u) << "slot " << i;
+      ASSERT_EQ(p.v, a.v) << "slot " << i;
+      ASSERT_EQ(p.nsCode, a.nsCode) << "slot " << i;
+      ASSERT_EQ(p.level, a.level) << "slot " << i;
+    }
+    EXPECT_GT(hits, 750);
+    EXPECT_GT(occluded, 150);
+    EXPECT_LT(occluded, 1425);
+  }
+}
+
+TEST(SortedEngine, AClosestRayInAShadowSlotOfAPairIsRefused) {
+  World w;
+  RayBatch b = pairedRays(4, true);
+  b.ray[3] = b.ray[2];  // a closest ray where only a shadow ray's occluder is kept
+  EXPECT_THROW(traceAll(w, b, 1 << 10, true), std::logic_error);
 }
 
 TEST(SortedEngine, IgnoredLeafIsNeverHitAndInactiveSlotsAreSkipped) {
