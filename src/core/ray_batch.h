@@ -138,7 +138,7 @@ struct RayBatch {
     ray.resize(n);
     time.resize(timed ? n : 0);
     hit.resize(shadowPairs ? (n + 1) / 2 : n);
-    occluder.resize(shadowPairs ? n / 2 : 0);
+    occluder.resize(shadowPairs ? n / 2 : 0, kNoLeaf);  // no occluder yet, also in slots a resize adds
     dpd.resize(derivatives ? hit.size() : 0);
     dicingShare.resize(chargeDicings ? n : 0);
   }

@@ -149,6 +149,9 @@ TEST(RayBatch, ShadowPairsKeepAFullHitInEvenSlotsAndAnOccluderLeafInOddSlots) {
   b.resize(5);
   EXPECT_EQ(b.hit.size(), 3u);
   EXPECT_EQ(b.occluder.size(), 2u);
+  b.resize(8);
+  EXPECT_FALSE(b.occluded(5));
+  EXPECT_FALSE(b.occluded(7)) << "a shadow slot a resize adds has no occluder";
 }
 
 // What a slot costs: the 44-byte ray and, per slot of a pair, half of one 28-byte hit and one
