@@ -116,11 +116,15 @@ TEST(ForestRender, MemoryGrowsOnlyWithTheSceneDescription) {
   EXPECT_LE(a.diceBuffers, 2 * oneBuffer);
   EXPECT_LE(b.diceBuffers, 2 * oneBuffer);
   // The border bounds kept across dicings: one table of SortedEngine::kBorderBoundsPerLeaf entries per
-  // leaf (a power of two), never more than TraceSettings::borderBoundEntries.
+  // leaf (a power of two), never more than TraceSettings::borderBoundEntries, and the displaced
+  // seams' gaps (the bark's rings are displaced), kSeamGapsPerLeaf entries per leaf, never more
+  // than 1/kSeamGapShare of that.
   for (const MemoryByOwner* m : {&a, &b}) {
-    const size_t perLeaf = m->leaves * SortedEngine::kBorderBoundsPerLeaf;
-    const size_t entries = std::bit_ceil(std::min(TraceSettings{}.borderBoundEntries, perLeaf));
-    EXPECT_EQ(m->borderBounds, entries * BorderBoundCache::entryBytes()) << m->leaves << " leaves";
+    const size_t cap = TraceSettings{}.borderBoundEntries;
+    const size_t entries = std::bit_ceil(std::min(cap, m->leaves * SortedEngine::kBorderBoundsPerLeaf));
+    const size_t seamGaps =
+        std::bit_ceil(std::min(cap / SortedEngine::kSeamGapShare, m->leaves * SortedEngine::kSeamGapsPerLeaf));
+    EXPECT_EQ(m->borderBounds, (entries + seamGaps) * BorderBoundCache::entryBytes()) << m->leaves << " leaves";
   }
   EXPECT_GT(b.borderBounds, a.borderBounds);
   for (const MemoryByOwner* m : {&a, &b}) {
