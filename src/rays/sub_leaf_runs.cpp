@@ -86,15 +86,25 @@ void SortedEngine::planSplitRun(const RayBatch& b, const uint32_t* slots, size_t
   if (p.fine.empty()) return;
   const SubLeafReach reach(*p.patch);
   const uint32_t n = 1u << p.depth;
+  // The finest level any fine ray asks: a sub-leaf one of those rays reaches needs no more, so
+  // its search stops there. Without the stop, the plan tested every fine ray against every
+  // sub-leaf, in one thread per run: subdiv-creature's close runs made the render 25 % slower
+  // in wall time than with nothing split (bench/history/2026-11.md, "the split run's plan").
+  int finest = -1;
+  for (const uint32_t k : p.fine) finest = std::max(finest, int(p.level[k]) - p.depth);
   for (uint32_t y = 0; y < n; ++y)
     for (uint32_t x = 0; x < n; ++x) {
       auto sub = std::make_shared<const SubPatch>(p.patch, p.depth, x, y);
+      const Box3 box = sub->bounds();
       int level = -1;
       for (const uint32_t k : p.fine) {
         const uint32_t i = rayOfSlot(slots[k]);
         // levelFor > resident >= depth (residentLevelFor): each level on a sub-leaf is >= 0.
-        if (reach.crosses(b.ray[i].org, b.ray[i].dir, sub->bounds(), searchLimit(b, i, kInf)))
-          level = std::max(level, int(p.level[k]) - p.depth);
+        const int needs = int(p.level[k]) - p.depth;
+        if (needs > level && reach.crosses(b.ray[i].org, b.ray[i].dir, box, searchLimit(b, i, kInf))) {
+          level = needs;
+          if (level == finest) break;
+        }
       }
       if (level >= 0) p.subs.push_back({std::move(sub), level, nullptr});
     }
