@@ -87,9 +87,9 @@ void SortedEngine::planSplitRun(const RayBatch& b, const uint32_t* slots, size_t
   const SubLeafReach reach(*p.patch);
   const uint32_t n = 1u << p.depth;
   // The finest level any fine ray asks: a sub-leaf one of those rays reaches needs no more, so
-  // its search stops there. Without the stop, the plan tested every fine ray against every
-  // sub-leaf, in one thread per run: subdiv-creature's close runs made the render 25 % slower
-  // in wall time than with nothing split (bench/history/2026-11.md, "the split run's plan").
+  // its search stops there. Without the stop the plan tests every fine ray against every
+  // sub-leaf, in one thread per run, outside every stage's timer (bench/history/2026-11.md,
+  // "the split run's plan").
   int finest = -1;
   for (const uint32_t k : p.fine) finest = std::max(finest, int(p.level[k]) - p.depth);
   for (uint32_t y = 0; y < n; ++y)
