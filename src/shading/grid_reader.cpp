@@ -102,16 +102,15 @@ float GridReader::sample(Vec3 p) {
   const BrickCoord& o = grid_.coord(current_.brick);
   const int32_t lx = x - 8 * o.x, ly = y - 8 * o.y, lz = z - 8 * o.z;
   float c[2][2][2];
-  if (lx >= 0 && ly >= 0 && lz >= 0 && lx < 7 && ly < 7 && lz < 7) {
-    // All eight inside the brick (the common case): no table lookups. A constant brick's
-    // interpolation is its value exactly (a + (a − a)·t = a).
-    if (!current_.voxels) return current_.constant;
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j)
-        for (int k = 0; k < 2; ++k) c[i][j][k] = current_.at(lx + i, ly + j, lz + k);
-  } else if (current_.slot && lx >= -1 && ly >= -1 && lz >= -1 && lx <= 7 && ly <= 7 && lz <= 7) {
-    // Within the padded slot: its apron, filled from the neighbours the first time it is read.
+  const bool interior = lx >= 0 && ly >= 0 && lz >= 0 && lx < 7 && ly < 7 && lz < 7;
+  // All eight inside the brick (the common case): no table lookups. A constant brick's
+  // interpolation is its value exactly (a + (a − a)·t = a).
+  if (interior && !current_.voxels) return current_.constant;
+  // Or within the padded slot: its apron, filled from the neighbours the first time it is read.
+  const bool padded = !interior && current_.slot && lx >= -1 && ly >= -1 && lz >= -1 && lx <= 7 && ly <= 7 && lz <= 7;
+  if (padded)
     if (const uint32_t need = regionsRead(lx, ly, lz); need & ~current_.apron) fillApron(need);
+  if (interior || padded) {
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         for (int k = 0; k < 2; ++k) c[i][j][k] = current_.at(lx + i, ly + j, lz + k);
