@@ -1,10 +1,10 @@
 // An image file as the scene's textures read it, on arbitrary bytes: OpenImageIO's EXR reader
-// and the conversion to a tiled MIP-mapped file (texture/texture_file.h), into a folder of this
+// and the conversion to a tiled MIP-mapped file (texture/oiio/texture_file.h), into a folder of this
 // process that is emptied after every input.
 #include <unistd.h>
 #include "core/error.h"
 #include "fuzz/fuzz_input.h"
-#include "texture/texture_file.h"
+#include "texture/oiio/texture_file.h"
 
 // Under libFuzzer's -malloc_limit_mb=2048 an allocation beyond 2 GB is a finding: a header that
 // claims more pixels than that is refused by the conversion's memory check instead.

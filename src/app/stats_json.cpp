@@ -222,7 +222,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
   if (s.method.section != "beams" && !skipped.contains("beams"))
     skipped["beams"] = "--method " + options.method.name + " traces no beams";
   if (f.volumes == 0) {
-    skipped["volumes"] = "no volume in the scene: OpenVDB not initialised, no tracking";
+    skipped["volumes"] = "no volume in the scene: OpenVDB not loaded, no tracking";
   } else {
     j["volumes"] = {{"volumes", f.volumes},
                     {"bricks", f.volumeBricks},
@@ -266,7 +266,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
                      {"texture_memory_bytes", t.memoryLimitBytes},
                      {"io_time_s", t.ioSeconds}};
   } else {
-    skipped["textures"] = "no image texture, environment map or height map: no texture cache";
+    skipped["textures"] = "no image texture, environment map or height map: no texture cache, OpenImageIO not loaded";
   }
   if (s.costLayers) {
     j["cost_layers"] = {{"image", ""},

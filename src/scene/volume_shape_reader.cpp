@@ -10,64 +10,32 @@
 // load every leaf is decoded once, in parallel, for its largest voxel (the majorants) and to
 // refuse bad values before anything renders; while rendering, only the cache's misses read.
 //
-// The only file that includes OpenVDB: a scene without a volume never initialises it.
+// OpenVDB itself is read through scene/vdb_grid.h, in a module loaded at the first volume: a
+// scene without a volume never loads it.
 #include <algorithm>
 #include <chrono>
 #include <limits>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
-#include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
 #include "core/memory.h"
 #include "core/timer.h"
 #include "scene/scene_sections.h"
 #include "scene/shape_kinds.h"
+#include "scene/vdb_grid.h"
 
 namespace rayes {
 namespace {
 
-std::string coordText(const openvdb::Coord& c) {
-  return "(" + std::to_string(c.x()) + ", " + std::to_string(c.y()) + ", " + std::to_string(c.z()) + ")";
+std::string coordText(const VoxelCoord& c) {
+  return "(" + std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " + std::to_string(c[2]) + ")";
 }
 
-// The grid's index-to-world map as our Transform (OpenVDB multiplies row vectors: world = index · M).
-bool linearIndexToWorld(const openvdb::GridBase& grid, TransformD& out) {
-  const openvdb::math::Transform& t = grid.transform();
-  if (!t.isLinear()) return false;
-  const openvdb::math::Mat4d m = t.baseMap()->getAffineMap()->getMat4();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) out.m[i][j] = m(j, i);
-    out.m[i][3] = m(3, i);
-  }
-  return true;
+// The voxel at offset v of the leaf at `origin` (an OpenVDB leaf is x-major: v = x·64 + y·8 + z).
+VoxelCoord voxelOf(const VoxelCoord& origin, int32_t v) {
+  return {origin[0] + (v >> 6), origin[1] + ((v >> 3) & 7), origin[2] + (v & 7)};
 }
-
-using FloatLeaf = openvdb::FloatTree::LeafNodeType;
-
-// The stored bricks of one grid: its leaves, out of core, in leaf order.
-class VdbBrickSource final : public BrickSource {
- public:
-  explicit VdbBrickSource(openvdb::FloatGrid::Ptr grid) : grid_(std::move(grid)) {
-    leaves_.reserve(grid_->tree().leafCount());
-    for (auto leaf = grid_->tree().cbeginLeaf(); leaf; ++leaf) leaves_.push_back(leaf.getLeaf());
-    residentBytes_ = grid_->memUsage() + leaves_.capacity() * sizeof(const FloatLeaf*);
-  }
-  size_t leaves() const { return leaves_.size(); }
-  const FloatLeaf& leaf(uint32_t i) const { return *leaves_[i]; }
-  void read(uint32_t stored, float* voxels) const override {
-    const FloatLeaf::Buffer copy(leaves_[stored]->buffer());  // out of core: the copy loads, the tree does not
-    const float* v = copy.data();
-    std::copy(v, v + FloatLeaf::SIZE, voxels);
-  }
-  uint64_t residentBytes() const override { return residentBytes_; }
-
- private:
-  openvdb::FloatGrid::Ptr grid_;
-  std::vector<const FloatLeaf*> leaves_;
-  uint64_t residentBytes_ = 0;
-};
 
 }  // namespace
 
@@ -97,39 +65,25 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
 
   const std::string named = "'" + path.string() + "', grid '" + gridName + "'";
   const std::string at = p + "/file";
-  openvdb::initialize();  // thread-safe and idempotent; here, so a scene without volumes never calls it
   // A float grid of the file by name, with delayed loading; `role` says what it is for.
   auto readGrid = [&](const std::string& name, const std::string& role) {
     const std::string gridNamed = "'" + path.string() + "', grid '" + name + "'";
-    openvdb::FloatGrid::Ptr g;
-    try {
-      openvdb::io::File file(path.string());
-      // Mapped in place: OpenVDB would otherwise copy a file below 500 MB to a temporary one first
-      // (a second copy of the whole grid on disk, or in memory on a tmpfs).
-      file.setCopyMaxBytes(0);
-      file.open(/*delayLoad=*/true);  // leaf buffers are read when a leaf is first touched
-      if (!file.hasGrid(name)) {
-        std::string names;
-        for (auto it = file.beginName(); it != file.endName(); ++it) names += (names.empty() ? "" : ", ") + *it;
-        r.fail(at, "'" + path.string() + "' has no grid named '" + name + "' (it has: " +
-                       (names.empty() ? "none" : names) + ")");
-      }
-      const openvdb::GridBase::Ptr base = file.readGrid(name);
-      g = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-      if (!g) r.fail(at, gridNamed + " holds " + base->valueType() + " values; a " + role + " grid holds float");
-      file.close();
-    } catch (const InputError&) {
-      throw;
-    } catch (const std::exception& e) {  // openvdb::Exception and std::bad_alloc alike: the file is unreadable
-      r.fail(at, "cannot read " + gridNamed + ": " + e.what());
+    VdbGridRead read = readVdbGrid(path, name);
+    if (!read.error.empty()) r.fail(at, "cannot read " + gridNamed + ": " + read.error);
+    if (!read.found) {
+      std::string names;
+      for (const std::string& n : read.names) names += (names.empty() ? "" : ", ") + n;
+      r.fail(at, "'" + path.string() + "' has no grid named '" + name + "' (it has: " + (names.empty() ? "none" : names) + ")");
     }
-    if (g->background() != 0.0f)
-      r.fail(at, gridNamed + " has background " + std::to_string(g->background()) + "; a " + role + " grid's must be 0");
-    return g;
+    if (!read.grid) r.fail(at, gridNamed + " holds " + read.valueType + " values; a " + role + " grid holds float");
+    if (read.grid->background() != 0.0f)
+      r.fail(at, gridNamed + " has background " + std::to_string(read.grid->background()) + "; a " + role +
+                     " grid's must be 0");
+    return std::shared_ptr<const VdbGrid>(std::move(read.grid));
   };
-  const openvdb::FloatGrid::Ptr grid = readGrid(gridName, "density");
+  const std::shared_ptr<const VdbGrid> grid = readGrid(gridName, "density");
   TransformD gridToWorld;
-  if (!linearIndexToWorld(*grid, gridToWorld)) r.fail(at, named + " has a non-linear (frustum) transform");
+  if (!grid->indexToWorld(gridToWorld)) r.fail(at, named + " has a non-linear (frustum) transform");
   // Index -> world -> render frame, composed in double and rounded once (RenderFrame); the
   // medium's "world" is the render frame.
   const Transform indexToWorld(scene.frame.fromWorld() * xf * gridToWorld);
@@ -140,13 +94,12 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
     float voxelEdge = std::numeric_limits<float>::infinity();
     for (int j = 0; j < 3; ++j)
       voxelEdge = std::min(voxelEdge, length(Vec3{indexToWorld.m[0][j], indexToWorld.m[1][j], indexToWorld.m[2][j]}));
-    const openvdb::CoordBBox active = grid->evalActiveVoxelBoundingBox();
+    VoxelCoord lo, hi;
     Box3 world;
-    if (!active.empty())
+    if (grid->activeBox(lo, hi))
       for (int corner = 0; corner < 8; ++corner)
-        world.extend(indexToWorld.point({float(corner & 1 ? active.max().x() + 1 : active.min().x() - 1),
-                                         float(corner & 2 ? active.max().y() + 1 : active.min().y() - 1),
-                                         float(corner & 4 ? active.max().z() + 1 : active.min().z() - 1)}));
+        world.extend(indexToWorld.point({float(corner & 1 ? hi[0] + 1 : lo[0] - 1), float(corner & 2 ? hi[1] + 1 : lo[1] - 1),
+                                         float(corner & 4 ? hi[2] + 1 : lo[2] - 1)}));
     const float magnitude = world.magnitude();
     if (!world.empty() && (!(magnitude <= 0x1p60f) || !(magnitude * 0x1p-23f <= voxelEdge * 0x1p-8f)))
       r.fail(at, named + ": voxels of size " + std::to_string(voxelEdge) + " at distance " + std::to_string(magnitude) +
@@ -157,17 +110,13 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
 
   // What the medium keeps resident (its brick table and the out-of-core tree's leaf nodes, not
   // their voxels: those are the cache's), checked against the memory limit before it is built.
-  const openvdb::FloatTree& tree = grid->tree();
-  uint64_t bricks = tree.leafCount();
-  auto tiles = tree.cbeginValueOn();
-  tiles.setMaxDepth(tiles.getLeafDepth() - 1);  // tiles only, not every active voxel
-  for (; tiles; ++tiles) {
-    openvdb::CoordBBox box;
-    tiles.getBoundingBox(box);
-    bricks += box.volume() / Medium::kBrickVoxels;
-  }
-  constexpr uint64_t kBrickTableBytes = 24, kOutOfCoreLeafBytes = sizeof(FloatLeaf) + 64;
-  const uint64_t needed = bricks * kBrickTableBytes + uint64_t(tree.leafCount()) * kOutOfCoreLeafBytes;
+  uint64_t bricks = grid->leafCount();
+  for (const VdbTile& tile : grid->tiles())
+    bricks += uint64_t(tile.hi[0] - tile.lo[0] + 1) * uint64_t(tile.hi[1] - tile.lo[1] + 1) *
+              uint64_t(tile.hi[2] - tile.lo[2] + 1) / Medium::kBrickVoxels;
+  constexpr uint64_t kBrickTableBytes = 24;
+  const uint64_t outOfCoreLeafBytes = grid->leafNodeBytes() + 64;
+  const uint64_t needed = bricks * kBrickTableBytes + uint64_t(grid->leafCount()) * outOfCoreLeafBytes;
   const MemoryLimit memory = readMemoryLimit();
   if (memory.sourceBytes != 0 && needed > memory.available)
     r.failResource(at, named + " has " + std::to_string(bricks) + " bricks of 8³ voxels, whose table takes " +
@@ -181,11 +130,10 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
   }
   // The bricks of grid g: one stored brick per leaf (read from the file through the cache), one
   // constant brick per 8³ block of an active tile.
-  auto bricksOf = [&](const openvdb::FloatGrid::Ptr& g, const std::string& gridNamed, const std::string& what) {
-    const auto source = std::make_shared<VdbBrickSource>(g);
+  auto bricksOf = [&](const VdbGrid& g, const std::string& gridNamed, const std::string& what) {
+    const std::shared_ptr<BrickSource> source = g.bricks();
     auto out = std::make_unique<BrickGrid>(source);
-    const openvdb::FloatTree& t = g->tree();
-    auto checkValue = [&](float v, const openvdb::Coord& c) {
+    auto checkValue = [&](float v, const VoxelCoord& c) {
       if (!(v >= 0) || !std::isfinite(v))
         r.fail(at, gridNamed + " has " + what + " " + std::to_string(v) + " at voxel " + coordText(c) + "; " + what +
                        "s must be finite and not negative");
@@ -198,7 +146,7 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
       int32_t bad = -1;  // the first voxel that is negative or not finite
       std::string error;
     };
-    std::vector<LeafScan> scans(source->leaves());
+    std::vector<LeafScan> scans(g.leafCount());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, scans.size(), 64), [&](const tbb::blocked_range<size_t>& range) {
       Medium::BrickVoxels voxels;
       for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -221,24 +169,19 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
     try {
       Medium::BrickVoxels voxels;
       for (size_t i = 0; i < scans.size(); ++i) {
-        const FloatLeaf& leaf = source->leaf(uint32_t(i));
+        const VoxelCoord o = g.leafOrigin(i);
         if (!scans[i].error.empty()) r.fail(at, "cannot read " + gridNamed + ": " + scans[i].error);
         if (scans[i].bad >= 0) {
           source->read(uint32_t(i), voxels.data());
-          checkValue(voxels[size_t(scans[i].bad)], leaf.offsetToGlobalCoord(openvdb::Index(scans[i].bad)));
+          checkValue(voxels[size_t(scans[i].bad)], voxelOf(o, scans[i].bad));
         }
-        const openvdb::Coord o = leaf.origin();
-        out->addStored({o.x() >> 3, o.y() >> 3, o.z() >> 3}, uint32_t(i), scans[i].maxVoxel);
+        out->addStored({o[0] >> 3, o[1] >> 3, o[2] >> 3}, uint32_t(i), scans[i].maxVoxel);
       }
-      auto tileIt = t.cbeginValueOn();
-      tileIt.setMaxDepth(tileIt.getLeafDepth() - 1);
-      for (; tileIt; ++tileIt) {
-        openvdb::CoordBBox box;
-        tileIt.getBoundingBox(box);
-        checkValue(*tileIt, box.min());
-        for (int x = box.min().x(); x <= box.max().x(); x += 8)
-          for (int y = box.min().y(); y <= box.max().y(); y += 8)
-            for (int z = box.min().z(); z <= box.max().z(); z += 8) out->addConstant({x >> 3, y >> 3, z >> 3}, *tileIt);
+      for (const VdbTile& tile : g.tiles()) {
+        checkValue(tile.value, tile.lo);
+        for (int x = tile.lo[0]; x <= tile.hi[0]; x += 8)
+          for (int y = tile.lo[1]; y <= tile.hi[1]; y += 8)
+            for (int z = tile.lo[2]; z <= tile.hi[2]; z += 8) out->addConstant({x >> 3, y >> 3, z >> 3}, tile.value);
       }
     } catch (const InputError&) {
       throw;
@@ -247,18 +190,18 @@ void readVolumeShape(const JsonReader& r, const json& shape, const std::string& 
     }
     return out;
   };
-  medium->densityGrid() = std::move(*bricksOf(grid, named, "density"));
+  medium->densityGrid() = std::move(*bricksOf(*grid, named, "density"));
   // Emission: optional grids of the same file in the density grid's index space.
   MediumEmission emission;
   auto emissionGrid = [&](const char* key, const std::string& role) -> std::unique_ptr<BrickGrid> {
     if (!shape.contains(key)) return nullptr;
     const std::string name = r.string(shape[key], p + "/" + key);
-    const openvdb::FloatGrid::Ptr g = readGrid(name, role);
+    const std::shared_ptr<const VdbGrid> g = readGrid(name, role);
     const std::string gridNamed = "'" + path.string() + "', grid '" + name + "'";
-    if (g->transform() != grid->transform())
+    if (!g->sameTransform(*grid))
       r.fail(p + "/" + key, gridNamed + " has a transform other than the density grid's; an " + role +
                                 " grid must share its voxels");
-    return bricksOf(g, gridNamed, role);
+    return bricksOf(*g, gridNamed, role);
   };
   emission.intensity = emissionGrid("emission_grid", "emission");
   emission.temperature = emissionGrid("temperature_grid", "temperature");

@@ -51,7 +51,7 @@ Rgb DistantLight::radiance() const {
 
 Environment::Environment(std::shared_ptr<const TextureImage> map, Rgb scale) : map_(std::move(map)), scale_(scale) {
   // The finest level at most kEnvironmentCells wide: its texels are box-filtered means of the
-  // finest level's (texture/texture_file.h), so a cell is positive wherever a texel under it is.
+  // finest level's (texture/oiio/texture_file.h), so a cell is positive wherever a texel under it is.
   while (level_ + 1 < map_->levels() && map_->levelWidth(level_) > kEnvironmentCells) ++level_;
   const int w = map_->levelWidth(level_), h = map_->levelHeight(level_);
   const std::vector<Rgb> texels = map_->levelRgb(level_);

@@ -3,6 +3,7 @@
 // resident set), gives the same pixels with any cache size and thread count, reports its
 // cache in the stats, and refuses bad texture files and options with exit code 2 or 3 and
 // nothing written.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -24,14 +25,17 @@ using ::testing::HasSubstr;
 constexpr int kTextures = 4;
 constexpr int kSide = 1024;  // float RGB: 12 MiB per image, 16 MiB with its MIP levels
 
-// Four quads side by side, each with its own image, under a constant sky. `textured` false:
-// the same scene with plain albedos (the baseline of the memory test).
-std::string sceneText(bool textured) {
+// Four quads side by side, each with its own image, under a constant sky. Plain: the same scene
+// with plain albedos; Tiny: each quad with an image of 2x2 texels (the baseline of the memory
+// test: OpenImageIO is loaded as for the big images, the images take nothing).
+enum class Albedo { Textured, Plain, Tiny };
+std::string sceneText(Albedo albedo) {
   std::string materials, shapes;
   for (int k = 0; k < kTextures; ++k) {
     const std::string name = "m" + std::to_string(k);
+    const std::string image = albedo == Albedo::Tiny ? "tiny" + std::to_string(k) : "t" + std::to_string(k);
     materials += (k ? ", " : "") + ("\"" + name + "\": {\"type\": \"diffuse\", \"albedo\": ") +
-                 (textured ? "{\"type\": \"image\", \"file\": \"t" + std::to_string(k) + ".exr\", \"scale\": 3}" : "0.5") +
+                 (albedo != Albedo::Plain ? "{\"type\": \"image\", \"file\": \"" + image + ".exr\", \"scale\": 3}" : "0.5") +
                  "}";
     const float x0 = -2.0f + float(k), x1 = x0 + 1;
     shapes += std::string(k ? ", " : "") + "{\"type\": \"bilinear\", \"material\": \"" + name + "\", \"quads\": [[[" +
@@ -53,9 +57,11 @@ void writeScenes(const fs::path& dir) {
     std::vector<Rgb> t(size_t(kSide) * kSide);
     for (Rgb& c : t) c = {u(rng), u(rng), u(rng)};
     testing::writeRgbExr(dir / ("t" + std::to_string(k) + ".exr"), kSide, kSide, t);
+    testing::writeRgbExr(dir / ("tiny" + std::to_string(k) + ".exr"), 2, 2, std::vector<Rgb>(4, Rgb{u(rng), u(rng), u(rng)}));
   }
-  std::ofstream(dir / "textured.json") << sceneText(true);
-  std::ofstream(dir / "plain.json") << sceneText(false);
+  std::ofstream(dir / "textured.json") << sceneText(Albedo::Textured);
+  std::ofstream(dir / "plain.json") << sceneText(Albedo::Plain);
+  std::ofstream(dir / "tiny.json") << sceneText(Albedo::Tiny);
 }
 
 class TextureRender : public ::testing::Test {
@@ -99,8 +105,8 @@ TEST_F(TextureRender, AnyCacheSizeAndThreadCountGiveTheSamePixels) {
 }
 
 // Textures totalling 4x --texture-memory: the tile cache stays bounded, so the process's peak
-// resident set grows by about the bound over the same scene without textures, not by the
-// textures. The assertion: the growth stays below the midpoint between the bound and the
+// resident set grows by about the bound over the same scene with images of 2x2 texels (which
+// loads OpenImageIO just as well), not by the textures. The assertion: the growth stays below the midpoint between the bound and the
 // textures' whole size (what holding them all would add), a margin of (total - bound) / 2 =
 // 1.5x the bound for what is not the cache (OIIO's per-file and per-thread state).
 TEST_F(TextureRender, TexturesFourTimesTheCacheRenderWithinIt) {
@@ -117,8 +123,9 @@ TEST_F(TextureRender, TexturesFourTimesTheCacheRenderWithinIt) {
     return nlohmann::json::parse(in);
   };
   run("textured.json", "first.json");
+  run("tiny.json", "first-tiny.json");
   const nlohmann::json textured = run("textured.json", "textured.json");
-  const nlohmann::json plain = run("plain.json", "plain.json");
+  const nlohmann::json plain = run("tiny.json", "tiny.json");
   const nlohmann::json& t = textured.at("textures");
   const uint64_t total = t.at("image_bytes").get<uint64_t>();
   ASSERT_GE(total, 4 * cap) << "the textures total at least 4x the cache";
@@ -129,11 +136,58 @@ TEST_F(TextureRender, TexturesFourTimesTheCacheRenderWithinIt) {
                          plain.at("memory").at("peak_rss_bytes").get<int64_t>();
   EXPECT_LT(growth, int64_t(cap + (total - cap) / 2))
       << "peak RSS grew by " << growth << " bytes for a cache of " << cap << " and textures of " << total;
-  std::cout << "peak RSS: textured " << textured.at("memory").at("peak_rss_bytes") << ", plain "
+  std::cout << "peak RSS: textured " << textured.at("memory").at("peak_rss_bytes") << ", 2x2 texels "
             << plain.at("memory").at("peak_rss_bytes") << ", growth " << growth << ", cache " << cap << ", textures "
             << total << ", hit rate " << t.at("hit_rate") << "\n";
-  EXPECT_TRUE(plain.at("skipped").contains("textures"));
-  EXPECT_FALSE(plain.contains("textures"));
+}
+
+// OpenImageIO is a module the program loads when a scene names an image (texture/texture_cache.h
+// says why): a scene without one never maps it -- by the dynamic loader's own record of what it
+// loaded (LD_DEBUG=files) -- and its stats list the textures as skipped; a scene with images
+// loads the module and OpenImageIO once, and renders.
+TEST_F(TextureRender, OpenImageIOIsLoadedOnlyForASceneWithImages) {
+  const fs::path out = dir() / "out-modules";
+  fs::create_directories(out);
+  auto run = [&](const std::string& scene) {
+    setenv("LD_DEBUG", "files", 1);
+    const auto r = testing::runRayesProcess({"render", (dir() / scene).string(), "-o", (out / (scene + ".exr")).string(),
+                                             "--stats", (out / (scene + ".stats.json")).string(), "--texture-cache-dir",
+                                             (dir() / "cache").string(), "-q"});
+    unsetenv("LD_DEBUG");
+    EXPECT_EQ(r.code, 0) << r.err;
+    return r.err;
+  };
+  const std::string plain = run("plain.json");
+  EXPECT_THAT(plain, ::testing::Not(HasSubstr("libOpenImageIO")));
+  EXPECT_THAT(plain, ::testing::Not(HasSubstr(kTextureModuleName)));
+  EXPECT_THAT(plain, HasSubstr("libembree3")) << "LD_DEBUG=files lists the libraries loaded";
+  std::ifstream in(out / "plain.json.stats.json");
+  const nlohmann::json stats = nlohmann::json::parse(in);
+  EXPECT_THAT(stats.at("skipped").at("textures").get<std::string>(), HasSubstr("OpenImageIO not loaded"));
+  EXPECT_FALSE(stats.contains("textures"));
+  const std::string textured = run("tiny.json");
+  EXPECT_THAT(textured, HasSubstr(std::string("file=") + (fs::path(testing::rayesBinary()).parent_path() / kTextureModuleName).string()));
+  EXPECT_THAT(textured, HasSubstr("file=libOpenImageIO"));
+}
+
+// Without its module (RAYES_MODULE_DIR names a folder without it, standing for a program copied
+// without it), a scene with images is refused with one message naming the module and where it
+// was looked for, exit code 2, and no image written; a scene without images renders.
+TEST_F(TextureRender, AMissingOpenImageIOModuleIsRefusedNamingIt) {
+  const testing::TempFolder empty;
+  const fs::path image = empty.dir() / "o.exr";
+  setenv("RAYES_MODULE_DIR", empty.dir().c_str(), 1);
+  const auto refused = testing::runRayesProcess({"render", (dir() / "tiny.json").string(), "-o", image.string(), "-q"});
+  const bool written = fs::exists(image);
+  const auto plain = testing::runRayesProcess({"render", (dir() / "plain.json").string(), "-o", image.string(), "-q"});
+  unsetenv("RAYES_MODULE_DIR");
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_FALSE(written);
+  EXPECT_THAT(refused.err, HasSubstr(kTextureModuleName));
+  EXPECT_THAT(refused.err, HasSubstr((empty.dir() / kTextureModuleName).string() + ": no such file"));
+  EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << "one message";
+  EXPECT_EQ(plain.code, 0) << plain.err;
+  EXPECT_TRUE(fs::exists(image)) << "the scene without images rendered";
 }
 
 TEST_F(TextureRender, BadTextureFilesAndCacheSizesAreRefusedWithNothingWritten) {
@@ -144,7 +198,7 @@ TEST_F(TextureRender, BadTextureFilesAndCacheSizesAreRefusedWithNothingWritten) 
   fs::copy_file(dir() / "t0.exr", d / "cut.exr");
   fs::resize_file(d / "cut.exr", whole / 3);
   auto scene = [&](const std::string& file) {
-    std::string s = sceneText(true);
+    std::string s = sceneText(Albedo::Textured);
     s.replace(s.find("t0.exr"), 6, file);
     for (int k = 1; k < kTextures; ++k) {
       const std::string name = "t" + std::to_string(k) + ".exr";

@@ -3,13 +3,17 @@
 // the Bernoulli estimate each camera path makes), a scattering volume with a lit surface inside
 // it renders the same bits for any thread count and batch size, a surface-only scene is not
 // changed, and the methods that do not carry media refuse a volume with exit code 2.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
+#include "scene/vdb_grid.h"
 #include "shading/blackbody.h"
+#include "support/rayes_process.h"
 #include "support/render_fixtures.h"
 #include "support/temp_folder.h"
 
@@ -179,6 +183,50 @@ TEST(VolumeRender, VolumeMemoryZeroTooSmallOrBeyondMemoryIsRefusedNamingTheOptio
       testing::runRayes({"render", scene.string(), "--volume-memory", "900000G", "-o", out.string()});
   EXPECT_EQ(r.code, 3);
   EXPECT_THAT(r.err, HasSubstr("--volume-memory"));
+  EXPECT_FALSE(fs::exists(out));
+}
+
+// OpenVDB is a module the program loads at a scene's first volume (scene/vdb_grid.h,
+// core/plugin_module.h): a scene without a volume never maps OpenVDB -- by the dynamic loader's
+// own record of what it loaded (LD_DEBUG=files) -- and its stats list the volumes as skipped; a
+// scene with one loads the module and OpenVDB. Without the module (RAYES_MODULE_DIR names a
+// folder without it, standing for a program copied without it) a volume is refused with one
+// message naming the module and where it was looked for, exit code 2 and nothing written.
+TEST(VolumeRender, OpenVdbIsLoadedOnlyForASceneWithAVolume) {
+  testing::TempFolder dir;
+  const fs::path vdb = writeSlab(dir.dir());
+  std::ofstream(dir.dir() / "volume.json") << slabScene(vdb, "", false, 1);
+  std::ofstream(dir.dir() / "plain.json") << R"({"camera": {"position": [0, 0, -10], "look_at": [0, 0, 0], "up": [0, 1, 0]},
+  "film": {"resolution": [16, 16], "spp": 1}, "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+  "shapes": [{"type": "bilinear", "material": "m", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]}],
+  "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})";
+  auto run = [&](const std::string& scene, const fs::path& out) {
+    setenv("LD_DEBUG", "files", 1);
+    const auto r = testing::runRayesProcess({"render", (dir.dir() / scene).string(), "-o", out.string(), "--stats",
+                                             (dir.dir() / (scene + ".stats.json")).string(), "-q"});
+    unsetenv("LD_DEBUG");
+    EXPECT_EQ(r.code, 0) << r.err;
+    return r.err;
+  };
+  const std::string plain = run("plain.json", dir.dir() / "plain.exr");
+  EXPECT_THAT(plain, ::testing::Not(HasSubstr("libopenvdb")));
+  EXPECT_THAT(plain, ::testing::Not(HasSubstr(kVdbModuleName)));
+  EXPECT_THAT(plain, HasSubstr("libembree3")) << "LD_DEBUG=files lists the libraries loaded";
+  std::ifstream in(dir.dir() / "plain.json.stats.json");
+  const nlohmann::json stats = nlohmann::json::parse(in);
+  EXPECT_THAT(stats.at("skipped").at("volumes").get<std::string>(), HasSubstr("OpenVDB not loaded"));
+  const std::string volume = run("volume.json", dir.dir() / "volume.exr");
+  EXPECT_THAT(volume, HasSubstr(std::string("file=") + (fs::path(testing::rayesBinary()).parent_path() / kVdbModuleName).string()));
+  EXPECT_THAT(volume, HasSubstr("file=libopenvdb"));
+
+  const testing::TempFolder empty;
+  const fs::path out = empty.dir() / "o.exr";
+  setenv("RAYES_MODULE_DIR", empty.dir().c_str(), 1);
+  const auto refused = testing::runRayesProcess({"render", (dir.dir() / "volume.json").string(), "-o", out.string(), "-q"});
+  unsetenv("RAYES_MODULE_DIR");
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_THAT(refused.err, HasSubstr((empty.dir() / kVdbModuleName).string() + ": no such file"));
+  EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << "one message: " << refused.err;
   EXPECT_FALSE(fs::exists(out));
 }
 

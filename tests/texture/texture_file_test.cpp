@@ -1,4 +1,4 @@
-// Which file the texture cache reads (src/texture/texture_file.h): plain images converted once
+// Which file the texture cache reads (src/texture/oiio/texture_file.h): plain images converted once
 // into the conversion folder and found there afterwards, tiled MIP-mapped files read in place,
 // sRGB images decoded to linear, and bad files refused with the file's name.
 #include <fstream>
@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "support/temp_folder.h"
 #include "support/texture_test_files.h"
-#include "texture/texture_file.h"
+#include "texture/oiio/texture_file.h"
 
 namespace rayes {
 namespace {

@@ -1,4 +1,4 @@
-#include "texture/texture_file.h"
+#include "texture/oiio/texture_file.h"
 #include <cstdio>
 #include <algorithm>
 #include <atomic>
