@@ -22,7 +22,7 @@ struct BrickRunScratch {
 };
 }  // namespace
 
-void SortedEngine::trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, TraceTimes& times) {
+void SortedEngine::trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf) {
   MediumLeafTracker* tracker = b.media;
   if (!tracker || !tracker->tracked) return;  // no tracking asked: the brick is empty space
   static tbb::enumerable_thread_specific<BrickRunScratch> scratchOf;
@@ -54,7 +54,6 @@ void SortedEngine::trackBrickRun(RayBatch& b, const uint32_t* slots, size_t coun
       offerHit(b, sc.rays[k], h, nullptr);
     }
   };
-  (void)times;
   forRunChunks(count, trackRange);
 }
 

@@ -336,7 +336,7 @@ void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, Tra
       const size_t count = runCount(run);
       const uint32_t leaf = cand_.leaf[slots[0]];
       if (isBrickLeaf(leaf)) {
-        trackBrickRun(b, slots, count, leaf, times);
+        trackBrickRun(b, slots, count, leaf);
         continue;
       }
       if (GridCache::Entry* e = runEntry_[run]) {

@@ -194,6 +194,7 @@ class SortedEngine : public RayEngine {
     PatchPtr patch;                      // the leaf's
     int depth = 0, coarseLevel = -1;     // coarseLevel: the coarse rays' finest; -1: none
     std::vector<uint32_t> coarse, fine;  // coarse: slots; fine: indices k into the run
+    std::vector<float> coarseEntry;      // per coarse slot: leafEntry
     std::vector<uint8_t> level;          // per slot k of the run: its level on the leaf
     std::vector<float> entry;            // per slot k: leafEntry
     struct Sub {
@@ -216,7 +217,8 @@ class SortedEngine : public RayEngine {
   uint64_t acquireSplitGrids(uint32_t leaf, SplitPlan& plan);
   // Dices and intersects a planned run; sub-leaves in row order, each diced (into its cache
   // entry, or into `dice`, or this thread's buffer when null) only when a fine ray crosses its
-  // box before the nearest hit this run has found for that ray.
+  // box before the nearest hit this run has found for that ray. A long run's rays are tested
+  // and intersected in chunks that other threads may take (forRunChunks), as intersectRun's.
   void runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* slots, uint32_t leaf, SplitPlan& plan, int interval,
                     TraceTimes& times, DicingCounters& counters);
   // One slot against sub-leaf `sub` of `leaf` (diced in `dice`), the ray at `level` on the leaf,
@@ -234,7 +236,7 @@ class SortedEngine : public RayEngine {
   void offerOccluder(RayBatch& b, uint32_t ray, uint32_t leaf, int level);         // 4, a shadow ray
   // A brick leaf's run (rays/brick_leaf_runs.cpp): the batch's MediumLeafTracker over all its
   // rays, each closest ray's collision offered as a hit on the leaf.
-  void trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf, TraceTimes& times);
+  void trackBrickRun(RayBatch& b, const uint32_t* slots, size_t count, uint32_t leaf);
   // Leaves past the patches are bricks of media (core/medium_leaves.h).
   bool isBrickLeaf(uint32_t leaf) const { return leaf >= leaves_.size(); }
   uint64_t keepUnfinishedRays(const RayBatch& b, size_t nActive, size_t nNow);           // 5
@@ -302,12 +304,13 @@ class SortedEngine : public RayEngine {
   std::vector<std::atomic_flag> hitLock_;  // per ray, held while a hit is offered to it
   tbb::enumerable_thread_specific<std::unique_ptr<DiceBuffer>> dice_, wholeDice_;
   int residentLevel_ = 0;  // residentLevel()
-  // Per thread: an uncached split run's plan, a sub-leaf's rays and each fine ray's nearest
-  // hit so far (rays/sub_leaf_runs.cpp).
+  // Per thread: an uncached split run's plan, a sub-leaf's rays, each fine ray's nearest hit
+  // so far and whether it reaches the sub-leaf at hand (rays/sub_leaf_runs.cpp).
   struct SplitScratch {
     SplitPlan plan;
     std::vector<uint32_t> sub, subSlot;
     std::vector<float> best;
+    std::vector<uint8_t> reaches;
   };
   tbb::enumerable_thread_specific<SplitScratch> split_;
   tbb::enumerable_thread_specific<TraversalScratch> scratch_;

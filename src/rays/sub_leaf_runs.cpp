@@ -17,8 +17,12 @@
 #include <algorithm>
 #include <bit>
 #include <limits>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include "geometry/moving_patch.h"
 #include "rays/kept_hit.h"
+#include "rays/run_chunks.h"
 #include "rays/sorted_engine.h"
 
 namespace rayes {
@@ -65,19 +69,27 @@ void SortedEngine::planSplitRun(const RayBatch& b, const uint32_t* slots, size_t
   p.depth = subLeafDepth(m, resident);
   p.coarseLevel = -1;
   p.coarse.clear();
+  p.coarseEntry.clear();
   p.fine.clear();
   p.subs.clear();
   p.whole = nullptr;
   p.level.resize(count);
   p.entry.resize(count);
+  // A close-up leaf's run holds most of a generation's rays, so its plan, like its run, goes
+  // in chunks and sub-leaves that other threads may take: one thread alone was a serial tail
+  // of the parallel pass (bench/history/2026-11.md, "The split run's serial tail").
+  forRunChunks(count, [&](size_t k0, size_t k1) {
+    for (size_t k = k0; k < k1; ++k) {
+      const float entry = entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, rayOfSlot(slots[k]), leaf);
+      p.entry[k] = entry;
+      p.level[k] = uint8_t(density ? m : levelFor(b, rayOfSlot(slots[k]), leaf, entry));
+    }
+  });
   for (size_t k = 0; k < count; ++k) {
-    const uint32_t i = rayOfSlot(slots[k]);
-    const float entry = entryBits ? std::bit_cast<float>(entryBits[k]) : leafEntry(b, i, leaf);
-    const int level = density ? m : levelFor(b, i, leaf, entry);
-    p.entry[k] = entry;
-    p.level[k] = uint8_t(level);
+    const int level = p.level[k];
     if (level <= resident) {
       p.coarse.push_back(slots[k]);
+      p.coarseEntry.push_back(p.entry[k]);
       p.coarseLevel = std::max(p.coarseLevel, level);
     } else {
       p.fine.push_back(uint32_t(k));
@@ -88,26 +100,31 @@ void SortedEngine::planSplitRun(const RayBatch& b, const uint32_t* slots, size_t
   const uint32_t n = 1u << p.depth;
   // The finest level any fine ray asks: a sub-leaf one of those rays reaches needs no more, so
   // its search stops there. Without the stop the plan tests every fine ray against every
-  // sub-leaf, in one thread per run, outside every stage's timer (bench/history/2026-11.md,
-  // "the split run's plan").
+  // sub-leaf (bench/history/2026-11.md, "the split run's plan").
   int finest = -1;
   for (const uint32_t k : p.fine) finest = std::max(finest, int(p.level[k]) - p.depth);
-  for (uint32_t y = 0; y < n; ++y)
-    for (uint32_t x = 0; x < n; ++x) {
-      auto sub = std::make_shared<const SubPatch>(p.patch, p.depth, x, y);
-      const Box3 box = sub->bounds();
-      int level = -1;
-      for (const uint32_t k : p.fine) {
-        const uint32_t i = rayOfSlot(slots[k]);
-        // levelFor > resident >= depth (residentLevelFor): each level on a sub-leaf is >= 0.
-        const int needs = int(p.level[k]) - p.depth;
-        if (needs > level && reach.crosses(b.ray[i].org, b.ray[i].dir, box, searchLimit(b, i, kInf))) {
-          level = needs;
-          if (level == finest) break;
+  // Each sub-leaf's search is its own: they run in parallel, kept in row order.
+  p.subs.resize(size_t(n) * n);
+  tbb::this_task_arena::isolate([&] {
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n * n, 1), [&](const tbb::blocked_range<uint32_t>& r) {
+      for (uint32_t j = r.begin(); j != r.end(); ++j) {
+        auto sub = std::make_shared<const SubPatch>(p.patch, p.depth, j % n, j / n);
+        const Box3 box = sub->bounds();
+        int level = -1;
+        for (const uint32_t k : p.fine) {
+          const uint32_t i = rayOfSlot(slots[k]);
+          // levelFor > resident >= depth (residentLevelFor): each level on a sub-leaf is >= 0.
+          const int needs = int(p.level[k]) - p.depth;
+          if (needs > level && reach.crosses(b.ray[i].org, b.ray[i].dir, box, searchLimit(b, i, kInf))) {
+            level = needs;
+            if (level == finest) break;
+          }
         }
+        p.subs[j] = {level >= 0 ? std::move(sub) : nullptr, level, nullptr};
       }
-      if (level >= 0) p.subs.push_back({std::move(sub), level, nullptr});
-    }
+    });
+  });
+  std::erase_if(p.subs, [](const SplitPlan::Sub& s) { return s.level < 0; });
 }
 
 uint64_t SortedEngine::acquireSplitGrids(uint32_t leaf, SplitPlan& p) {
@@ -123,7 +140,6 @@ uint64_t SortedEngine::acquireSplitGrids(uint32_t leaf, SplitPlan& p) {
 void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* slots, uint32_t leaf, SplitPlan& p,
                                 int interval, TraceTimes& times, DicingCounters& counters) {
   SplitScratch& sc = split_.local();
-  const int resident = residentLevel_;
   auto buffer = [&]() -> DiceBuffer& { return dice ? *dice : localDiceBuffer(); };
   counters.splitRuns.fetch_add(1, std::memory_order_relaxed);
   // The run's rays that need no more than the resident level: the whole leaf, as usual.
@@ -141,25 +157,37 @@ void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* s
       diceRun(b, d, p.coarse.data(), p.coarse.size(), leaf, *p.patch, interval, p.coarseLevel, times, counters);
       grid = &d;
     }
-    ScopedTimer timer(times.bottom);
-    size_t c = 0;
-    for (size_t k = 0; k < p.level.size(); ++k)
-      if (p.level[k] <= resident) intersectSlot(b, *grid, p.coarse[c++], leaf, *p.patch, p.coarseLevel, p.entry[k]);
+    // A close-up leaf's run is most of a generation's rays on one leaf: one thread alone would
+    // be a serial tail of the parallel step (bench/history/2026-11.md, "The split run's serial
+    // tail"), so its slots go in chunks, as intersectRun's.
+    forRunChunks(p.coarse.size(), [&](size_t c0, size_t c1) {
+      ScopedTimer timer(times.bottom);
+      for (size_t c = c0; c < c1; ++c) intersectSlot(b, *grid, p.coarse[c], leaf, *p.patch, p.coarseLevel, p.coarseEntry[c]);
+    });
   }
   if (p.fine.empty()) return;
   // The others: the planned sub-leaves, row by row. A ray's nearest hit in this run so far
-  // bounds its search in the sub-leaves after (a shadow ray's first occluder ends it).
+  // bounds its search in the sub-leaves after (a shadow ray's first occluder ends it). Each
+  // ray's `best` depends on its own hits alone, so chunks of rays may run on any thread.
   sc.best.assign(p.fine.size(), kInf);
+  sc.reaches.resize(p.fine.size());
   const SubLeafReach reach(*p.patch);
   for (SplitPlan::Sub& s : p.subs) {
     const SubPatch& sub = *s.patch;
+    const Box3 box = sub.bounds();
+    forRunChunks(p.fine.size(), [&](size_t f0, size_t f1) {
+      for (size_t f = f0; f < f1; ++f) {
+        const uint32_t i = rayOfSlot(slots[p.fine[f]]);
+        // best < 0: a shadow ray already occluded.
+        sc.reaches[f] = sc.best[f] >= 0 && reach.crosses(b.ray[i].org, b.ray[i].dir, box, searchLimit(b, i, sc.best[f]));
+      }
+    });
     sc.sub.clear();
     sc.subSlot.clear();
     int subLevel = 0;
     for (size_t f = 0; f < p.fine.size(); ++f) {
-      if (sc.best[f] < 0) continue;  // a shadow ray already occluded
-      const uint32_t k = p.fine[f], i = rayOfSlot(slots[k]);
-      if (!reach.crosses(b.ray[i].org, b.ray[i].dir, sub.bounds(), searchLimit(b, i, sc.best[f]))) continue;
+      if (!sc.reaches[f]) continue;
+      const uint32_t k = p.fine[f];
       sc.sub.push_back(uint32_t(f));
       sc.subSlot.push_back(slots[k]);
       subLevel = std::max(subLevel, int(p.level[k]) - p.depth);
@@ -180,12 +208,14 @@ void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* s
       diceRun(b, d, sc.subSlot.data(), sc.subSlot.size(), leaf, sub, interval, subLevel, times, counters);
       grid = &d;
     }
-    ScopedTimer timer(times.bottom);
-    for (const uint32_t f : sc.sub) {
-      const uint32_t k = p.fine[f];
-      const float t = intersectSubLeafSlot(b, *grid, slots[k], leaf, *p.patch, sub, p.level[k], p.entry[k], sc.best[f]);
-      sc.best[f] = std::min(sc.best[f], t);
-    }
+    forRunChunks(sc.sub.size(), [&](size_t j0, size_t j1) {
+      ScopedTimer timer(times.bottom);
+      for (size_t j = j0; j < j1; ++j) {
+        const uint32_t f = sc.sub[j], k = p.fine[f];
+        const float t = intersectSubLeafSlot(b, *grid, slots[k], leaf, *p.patch, sub, p.level[k], p.entry[k], sc.best[f]);
+        sc.best[f] = std::min(sc.best[f], t);
+      }
+    });
   }
 }
 

@@ -17,8 +17,10 @@
 #include <limits>
 #include <tbb/task_arena.h>
 #include "core/rng.h"
+#include "geometry/bilinear_patch.h"
 #include "geometry/displaced_patch.h"
 #include "geometry/displacement.h"
+#include "rays/run_chunks.h"
 #include "rays/sorted_engine.h"
 #include "rays/teapot_on_floor.h"
 
@@ -174,6 +176,73 @@ TEST(SubLeafRuns, EvictedSubLeafGridsAreDicedAgainTheSameAtAnyThreadCount) {
     EXPECT_EQ(a.subLeafCacheHits, b.subLeafCacheHits);
     EXPECT_EQ(a.gridCacheHits, b.gridCacheHits);
     EXPECT_EQ(a.dicingsByLevel, b.dicingsByLevel);
+  }
+}
+
+// A close-up leaf: one displaced quad, every ray in one run, half of them finer than the
+// resident level. The run is longer than several chunks (rays/run_chunks.h) and so is each
+// sub-leaf's share of its fine rays, so its plan and its intersections run in chunks that
+// either thread may take; what could go wrong there is a hit or a dicing decided by which
+// thread took which chunk.
+struct CloseUp {
+  static constexpr int kRays = 24000;
+  test::TracedWorld world;
+  CloseUp() : world(leaves()) {}
+  static std::vector<PatchPtr> leaves() {
+    NoiseParams noise;
+    noise.amplitude = 0.05f;
+    noise.frequency = 3.0f;
+    noise.octaves = 3;
+    const auto quad = std::make_shared<BilinearPatch>(Vec3{-1, -1, 0}, Vec3{1, -1, 0}, Vec3{-1, 1, 0}, Vec3{1, 1, 0});
+    return {std::make_shared<DisplacedPatch>(quad, std::make_shared<NoiseDisplacement>(noise))};
+  }
+  // Odd rays at kMaxLod (above a resident level of kMaxLod - 1: 4 sub-leaves), even rays at
+  // 0..6 (coarse: the whole leaf).
+  static int level(uint32_t ray) { return ray % 2 ? kMaxLod : int((ray * 2654435761u) >> 9) % 7; }
+  Traced trace(int residentLod, size_t gridCacheBytes, bool shadow, int threads) const {
+    TraceSettings s;
+    s.maxLod = kMaxLod;
+    s.residentLod = residentLod;
+    s.gridCacheBytes = gridCacheBytes;
+    s.levelHook = [](uint32_t ray, uint32_t, int) { return level(ray); };
+    SortedEngine engine(world.top, world.source, s);
+    Traced out;
+    out.batch.resize(kRays);
+    for (int i = 0; i < kRays; ++i) {
+      const RngKey k{uint32_t(i), shadow ? 1u : 0u, 0, 41};
+      const Vec3 o{-0.5f + sampleUniform(k, 0), -0.5f + sampleUniform(k, 1), 2.0f};
+      const Vec3 target{-0.95f + 1.9f * sampleUniform(k, 2), -0.95f + 1.9f * sampleUniform(k, 3), 0.0f};
+      out.batch.setFromNowhere(size_t(i), shadow ? RayKind::Shadow : RayKind::Closest, o, normalize(target - o),
+                               shadow ? 3.0f : kInf, 0.0f, 0.0f);
+    }
+    TraceTimes times;
+    tbb::task_arena(threads).execute([&] { engine.trace(out.batch, out.stats, times); });
+    return out;
+  }
+};
+
+TEST(SubLeafRuns, ACloseUpRunInChunksFindsTheWholeLeafsHitsAtAnyThreadCount) {
+  static_assert(CloseUp::kRays / 2 / 4 > 2 * kRunChunk, "each sub-leaf's fine rays span several chunks");
+  const CloseUp c;
+  for (const size_t cache : {size_t(0), size_t(256) << 20}) {
+    const Traced whole = c.trace(kMaxLod, cache, false, 2);
+    const Traced one = c.trace(kMaxLod - 1, cache, false, 1), two = c.trace(kMaxLod - 1, cache, false, 2);
+    EXPECT_EQ(whole.stats.splitRuns, 0u);
+    EXPECT_GT(two.stats.splitRuns, 0u);
+    EXPECT_EQ(two.stats.subLeafDicings, 4u) << "cache " << cache;  // the first run reaches all four
+    expectSameHits(whole, one);
+    expectSameHits(whole, two);
+    EXPECT_EQ(one.stats.leavesDiced, two.stats.leavesDiced);
+    EXPECT_EQ(one.stats.subLeafDicings, two.stats.subLeafDicings);
+    EXPECT_EQ(one.stats.dicingsByLevel, two.stats.dicingsByLevel);
+    // Shadow rays: the first occluder in a chunk ends the ray's search in later sub-leaves.
+    const Traced wholeShadow = c.trace(kMaxLod, cache, true, 2), splitShadow = c.trace(kMaxLod - 1, cache, true, 2);
+    int occluded = 0;
+    for (uint32_t i = 0; i < wholeShadow.batch.size(); ++i) {
+      ASSERT_EQ(wholeShadow.batch.occluded(i), splitShadow.batch.occluded(i)) << "ray " << i;
+      occluded += wholeShadow.batch.occluded(i);
+    }
+    EXPECT_GT(occluded, CloseUp::kRays / 2);
   }
 }
 
