@@ -36,7 +36,7 @@ void expectFirstCallMatches(const TopLevelBvh& bvh, const std::vector<Box3>& box
 void expectResumingAtNextMatches(const TopLevelBvh& bvh, const std::vector<Box3>& boxes,
                                  const std::vector<TestRay>& rays, int maxCount) {
   TraversalScratch scratch;
-  std::vector<Candidate> list(size_t(maxCount));
+  std::vector<Candidate> list(static_cast<size_t>(maxCount));
   for (size_t r = 0; r < rays.size(); ++r) {
     SCOPED_TRACE(::testing::Message() << "ray " << r << ", maxCount " << maxCount << ", resumed at the next");
     const std::vector<Candidate> all = bruteForce(boxes, rays[r]);
