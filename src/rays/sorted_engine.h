@@ -135,16 +135,19 @@ class SortedEngine : public RayEngine {
     return CandidateBuffer::bytesPerSlot() + CandidateSort::bytesPerSlot();
   }
   // The candidate buffer holds this many slots per 4 ray slots of a full batch (quarters of a
-  // slot per ray slot). 2 (one per path of 2 ray slots): the camera generation's first
-  // iteration gets N = 1 candidate for every camera ray (the shadow slots are empty), later
-  // generations serve half their rays per iteration at first (the others wait: traceSorted's
-  // nNow) and up to the clip (TraceSettings::maxCandidatesPerRay) as rays finish. Each halving
-  // saved bytes per ray slot for more iterations (bench/history/2026-11.md, "Compact ray slots",
-  // "... third part"); the hits do not depend on N nor on which rays wait. The density rule
-  // (--lod density) does: it dices a leaf for the rays of its run in one iteration, and fewer
-  // candidates make shorter runs and coarser grids, so it keeps the 2 slots per ray slot its
-  // images were made with.
-  static constexpr size_t candidateQuartersPerRaySlot(LodRule lod) { return lod == LodRule::Density ? 8 : 2; }
+  // slot per ray slot). 4 (one per ray slot): the first iteration of the camera generation then
+  // gets N = 2 candidates per ray (2 ray slots per path, the shadow slots empty), later
+  // generations N = 1 at first and up to the clip (TraceSettings::maxCandidatesPerRay) as rays
+  // finish. 4 instead of 8 saved 12 bytes per ray slot for a few more iterations
+  // (bench/history/2026-11.md, "Compact ray slots"); the hits do not depend on N. 2 (one per
+  // path) was measured too ("... third part": the same images, callgrind -0.4 to +0.6 %), but
+  // then the camera generation's rays reach their second leaf in a second iteration, where a
+  // moving leaf (never in the grid cache) is diced again, as often as rounding sends rays there:
+  // motion-cubes scaled by 1e4 and 1e8 diced 26 and 28 leaves for its camera rays against the
+  // unmoved scene's 30, outside the 5 % that StiffTransform allows. The density rule (--lod density) dices a leaf for the rays of its run
+  // in one iteration, and fewer candidates per ray make shorter runs and coarser grids, so it
+  // keeps the 2 slots per ray slot its images were made with.
+  static constexpr size_t candidateQuartersPerRaySlot(LodRule lod) { return lod == LodRule::Density ? 8 : 4; }
   // The candidate capacity for `raySlots` ray slots of a full batch (at least 1).
   static constexpr size_t candidateCapacityFor(size_t raySlots, LodRule lod) {
     return std::max<size_t>(1, (raySlots * candidateQuartersPerRaySlot(lod) + 3) / 4);
