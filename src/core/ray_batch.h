@@ -152,8 +152,9 @@ struct RayBatch {
   // The leaf word of slot i's result: the hit's leaf, or an odd pair slot's occluder (engines
   // read and write it atomically while a trace runs).
   uint32_t& occluderOf(size_t i) { return keepsFullHit(i) ? hitOf(i).leaf : occluder[i >> 1]; }
+  const uint32_t& occluderOf(size_t i) const { return keepsFullHit(i) ? hitOf(i).leaf : occluder[i >> 1]; }
   // Shadow ray i found an occluder (a closest slot: it found a hit).
-  bool occluded(size_t i) const { return (keepsFullHit(i) ? hitOf(i).leaf : occluder[i >> 1]) != kNoLeaf; }
+  bool occluded(size_t i) const { return occluderOf(i) != kNoLeaf; }
   // Slot i's result reset to "nothing found".
   void clearHit(size_t i) {
     if (keepsFullHit(i)) {

@@ -118,10 +118,8 @@ int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float
 
 void SortedEngine::trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) {
   const size_t n = batch.size();
-  resumeEntry_.assign(n, -kInf);
-  resumeLeaf_.assign(n, 0);
-  nextEntry_.assign(n, kInf);
-  if (hitLock_.size() < n) hitLock_ = std::vector<std::atomic_flag>(n);  // all clear
+  nextEntry_.assign(n, -kInf);  // the first candidate is at or after (-inf, 0): any; no lock held
+  nextLeaf_.assign(n, 0);
   activeRays(batch, stats, active_);
   {
     ScopedTimer timer(times.sort);
@@ -176,9 +174,9 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
 // atomic_flag::wait/notify_one cost a locked add on a waiter-pool word every thread shares on
 // every offer (46 % of offerHit's samples on subdiv-creature; bench/RESULTS.md).
 void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h, const HitDerivatives* d) {
-  std::atomic_flag& lock = hitLock_[i];
-  while (lock.test_and_set(std::memory_order_acquire))
-    while (lock.test(std::memory_order_relaxed)) spinPause();
+  std::atomic_ref<uint32_t> lock(nextLeaf_[i]);
+  while (lock.fetch_or(kHitLockBit, std::memory_order_acquire) & kHitLockBit)
+    while (lock.load(std::memory_order_relaxed) & kHitLockBit) spinPause();
   if (nearerHit(h.t, h.leaf, h.quad, b.hitOf(i))) {
     // t and leaf are read without the lock (intersectSlot), so they are stored atomically.
     RayHit& dst = b.hitOf(i);
@@ -188,7 +186,7 @@ void SortedEngine::offerHit(RayBatch& b, uint32_t i, const RayHit& h, const HitD
     std::atomic_ref<float>(dst.t).store(h.t, std::memory_order_relaxed);
     std::atomic_ref<uint32_t>(dst.leaf).store(h.leaf, std::memory_order_relaxed);
   }
-  lock.clear(std::memory_order_release);
+  lock.fetch_and(~kHitLockBit, std::memory_order_release);
 }
 
 // A shadow ray's occluder: the smallest leaf wins (every occluder is at t = 0), as offerHit
@@ -241,17 +239,16 @@ void SortedEngine::collectCandidates(const RayBatch& b, size_t nNow, int N, Trac
       // The hit kept from earlier iterations bounds the search (no other thread writes it now);
       // a shadow ray searches to its tmax.
       const float best = b.keepsFullHit(i) ? b.hitOf(i).t : kInf;
-      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best), resumeEntry_[i],
-                                   resumeLeaf_[i], local, N, next, scratch);
+      float resumeEntry;
+      uint32_t resumeLeaf;
+      TopLevelBvh::resumeBefore(nextEntry_[i], nextLeaf_[i], resumeEntry, resumeLeaf);
+      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best), resumeEntry,
+                                   resumeLeaf, local, N, next, scratch, &nextLeaf_[i]);
       const size_t base = a * size_t(N);
       for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;
       std::fill(cand_.leaf.begin() + ptrdiff_t(base + size_t(got)), cand_.leaf.begin() + ptrdiff_t(base + size_t(N)),
                 kNoLeaf);  // the slots past those got: no count is kept
-      if (got > 0) {
-        resumeEntry_[i] = local[got - 1].entry;
-        resumeLeaf_[i] = local[got - 1].leaf;
-      }
-      nextEntry_[i] = next;
+      nextEntry_[i] = next;  // with nextLeaf_[i], written by collect when there is a next candidate
     }
   });
 }

@@ -56,12 +56,12 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.throughput[k] = {1, 1, 1};
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
-      paths.alive[k] = 1;
       if (paths.firstHits) paths.aov[k] = FirstHitRecord{};
       paths.bsdfPdf[k] = 0;
-      paths.bsdfDelta[k] = 1;  // the camera ray: emission it finds is counted in full
+      paths.flags[k] = 0;
+      paths.setBsdfDelta(k, true);  // the camera ray: emission it finds is counted in full
       paths.etaScale[k] = 1;
-      paths.causticRun[k] = kNoDiffuseYet;
+      paths.setCausticRun(k, kNoDiffuseYet);
       rays.set(kRaysPerPath * size_t(k), RayKind::Closest, cr.org, cr.dir, kInf, cr.coneWidth, cr.coneSpread, kNoLeaf,
                kNoLeaf, 0, cr.time);
       rays.ray[kRaysPerPath * size_t(k) + 1].kind = RayKind::Inactive;
@@ -97,7 +97,7 @@ void gatherEscaped(const LightSampler& lights, uint32_t k, Vec3 wo, uint8_t kind
                    ShadeStats& stats) {
   if (!lights.hasInfinite()) return;
   addFinite(paths.radiance[k],
-            paths.throughput[k] * lights.escaped(-wo, paths.bsdfPdf[k], paths.bsdfDelta[k] != 0, kinds), stats);
+            paths.throughput[k] * lights.escaped(-wo, paths.bsdfPdf[k], paths.bsdfDelta(k), kinds), stats);
 }
 
 // Step 2, emission found by this ray: MIS-weighted against light sampling unless the ray came
@@ -107,7 +107,7 @@ void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch&
   const Material& mat = *v.mat;
   if (!mat.emits() || !(v.front || mat.twoSided)) return;
   float w = 1;
-  if (paths.bsdfDelta[v.k] == 0) {
+  if (!paths.bsdfDelta(v.k)) {
     const float dist = v.h.t * length(rays.ray[v.cs].dir);
     w = powerHeuristic(paths.bsdfPdf[v.k],
                        lights.patchPdf(lights.patchLightOfLeaf(v.h.leaf), v.h.u, v.h.v, -v.wo, dist));
@@ -213,7 +213,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
   Rgb& T = paths.throughput[k];
   T *= bs.weight;
   paths.bsdfPdf[k] = bs.pdf;
-  paths.bsdfDelta[k] = bs.delta ? 1 : 0;
+  paths.setBsdfDelta(k, bs.delta);
   paths.etaScale[k] *= bs.etaRel * bs.etaRel;
   // Survival by throughput with the radiance scaling of refraction undone, so a path inside
   // glass is not killed for the factor it will regain on the way out.
@@ -245,7 +245,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const RayHit h = rays.hitOf(cs);
   const Vec3 wo = -normalize(rays.ray[cs].dir);
   // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
-  const uint8_t countedNow = countedLights(paths.causticRun[k] == kInCausticChain);
+  const uint8_t countedNow = countedLights(paths.causticRun(k) == kInCausticChain);
   // 2a. In a scene with media, the ray's free flight (delta tracking) up to the surface it found:
   // a real collision before it makes a scattering vertex there instead.
   if (!scene_.media.empty()) {
@@ -282,7 +282,6 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   }
   if (!h.valid()) {
     if (countedNow) gatherEscaped(scene_.lights, k, wo, countedNow, paths, stats);
-    paths.alive[k] = 0;
     return 0;
   }
   const Vec3 p = rays.ray[cs].org + rays.ray[cs].dir * h.t;
@@ -290,7 +289,6 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   // AOVs (docs/design.md, invariant 5). The normals are finite: decoded from their codes.
   if (!isFinite(p) || !isFinite(wo)) {
     stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-    paths.alive[k] = 0;
     return 0;
   }
   stats.shadedHits.fetch_add(1, std::memory_order_relaxed);
@@ -309,7 +307,6 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   }
   if (bounce == 0 && paths.firstHits) recordFirstHit(v, paths);
   if (int(bounce) >= scene_.integrator.maxDepth || !v.reflects) {
-    paths.alive[k] = 0;
     return 0;
   }
   const PathIds ids = idsOf(paths.first + k);
@@ -322,7 +319,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const Vec3 woL = frame.toLocal(wo);
 
   // 4. Caustic paths: where this vertex puts the path, and the caustic estimate at a diffuse one.
-  uint8_t& run = paths.causticRun[k];
+  uint8_t run = paths.causticRun(k);
   if (!isCausticScatterer(*v.mat)) {
     // After the first diffuse vertex, the gather survives a roulette (Options::laterGatherProbability).
     const float q = run == kNoDiffuseYet ? 1.0f : options_.laterGatherProbability;
@@ -342,13 +339,13 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   } else if (run != kNoDiffuseYet) {
     run = kInCausticChain;
   }
+  paths.setCausticRun(k, run);
   const uint8_t countedNext = countedLights(run == kInCausticChain);
 
   // 5. Next-event estimation (not from lights whose paths are not counted here); 6. the continuation.
   const size_t shadow =
       countedNext && writeShadowRay(scene_, v, frame, woL, key, countedNext, paths, rays, stats) ? 1 : 0;
   if (writeContinuation(scene_, bounce, v, frame, woL, key, paths, rays, stats)) return shadow + 1;
-  paths.alive[k] = 0;
   return shadow;
 }
 
@@ -365,17 +362,15 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
   const Ray ray = rays.ray[cs];
   const Vec3 p = ray.org + ray.dir * t, in = normalize(ray.dir);
   if (int(bounce) >= scene_.integrator.maxDepth || !isFinite(p) || !isFinite(in)) {
-    paths.alive[k] = 0;
     return 0;
   }
   const float g = m.coefficients().g;
   Rgb& T = paths.throughput[k];
   T *= m.coefficients().albedo();
   if (isBlack(T)) {  // a purely absorbing medium: nothing more can reach the film
-    paths.alive[k] = 0;
     return 0;
   }
-  paths.causticRun[k] = kAfterDiffuse;
+  paths.setCausticRun(k, kAfterDiffuse);
   const uint8_t kinds = countedLights(false);
   const float width = ray.coneWidth + t * ray.coneSpread;
   size_t written = 0;
@@ -403,18 +398,16 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
 
   // Continuation (as writeContinuation: not traced at the last vertex when nothing could be found).
   if (int(bounce) + 1 >= scene_.integrator.maxDepth && !lights.hasHittable()) {
-    paths.alive[k] = 0;
     return written;
   }
   const Sample2D bu = sample2D(key, kBsdf);
   const Vec3 wi = sampleHenyeyGreenstein(in, g, bu.u, bu.v);
   const float pdf = henyeyGreenstein(dot(in, wi), g);
   paths.bsdfPdf[k] = pdf;
-  paths.bsdfDelta[k] = 0;
+  paths.setBsdfDelta(k, false);
   if (!isFinite(wi) ||
       !throughputSurvives(T, int(bounce) + 1 >= scene_.integrator.rouletteDepth, paths.etaScale[k], key, kRoulette,
                           stats)) {
-    paths.alive[k] = 0;
     return written;
   }
   rays.set(cs, RayKind::Closest, p, wi, kInf, width, spreadAfterBounce(ray.coneSpread, pdf, false), kNoLeaf, kNoLeaf, 0,

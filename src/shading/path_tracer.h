@@ -87,9 +87,14 @@ struct PathBatch {
   std::vector<Rgb> throughput, radiance, shadowContribution;
   std::vector<float> bsdfPdf;     // density of the BSDF sample that made the continuation ray
   std::vector<float> etaScale;    // product of etaRel² over refractions (for roulette)
-  std::vector<uint8_t> bsdfDelta; // that sample came from a delta lobe (or it is a camera ray)
-  std::vector<uint8_t> alive;
-  std::vector<uint8_t> causticRun;  // CausticRun: where the path stands in a diffuse -> caustic chain
+  // One byte per path: its CausticRun (where it stands in a diffuse -> caustic chain, bits 0-1)
+  // and whether the sample that made its continuation ray came from a delta lobe (or it is a
+  // camera ray; bit 2). Whether a path goes on is its closest slot's kind, not kept here.
+  std::vector<uint8_t> flags;
+  uint8_t causticRun(size_t k) const { return flags[k] & 3; }
+  void setCausticRun(size_t k, uint8_t run) { flags[k] = uint8_t((flags[k] & ~3) | run); }
+  bool bsdfDelta(size_t k) const { return (flags[k] & 4) != 0; }
+  void setBsdfDelta(size_t k, bool delta) { flags[k] = uint8_t((flags[k] & ~4) | (delta ? 4 : 0)); }
   // The first hits for the AOVs, only when `firstHits` (set before resize(); the render's
   // outputs read them: IntegratorSettings::firstHitAovs).
   std::vector<FirstHitRecord> aov;
@@ -101,13 +106,13 @@ struct PathBatch {
   // In a scene with media: the tracking the engine runs at brick leaves for this batch's rays
   // (RayBatch::media), and the products of its shadow rays (null without media).
   std::shared_ptr<BrickLeafTracker> media;
-  size_t size() const { return alive.size(); }
+  size_t size() const { return flags.size(); }
   void resize(size_t n) {
-    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); alive.resize(n); aov.resize(firstHits ? n : 0);
-    bsdfPdf.resize(n); etaScale.resize(n); bsdfDelta.resize(n); causticRun.resize(n);
+    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); flags.resize(n); aov.resize(firstHits ? n : 0);
+    bsdfPdf.resize(n); etaScale.resize(n);
   }
   static constexpr size_t bytesPerPath(bool firstHits) {
-    return 3 * sizeof(Rgb) + 2 * sizeof(float) + 3 + (firstHits ? sizeof(FirstHitRecord) : 0);
+    return 3 * sizeof(Rgb) + 2 * sizeof(float) + 1 + (firstHits ? sizeof(FirstHitRecord) : 0);
   }
   static constexpr size_t bytesPerGather() { return sizeof(PostedGather) + LeafQueries::bytesPerSlot(); }
 };

@@ -216,7 +216,7 @@ void TopLevelBvh::build(std::vector<Box3>&& boxes) {
 
 int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resumeEntry,
                          uint32_t resumeLeaf, Candidate* out, int maxCount, float& nextEntry,
-                         TraversalScratch& scratch) const {
+                         TraversalScratch& scratch, uint32_t* nextLeaf) const {
   using toplevel::isLeafRef;
   using toplevel::refLeafId;
   // Depth first, nearest child first, keeping the best maxCount + 1 leaves after the resume
@@ -283,6 +283,7 @@ int TopLevelBvh::collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resum
     }
   }
   nextEntry = best.nextEntry();
+  if (nextLeaf && best.full()) *nextLeaf = best.last().leaf;
   return best.returned();
 }
 

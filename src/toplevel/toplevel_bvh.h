@@ -21,6 +21,7 @@
 // nodes and boxes are then read in place through their gates (core/gated_span.h) and this
 // object holds none of them. Node layout: toplevel_node.h.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -80,9 +81,24 @@ class TopLevelBvh {
 
   // See the contract above. Start a trace with resumeEntry = -inf (any resumeLeaf); tmin must
   // be finite (entries are clamped to it, so they then exceed -inf). Returns the number of
-  // candidates written to out; maxCount <= 0 only computes nextEntry.
+  // candidates written to out; maxCount <= 0 only computes nextEntry. With `nextLeaf`, also the
+  // leaf of that next candidate (the (maxCount + 1)-th; unchanged when there is none): a caller
+  // may then keep (nextEntry, nextLeaf) alone and resume at it (resumeBefore).
   int collect(Vec3 org, Vec3 dir, float tmin, float tmax, float resumeEntry, uint32_t resumeLeaf,
-              Candidate* out, int maxCount, float& nextEntry, TraversalScratch& scratch) const;
+              Candidate* out, int maxCount, float& nextEntry, TraversalScratch& scratch,
+              uint32_t* nextLeaf = nullptr) const;
+  // The resume point (resumeEntry, resumeLeaf) whose candidates are exactly those at or after
+  // (entry, leaf) in candidate order: the one just before it (the float below entry with any
+  // leaf, when leaf is 0). Exact: no float lies between entry and the one below it.
+  static void resumeBefore(float entry, uint32_t leaf, float& resumeEntry, uint32_t& resumeLeaf) {
+    if (leaf > 0 || entry == -std::numeric_limits<float>::infinity()) {  // (-inf, 0): from the start
+      resumeEntry = entry;
+      resumeLeaf = leaf > 0 ? leaf - 1 : 0;
+    } else {
+      resumeEntry = std::nextafter(entry, -std::numeric_limits<float>::infinity());
+      resumeLeaf = std::numeric_limits<uint32_t>::max();
+    }
+  }
 
   // The leaves whose boxes overlap `box` (closed: touching counts), appended to `out` in
   // increasing leaf id. Thread-safe; a box query for what is not a ray (light beam segments).

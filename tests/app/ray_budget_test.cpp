@@ -29,22 +29,24 @@ TEST(DefaultRayBudget, IsTheRenderOptionsDefault) {
   EXPECT_LE(RenderOptions{}.rayMemoryBytes, 2 * kGiB);
 }
 
-// A pt path of a scene where nothing moves and no texture is read: 83 bytes of path state (28
-// of them the first hit the AOVs need) and a pair of ray slots, each a 44-byte ray, half of the
-// pair's 28-byte hit and 4-byte occluder (the shadow slot keeps no hit), 17 bytes of trace state
-// and one 12-byte candidate slot; the candidate buffer holds one slot per ray slot of the batch.
+// A pt path of a scene where nothing moves and no texture is read: 81 bytes of path state (28
+// of them the first hit the AOVs need, one byte of flags) and a pair of ray slots, each a
+// 44-byte ray, half of the pair's 28-byte hit and 4-byte occluder (the shadow slot keeps no
+// hit), 12 bytes of trace state and one 12-byte candidate slot; the candidate buffer holds one
+// slot per ray slot of the batch.
 TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
   const Scene scene = testing::smallTeapot();
   const Renderer r(scene, RenderOptions{});
   ASSERT_EQ(r.stats().features.movingLeaves, 0u);  // no shutter time per slot
   ASSERT_EQ(r.stats().features.texturedMaterials, 0u);  // no surface derivatives per slot
   EXPECT_EQ(sizeof(Ray), 44u);
+  EXPECT_EQ(SortedEngine::bytesPerRayState(), 12u);
   EXPECT_EQ(RayBatch::bytesPerRay(false, false, true) + SortedEngine::bytesPerRaySlot(LodRule::PerRay),
-            44u + 16u + 17u + 12u);
-  EXPECT_EQ(r.stats().bytesPerPath, 83u + 2 * (44u + 16u + 17u + 12u));
+            44u + 16u + 12u + 12u);
+  EXPECT_EQ(r.stats().bytesPerPath, 81u + 2 * (44u + 16u + 12u + 12u));
   EXPECT_EQ(r.stats().candidateCapacity, r.stats().pathsPerBatch * 2);
-  EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * 2 * (17u + 12u));
-  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (83u + 2 * (44u + 16u)));
+  EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * 2 * (12u + 12u));
+  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (81u + 2 * (44u + 16u)));
 }
 
 // bytes_per_ray (the stats' memory.bytes_per_ray, per ray slot) of pt with the AOVs the EXR
@@ -55,8 +57,8 @@ TEST(RayBudget, APtPathWithoutAovsKeepsNoFirstHit) {
   RenderOptions without;
   without.firstHitAovs = false;
   Renderer withAovs(scene, RenderOptions{}), noAovs(scene, without);
-  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 130u);
-  EXPECT_EQ(noAovs.stats().bytesPerPath / noAovs.stats().raysPerPath, 116u);
+  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 124u);
+  EXPECT_EQ(noAovs.stats().bytesPerPath / noAovs.stats().raysPerPath, 110u);
   EXPECT_EQ(withAovs.stats().bytesPerPath - noAovs.stats().bytesPerPath, sizeof(FirstHitRecord));
   const Film a = withAovs.render(), b = noAovs.render();
   EXPECT_EQ(a.sums().rgb, b.sums().rgb);
@@ -66,7 +68,8 @@ TEST(RayBudget, APtPathWithoutAovsKeepsNoFirstHit) {
 }
 
 // The density rule's levels count the rays of a leaf's run, which depend on the candidates per
-// ray: it keeps two candidate slots per ray slot, and pays for them in the budget.
+// ray: it keeps two candidate slots per ray slot (twice the per-ray rule's), and pays for them
+// in the budget.
 TEST(RayBudget, TheDensityRuleKeepsTwoCandidateSlotsPerRaySlot) {
   const Scene scene = testing::smallTeapot();
   RenderOptions density;

@@ -30,6 +30,36 @@ void expectFirstCallMatches(const TopLevelBvh& bvh, const std::vector<Box3>& box
   }
 }
 
+// The SortedEngine keeps only each ray's next candidate (nextEntry and the leaf collect() gives
+// with it) and resumes just before it (TopLevelBvh::resumeBefore): collecting maxCount at a time
+// that way yields the whole brute-force list too, ties of equal entries and leaf 0 included.
+void expectResumingAtNextMatches(const TopLevelBvh& bvh, const std::vector<Box3>& boxes,
+                                 const std::vector<TestRay>& rays, int maxCount) {
+  TraversalScratch scratch;
+  std::vector<Candidate> list(static_cast<size_t>(maxCount));
+  for (size_t r = 0; r < rays.size(); ++r) {
+    SCOPED_TRACE(::testing::Message() << "ray " << r << ", maxCount " << maxCount << ", resumed at the next");
+    const std::vector<Candidate> all = bruteForce(boxes, rays[r]);
+    std::vector<Candidate> got;
+    float nextEntry = -kInf;  // the engine's initial state: at or after (-inf, 0), so everything
+    uint32_t nextLeaf = 0;
+    for (size_t calls = 0; calls <= all.size() + 1 && nextEntry < kInf; ++calls) {
+      float resumeEntry;
+      uint32_t resumeLeaf;
+      TopLevelBvh::resumeBefore(nextEntry, nextLeaf, resumeEntry, resumeLeaf);
+      const int n = bvh.collect(rays[r].org, rays[r].dir, rays[r].tmin, rays[r].tmax, resumeEntry, resumeLeaf,
+                                list.data(), maxCount, nextEntry, scratch, &nextLeaf);
+      got.insert(got.end(), list.begin(), list.begin() + n);
+      if (nextEntry < kInf) {
+        ASSERT_LT(got.size(), all.size());
+        EXPECT_EQ(nextEntry, all[got.size()].entry);  // the next candidate, exactly
+        EXPECT_EQ(nextLeaf, all[got.size()].leaf);
+      }
+    }
+    ASSERT_EQ(got, all);
+  }
+}
+
 // Collecting maxCount at a time from the last returned (entry, leaf) yields the whole
 // brute-force list; nextEntry never exceeds the next returned entry and is +inf at the end.
 void expectResumptionMatches(const TopLevelBvh& bvh, const std::vector<Box3>& boxes,
@@ -60,6 +90,7 @@ void expectResumptionMatches(const TopLevelBvh& bvh, const std::vector<Box3>& bo
     EXPECT_EQ(previousNext, kInf);
     ASSERT_EQ(got, all);
   }
+  expectResumingAtNextMatches(bvh, boxes, rays, maxCount);
 }
 
 struct Scene {
@@ -176,6 +207,19 @@ TEST(Collect, IdenticalBoxesComeOutByLeafId) {
   TraversalScratch scratch;
   const Collected c = collectOnce(bvh, rays[0], 5, scratch);
   ASSERT_EQ(c.list, (std::vector<Candidate>{{0, 1}, {1, 1}, {2, 1}, {3, 1}, {4, 1}}));
+}
+
+// Leaf 0 as the next candidate after another leaf, at the same entry as leaf 2: resuming just
+// before (entry, 0) must take the float below the entry, since no leaf lies before 0.
+TEST(Collect, ResumingAtLeafZeroAfterAnotherLeaf) {
+  const std::vector<Box3> boxes = {Box3{{2, -1, -1}, {5, 1, 1}}, Box3{{0, -1, -1}, {5, 1, 1}},
+                                   Box3{{2, -1, -1}, {6, 1, 1}}};
+  TopLevelBvh bvh;
+  bvh.build(boxes);
+  const std::vector<TestRay> rays = {{{-1, 0.25f, 0.5f}, {1, 0, 0}}};
+  ASSERT_EQ(bruteForce(boxes, rays[0]).size(), 3u);
+  ASSERT_EQ(bruteForce(boxes, rays[0])[1].leaf, 0u);
+  for (int n : {1, 2}) expectResumingAtNextMatches(bvh, boxes, rays, n);
 }
 
 TEST(Collect, ThreadsAgreeAndScratchStopsGrowing) {
