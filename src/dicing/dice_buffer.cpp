@@ -43,6 +43,7 @@ void DiceBuffer::newStamp() {
     for (size_t i = 0, n = borderOffset(4, 0, 0) / 6; i < n; ++i) {
       segments_[i].boxStamp.store(0, std::memory_order_relaxed);
       for (auto& r : segments_[i].radiusStamp) r.store(0, std::memory_order_relaxed);
+      segments_[i].coarseStamp.store(0, std::memory_order_relaxed);
     }
     stamp_ = 1;
   }
