@@ -191,8 +191,10 @@ class DiceBuffer {
   // by whichever query gets there; concurrent queries of one dicing may race on an entry
   // harmlessly (idempotent writes of a pure function, each value its own atomic, the stamp
   // published last).
+  // 16-bit stamps keep an entry at 72 bytes with the coarse box (56 without it, when stamps
+  // were 32-bit): the border tables stay a small part of a buffer, which grows 4x per level.
   struct BorderSegment {
-    std::atomic<uint32_t> boxStamp{0}, radiusStamp[2] = {0, 0}, coarseStamp{0};
+    std::atomic<uint16_t> boxStamp{0}, radiusStamp[2] = {0, 0}, coarseStamp{0};
     std::atomic<float> box[6];
     std::atomic<float> coarse[6];  // Patch::coarseBoundsOverAt and the chord's two vertices
     std::atomic<double> radius[2] = {0, 0};  // from pieces of level k + 3 and k + radiusSplit(k)
@@ -264,7 +266,7 @@ class DiceBuffer {
   // Per (border, level <= maxLevel, segment), index borderOffset() / 6: what this dicing has
   // computed of its borders (a moving dicing uses only the radii, at alpha 0).
   std::unique_ptr<BorderSegment[]> segments_;
-  uint32_t stamp_ = 0;    // this dicing's serial number (entries with another stamp are stale)
+  uint16_t stamp_ = 0;    // this dicing's serial number (entries with another stamp are stale)
   Sample a_;              // first (or only) time sample
   Sample b_;              // second time sample: allocated by the first diceInterval()
   // The tree, stored by sibling groups: group g of level i (i < level_) holds the boxes of the

@@ -157,5 +157,27 @@ TEST(CoarseRegionBox, ConcurrentQueriesOfOneDicingGetTheSerialHits) {
   EXPECT_EQ(mismatches.load(), 0);
 }
 
+// The per-dicing entries carry 16-bit stamps: after 65,535 dicings of one buffer the stamps start
+// again, and no box or coarse box of a dicing before that may be taken for a later one's.
+TEST(CoarseRegionBox, StampsWrapAroundWithoutStaleBoxes) {
+  constexpr int m = 2;
+  const PatchPtr first = displacedTeapot(0.05f), later = displacedTeapot(0.2f);
+  const BezierPatch plain(test::loadTeapot()[1]);
+  DiceBuffer buffer(m), fresh(m);
+  buffer.dice(*first, m);
+  for (int e = 0; e < 4; ++e)
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; j < (1 << i); ++j) buffer.borderNode(e, i, j);  // every entry filled
+  for (int k = 0; k < 65534; ++k) buffer.dice(plain, 0);
+  buffer.dice(*later, m);  // the stamp wraps here
+  fresh.dice(*later, m);
+  for (int e = 0; e < 4; ++e)
+    for (int i = 0; i <= m; ++i)
+      for (int j = 0; j < (1 << i); ++j) {
+        const Box3 x = buffer.borderNode(e, i, j), y = fresh.borderNode(e, i, j);
+        ASSERT_TRUE(x.lo == y.lo && x.hi == y.hi) << e << " " << i << " " << j;
+      }
+}
+
 }  // namespace
 }  // namespace rayes
