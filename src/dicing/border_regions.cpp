@@ -74,6 +74,53 @@ Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
   return b;
 }
 
+bool DiceBuffer::mayEnterCoarseBox(int e, int i, uint32_t j, const RayBoxQuery& q, const Vec3& pad, float tmin,
+                                   float tmax) const {
+  BorderSegment& seg = segments_[borderOffset(e, i, j) / 6];
+  Box3 c;
+  if (seg.coarseStamp.load(std::memory_order_acquire) == stamp_) {
+    for (int a = 0; a < 3; ++a) {
+      c.lo[a] = seg.coarse[a].load(std::memory_order_relaxed);
+      c.hi[a] = seg.coarse[3 + a].load(std::memory_order_relaxed);
+    }
+  } else {
+    // Kept across dicings in the shared table: then the box costs a look-up, not a bound.
+    if (shared_.cache && shared_.cache->find({shared_.leaf, BorderBoundCache::Kind::CurveBox, e, i, j}, c)) {
+      for (int a = 0; a < 3; ++a) {
+        seg.box[a].store(c.lo[a], std::memory_order_relaxed);
+        seg.box[3 + a].store(c.hi[a], std::memory_order_relaxed);
+      }
+      seg.boxStamp.store(stamp_, std::memory_order_release);
+      return true;
+    }
+    const float inv = 1.0f / float(1u << i);  // as curveBox: the same rectangle
+    const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
+    bool known;
+    switch (e) {
+      case 0: known = patch_->coarseBoundsOverAt(0, t0, t1, 0.0f, 0.0f, c); break;
+      case 1: known = patch_->coarseBoundsOverAt(0, 1.0f, 1.0f, t0, t1, c); break;
+      case 2: known = patch_->coarseBoundsOverAt(0, t0, t1, 1.0f, 1.0f, c); break;
+      default: known = patch_->coarseBoundsOverAt(0, 0.0f, 0.0f, t0, t1, c); break;
+    }
+    if (!known) return true;
+    size_t v0, v1;
+    chordEnds(e, i, j, level_, v0, v1);
+    c.extend(a_.positions[v0]);
+    c.extend(a_.positions[v1]);
+    for (int a = 0; a < 3; ++a) {
+      seg.coarse[a].store(c.lo[a], std::memory_order_relaxed);
+      seg.coarse[3 + a].store(c.hi[a], std::memory_order_relaxed);
+    }
+    seg.coarseStamp.store(stamp_, std::memory_order_release);
+  }
+  // Each coordinate of c lies as far out as the region box's or farther, and intersectBox's
+  // slab distances are monotone in the bounds (float rounding is monotone; a NaN leaves a slab
+  // unused either way), so its entry is no later and its exit no earlier: a miss here is a miss
+  // there, and the walk takes the same path as with every box computed.
+  float t0, t1;
+  return intersectBox(q, c.lo - pad, c.hi + pad, tmin, tmax, t0, t1);
+}
+
 Box3 DiceBuffer::regionBox(int e, int i, uint32_t j) const {
   Box3 b = curveBox(e, i, j, 0);
   size_t v0, v1;

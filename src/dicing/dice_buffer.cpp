@@ -36,13 +36,14 @@ void DiceBuffer::diceSample(const Patch& patch, int sample, int level, Sample& o
   }
 }
 
-// A new serial number makes every border segment entry stale; on wrap-around (after 2^32
-// dicings) the entries are cleared so that no old stamp can match.
+// A new serial number makes every border segment entry stale; on wrap-around (after 2^16
+// dicings, at most a clear per 65,535 dicings) the entries are cleared so that no old stamp can match.
 void DiceBuffer::newStamp() {
   if (++stamp_ == 0) {
     for (size_t i = 0, n = borderOffset(4, 0, 0) / 6; i < n; ++i) {
       segments_[i].boxStamp.store(0, std::memory_order_relaxed);
       for (auto& r : segments_[i].radiusStamp) r.store(0, std::memory_order_relaxed);
+      segments_[i].coarseStamp.store(0, std::memory_order_relaxed);
     }
     stamp_ = 1;
   }

@@ -186,13 +186,17 @@ class DiceBuffer {
   // What a static dicing has computed of one border segment (border e, level i, segment j),
   // each value valid while its stamp equals the dicing's: the box of the true curve over it
   // (Patch::boundsOverAt, without the chord) and the two radius bounds of its region (a
-  // cheap one first, see traverseBorders). Filled on first use
+  // cheap one first, see traverseBorders), and a coarse box around the region box
+  // (mayEnterRegionBox) while that is not known. Filled on first use
   // by whichever query gets there; concurrent queries of one dicing may race on an entry
   // harmlessly (idempotent writes of a pure function, each value its own atomic, the stamp
   // published last).
+  // 16-bit stamps keep an entry at 72 bytes with the coarse box (56 without it, when stamps
+  // were 32-bit): the border tables stay a small part of a buffer, which grows 4x per level.
   struct BorderSegment {
-    std::atomic<uint32_t> boxStamp{0}, radiusStamp[2] = {0, 0};
+    std::atomic<uint16_t> boxStamp{0}, radiusStamp[2] = {0, 0}, coarseStamp{0};
     std::atomic<float> box[6];
+    std::atomic<float> coarse[6];  // Patch::coarseBoundsOverAt and the chord's two vertices
     std::atomic<double> radius[2] = {0, 0};  // from pieces of level k + 3 and k + radiusSplit(k)
   };
   void allocate(Sample& s) const;
@@ -223,6 +227,21 @@ class DiceBuffer {
   // A static dicing's region box of segment j of border e at level i <= level(): curveBox and
   // the chord's two grid vertices.
   Box3 regionBox(int e, int i, uint32_t j) const;
+  // False only when the ray misses regionBox(e, i, j) grown by `pad` over [tmin, tmax]: tested
+  // on a coarse box around it (Patch::coarseBoundsOverAt and the chord, kept per dicing) while
+  // the region box itself is not known, so a box no ray reaches is never computed (a displaced
+  // patch's boundsOver was a third of teapot-field's bottom stage, bench/history/2026-11.md,
+  // "Curve boxes only where a ray may reach them"). True for a moving dicing, a segment whose box is known and a
+  // patch without a coarse box: the caller's own test of the region box decides.
+  bool mayEnterRegionBox(int e, int i, uint32_t j, const RayBoxQuery& q, const Vec3& pad, float tmin,
+                         float tmax) const {
+    if (moving_ || i > maxLevel_ ||
+        segments_[borderOffset(e, i, j) / 6].boxStamp.load(std::memory_order_acquire) == stamp_)
+      return true;
+    return mayEnterCoarseBox(e, i, j, q, pad, tmin, tmax);
+  }
+  bool mayEnterCoarseBox(int e, int i, uint32_t j, const RayBoxQuery& q, const Vec3& pad, float tmin,
+                         float tmax) const;
   // Radius about the chord's line (a, b) that holds the true border curve of segment j of
   // border e at level k, from its pieces of level k + split (with `blend`, the pieces blended
   // at time weights w0, w1): see border_regions.cpp.
@@ -247,7 +266,7 @@ class DiceBuffer {
   // Per (border, level <= maxLevel, segment), index borderOffset() / 6: what this dicing has
   // computed of its borders (a moving dicing uses only the radii, at alpha 0).
   std::unique_ptr<BorderSegment[]> segments_;
-  uint32_t stamp_ = 0;    // this dicing's serial number (entries with another stamp are stale)
+  uint16_t stamp_ = 0;    // this dicing's serial number (entries with another stamp are stale)
   Sample a_;              // first (or only) time sample
   Sample b_;              // second time sample: allocated by the first diceInterval()
   // The tree, stored by sibling groups: group g of level i (i < level_) holds the boxes of the

@@ -587,6 +587,8 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
     BorderEntry stack[2 * 13];
     int sp = 0;
     {
+      // The test below passes only for an entry before both tmax and best.t.
+      if (!Moving && !mayEnterRegionBox(e, 0, 0, q, pad, tmin, std::min(tmax, best.t))) continue;
       Vec3 lo, hi;
       box(e, 0, 0, lo, hi);
       float t0, t1;
@@ -600,6 +602,8 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         BorderEntry c[2];
         int nc = 0;
         for (uint32_t d = 0; d < 2; ++d) {
+          if (!Moving && !mayEnterRegionBox(e, n.level + 1, 2 * n.j + d, q, pad, tmin, AnyHit ? tmax : best.t))
+            continue;
           Vec3 lo, hi;
           box(e, n.level + 1, 2 * n.j + d, lo, hi);
           float t0, t1;
@@ -610,7 +614,7 @@ bool DiceBuffer::traverseBorders(const RayBoxQuery& q, Vec3 dir, const Vec3& pad
         for (int i = nc - 1; i >= 0; --i) stack[sp++] = c[i];
         continue;
       }
-      // A border box at the ray's level, with its true exit.
+      // A border box at the ray's level, with its true exit (known: the walk tested it above).
       Vec3 lo, hi;
       box(e, k, n.j, lo, hi);
       float t0, t1;

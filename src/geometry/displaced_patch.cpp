@@ -184,6 +184,23 @@ Box3 DisplacedPatch::displacedBox(const Box3& b, const Box3& nr, Interval h) {
   return r.grownBy(gammaBound(8) * std::max(std::fabs(h.lo), std::fabs(h.hi)));
 }
 
+// boundsOver is displacedBox(b, nr, h), b the base's box: per axis [b] + [nr] [h], then grown
+// by gamma(8) |h| and half an ulp of its magnitude. Every component of nr lies in
+// [-1 - 10^-6, 1 + 10^-6] (unitRange) and |h| <= M = magnitudeBound(), so each coordinate
+// moves from b's by at most M (1 + 2 10^-6) + gamma(8) M and a few roundings of
+// (|b| + M) 2^-23; b grown by 1.001 M + (|b| + M) 2^-18 reaches beyond that. Float rounding
+// of each step is monotone, so the computed box lies inside it bit for bit.
+bool DisplacedPatch::coarseBoundsOverAt(int, float u0, float u1, float v0, float v1, Box3& out) const {
+  const float m = displacement_->magnitudeBound();
+  if (!std::isfinite(m)) return false;
+  const Box3 b = base_->boundsOver(u0, u1, v0, v1);
+  if (b.empty() || !isFinite(b.lo) || !isFinite(b.hi)) return false;
+  const float grow = 1.001f * m + (b.magnitude() + m) * 0x1p-18f;
+  if (!std::isfinite(grow)) return false;
+  out = b.grownBy(grow);
+  return isFinite(out.lo) && isFinite(out.hi);
+}
+
 // boundsOver's composition per piece, from the pieces of the base's (and reference's) border
 // curve and of the hodographs' border curves, each restricted once and halved (Bézier bases;
 // the others take the default, boundsOver per piece).

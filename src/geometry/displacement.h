@@ -49,6 +49,10 @@ class Displacement {
                          HeightSample* out) const;
   // Conservative range of sample().h, see the contract above.
   virtual Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const = 0;
+  // A bound M on every result of range(), whatever its arguments: range() lies in [-M, M]. It
+  // lets DisplacedPatch::coarseBoundsOverAt bound a box without calling range(). Infinite (the
+  // default) where a kind gives none.
+  virtual float magnitudeBound() const;
   // LOD estimates (not bounds): the mean |dh/ds| per unit length of base surface, and per unit
   // of (u, v) parameter. DisplacedPatch::sizeBound() lengthens the base's size by these.
   virtual float meanSlopePerLength() const = 0;
@@ -108,6 +112,10 @@ class NoiseDisplacement final : public Displacement {
   void sampleRow(int n, const Vec3* p, const Vec3* pu, const Vec3* pv, const float* u, float v,
                  HeightSample* out) const override;
   Interval range(const Box3& pBox, float u0, float u1, float v0, float v1) const override;
+  // (|offset| + |amplitude|) (1 + 10^-3): range() is offset + amplitude x a weighted mean of
+  // octave ranges within [-1, 1] widened by at most 2 10^-6, the mean widened by 10^-6 and the
+  // result by 10^-6 (10^-5 for a box that is not finite) of |offset| + |amplitude|.
+  float magnitudeBound() const override;
   float meanSlopePerLength() const override { return meanSlope_; }
   float meanSlopePerParameter() const override { return 0; }
   const char* kind() const override { return "noise"; }

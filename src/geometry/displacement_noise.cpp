@@ -417,6 +417,12 @@ Interval NoiseDisplacement::fractalRange(const Box3& b) const {
   return widened({float(lo * invWeightSum_), float(hi * invWeightSum_)}, 1e-6f);
 }
 
+float NoiseDisplacement::magnitudeBound() const {
+  // The widenings listed in the header add at most 3 10^-5 of |offset| + |amplitude| (and a few
+  // roundings of it): 10^-3 holds them with room.
+  return (std::fabs(params_.offset) + std::fabs(params_.amplitude)) * 1.001f;
+}
+
 Interval NoiseDisplacement::range(const Box3& pBox, float, float, float, float) const {
   const float amp = params_.amplitude, off = params_.offset;
   if (pBox.empty() || !isFinite(pBox.lo) || !isFinite(pBox.hi)) {

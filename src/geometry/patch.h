@@ -108,6 +108,14 @@ class Patch {
   // piece; Bézier kinds restrict the border curve once and halve it. split <= kMaxPieceSplit.
   static constexpr int kMaxPieceSplit = 7;
   virtual void borderPieceBoundsAt(int sample, int e, int k, uint32_t j, int split, Box3* out) const;
+
+  // A box that contains boundsOverAt(sample, u0, u1, v0, v1) as computed, every coordinate
+  // as far out or farther, at a fraction of its cost; false where the kind has none cheaper
+  // (the default). A static dicing tests rays against it before it computes a border
+  // segment's box (DiceBuffer::mayEnterRegionBox): a ray that misses it misses the box.
+  virtual bool coarseBoundsOverAt(int sample, float u0, float u1, float v0, float v1, Box3& out) const {
+    return false;
+  }
 };
 
 using PatchPtr = std::shared_ptr<const Patch>;

@@ -54,11 +54,11 @@ TEST(ImplicitBvh, MemoryIsAllocatedOnceForTheMaxLevel) {
     DiceBuffer buffer(maxLevel);
     const size_t verts = size_t((1 << maxLevel) + 1) * ((1 << maxLevel) + 1);
     // Grid, tree, and per segment of the 4 borders (2^(maxLevel+1) - 1 each) what a static
-    // dicing computes of it on demand: its curve box, two radii (doubles) and three 4-byte
-    // stamps, padded to 8 bytes.
+    // dicing computes of it on demand: its curve box, its coarse box, two radii (doubles) and
+    // four 2-byte stamps.
     const size_t borderSegments = 4 * ((size_t(2) << maxLevel) - 1);
     const size_t expected = 2 * verts * sizeof(Vec3) + sumOfPowersOf4(maxLevel) * sizeof(Box3) +
-                            borderSegments * (sizeof(Box3) + 2 * sizeof(double) + 16);
+                            borderSegments * (2 * sizeof(Box3) + 2 * sizeof(double) + 8);
     EXPECT_EQ(buffer.bytesAllocated(), expected);
     const auto patches = test::loadTeapot();
     for (int m = maxLevel; m >= 0; m -= 2) {

@@ -129,7 +129,7 @@ TEST(MovingDice, StaticPatchesUseOneSampleAndTheSecondGridIsAllocatedOnFirstUse)
   const size_t segments = 4 * ((size_t(2) << 4) - 1);
   // The border segments' boxes, radii and stamps are shared, not per sample; a moving dicing
   // adds a border tree per sample.
-  const size_t shared = segments * (sizeof(Box3) + 2 * sizeof(double) + 16);
+  const size_t shared = segments * (2 * sizeof(Box3) + 2 * sizeof(double) + 8);
   EXPECT_EQ(buffer.bytesAllocated(), 2 * before - shared + 2 * segments * sizeof(Box3));
   buffer.dice(*movingTeapotPatch(), 3);  // sample 0 alone
   EXPECT_FALSE(buffer.moving());

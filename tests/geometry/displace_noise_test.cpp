@@ -470,3 +470,47 @@ TEST(NoiseDisplacement, RejectsBadParameters) {
 
 }  // namespace
 }  // namespace rayes
+
+namespace rayes {
+namespace {
+
+// magnitudeBound() bounds every range(): over boxes from a point to a thousand lattice cells
+// (the cell cap's [-1, 1]), an empty box and one that is not finite, for plain and ridged noise
+// with offsets on either side and a negative amplitude.
+TEST(NoiseDisplacement, MagnitudeBoundHoldsEveryRange) {
+  Random rnd(23);
+  for (const bool ridged : {false, true})
+    for (const float offset : {0.0f, 0.7f, -3.0f})
+      for (const float amplitude : {1.0f, -0.05f, 1e-6f}) {
+        NoiseParams p;
+        p.amplitude = amplitude;
+        p.offset = offset;
+        p.ridged = ridged;
+        p.frequency = 2.5f;
+        p.octaves = 6;
+        const NoiseDisplacement d(p);
+        const float m = d.magnitudeBound();
+        ASSERT_TRUE(std::isfinite(m));
+        auto check = [&](const Box3& b) {
+          const Interval r = d.range(b, 0.0f, 1.0f, 0.0f, 1.0f);
+          ASSERT_GE(r.lo, -m);
+          ASSERT_LE(r.hi, m);
+        };
+        for (int k = 0; k < 300; ++k) {
+          const Vec3 c{rnd.uniform(-50.0f, 50.0f), rnd.uniform(-50.0f, 50.0f), rnd.uniform(-50.0f, 50.0f)};
+          const float half = std::ldexp(1.0f, rnd.below(20) - 12);
+          Box3 b;
+          b.extend(c - Vec3{half, half, half});
+          b.extend(c + Vec3{half, half, half});
+          check(b);
+        }
+        check(Box3{});
+        Box3 inf;
+        inf.lo = {-std::numeric_limits<float>::infinity(), 0, 0};
+        inf.hi = {1, 1, 1};
+        check(inf);
+      }
+}
+
+}  // namespace
+}  // namespace rayes

@@ -353,3 +353,66 @@ TEST(DisplacedPatch, TeapotSeamsDifferOnlyByNormalRounding) {
 
 }  // namespace
 }  // namespace rayes
+
+namespace rayes {
+namespace {
+
+// Patch::coarseBoundsOverAt: a static dicing tests rays against it before it computes a border
+// segment's box, and skips the box when a ray misses it, so it must hold boundsOver's box as
+// computed, every coordinate as far out or farther: for every segment a dicing asks about
+// (each border, levels 0..10) and for interior rectangles, over each test shape with each
+// noise (and an offset larger than the amplitude, a negative amplitude, a tiny one). A height
+// map gives no bound (its range is a pyramid look-up, not the cost).
+TEST(DisplacedPatch, CoarseBoundsHoldBoundsOverAsComputed) {
+  Random rnd(17);
+  int checked = 0;
+  for (const Shape& s : test::testShapes()) {
+    const float size = s.patch->bounds().longestSide();
+    std::vector<Displaced> ds = testDisplacements(size);
+    NoiseParams offset;
+    offset.amplitude = -0.02f * size;
+    offset.offset = 0.3f * size;
+    offset.frequency = 3.0f / size;
+    NoiseParams tiny;
+    tiny.amplitude = 1e-7f * size;
+    tiny.frequency = 5.0f / size;
+    ds.push_back({"offset noise", std::make_shared<NoiseDisplacement>(offset)});
+    ds.push_back({"tiny noise", std::make_shared<NoiseDisplacement>(tiny)});
+    for (const Displaced& d : ds) {
+      const DisplacedPatch patch(s.patch, d.d);
+      const bool noise = std::string(d.d->kind()) == "noise";
+      auto check = [&](float u0, float u1, float v0, float v1) {
+        Box3 coarse;
+        const bool has = patch.coarseBoundsOverAt(0, u0, u1, v0, v1, coarse);
+        ASSERT_EQ(has, noise) << s.name << ", " << d.name;
+        if (!has) return;
+        const Box3 exact = patch.boundsOverAt(0, u0, u1, v0, v1);
+        for (int a = 0; a < 3; ++a) {
+          ASSERT_LE(coarse.lo[a], exact.lo[a]) << s.name << ", " << d.name << ": " << u0 << " " << u1 << " " << v0 << " " << v1;
+          ASSERT_GE(coarse.hi[a], exact.hi[a]) << s.name << ", " << d.name << ": " << u0 << " " << u1 << " " << v0 << " " << v1;
+        }
+        ++checked;
+      };
+      for (int level = 0; level <= 10; ++level) {
+        const uint32_t n = 1u << level;
+        for (int k = 0; k < 24; ++k) {
+          const uint32_t j = level <= 4 ? uint32_t(k) % n : uint32_t(rnd.below(int(n)));
+          const float t0 = float(j) / float(n), t1 = float(j + 1) / float(n);
+          check(t0, t1, 0.0f, 0.0f);
+          check(1.0f, 1.0f, t0, t1);
+          check(t0, t1, 1.0f, 1.0f);
+          check(0.0f, 0.0f, t0, t1);
+        }
+      }
+      for (int k = 0; k < 100; ++k) {
+        float u0 = rnd.uniform(0.0f, 1.0f), u1 = rnd.uniform(0.0f, 1.0f), v0 = rnd.uniform(0.0f, 1.0f),
+              v1 = rnd.uniform(0.0f, 1.0f);
+        check(std::min(u0, u1), std::max(u0, u1), std::min(v0, v1), std::max(v0, v1));
+      }
+    }
+  }
+  EXPECT_EQ(checked, 3 * 4 * (11 * 24 * 4 + 100));  // 3 shapes, 4 noises
+}
+
+}  // namespace
+}  // namespace rayes
