@@ -39,12 +39,8 @@ template <class F>
 void forBorderRays(const Patch& patch, int m, F&& f) {
   test::Random rnd(5);
   for (int r = 0; r < 600; ++r) {
-    const int e = rnd.below(4);
-    const float t = rnd.uniform(0.05f, 0.95f);
-    const float u = e == 0 || e == 2 ? t : e == 1 ? 1.0f : 0.0f, v = e == 1 || e == 3 ? t : e == 2 ? 1.0f : 0.0f;
-    const SurfacePoint sp = patch.evaluate(u, v);
-    const Vec3 n = normalize(sp.n + Vec3{0.3f, -0.2f, 0.1f} * rnd.uniform(-1.0f, 1.0f));
-    f(sp.p + n * 0.5f, -n, rnd.below(m + 1));
+    const test::BorderRay ray = test::randomBorderRay(patch, rnd, 0.05f, 0.95f, m);
+    f(ray.org, ray.dir, ray.level);
   }
 }
 

@@ -71,12 +71,8 @@ std::vector<TestRay> testRays(const Patch& patch, int m) {
   test::Random rnd(11);
   std::vector<TestRay> rays;
   for (int r = 0; r < 800; ++r) {
-    const int e = rnd.below(4);
-    const float t = rnd.uniform(0.0f, 1.0f);
-    const float u = e == 0 || e == 2 ? t : e == 1 ? 1.0f : 0.0f, v = e == 1 || e == 3 ? t : e == 2 ? 1.0f : 0.0f;
-    const SurfacePoint sp = patch.evaluate(u, v);
-    const Vec3 n = normalize(sp.n + Vec3{0.3f, -0.2f, 0.1f} * rnd.uniform(-1.0f, 1.0f));
-    rays.push_back({sp.p + n * 0.5f, -n, rnd.below(m + 1)});
+    const test::BorderRay ray = test::randomBorderRay(patch, rnd, 0.0f, 1.0f, m);
+    rays.push_back({ray.org, ray.dir, ray.level});
   }
   const Box3 b = patch.bounds();
   const Vec3 c = (b.lo + b.hi) * 0.5f;

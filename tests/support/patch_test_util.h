@@ -8,6 +8,7 @@
 #include "core/rng.h"
 #include "core/vec.h"
 #include "geometry/bezier_patch.h"
+#include "geometry/patch.h"
 
 namespace rayes::test {
 
@@ -31,6 +32,23 @@ class Random {
 
 // A point of the cube [-2, 2)^3.
 inline Vec3 randomPoint(Random& rng) { return {rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2)}; }
+
+// A ray toward a random point of a random border of `patch` (at t in [t0, t1) along it), from 0.5
+// outside along a perturbed normal, at a random level 0..m: it walks the border regions down to
+// its level.
+struct BorderRay {
+  Vec3 org, dir;
+  int level;
+};
+inline BorderRay randomBorderRay(const Patch& patch, Random& rnd, float t0, float t1, int m) {
+  const int e = rnd.below(4);
+  const float t = rnd.uniform(t0, t1);
+  const float u = e == 0 || e == 2 ? t : e == 1 ? 1.0f : 0.0f, v = e == 1 || e == 3 ? t : e == 2 ? 1.0f : 0.0f;
+  const SurfacePoint sp = patch.evaluate(u, v);
+  const Vec3 n = normalize(sp.n + Vec3{0.3f, -0.2f, 0.1f} * rnd.uniform(-1.0f, 1.0f));
+  const Vec3 org = sp.p + n * 0.5f;
+  return {org, -n, rnd.below(m + 1)};
+}
 
 inline bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 inline bool sameBits(Vec3 a, Vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
