@@ -65,7 +65,7 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
                      " bytes cannot hold one path (" + std::to_string(stats_.bytesPerPath) + " bytes)");
   perBatch = std::min<uint64_t>({perBatch, totalPaths, uint64_t(1) << 30});
   stats_.pathsPerBatch = perBatch;
-  stats_.candidateCapacity = embree || caching ? 0 : SortedEngine::candidateCapacityFor(raysPerPath * perBatch, options.lod);
+  stats_.candidateCapacity = embree || caching ? 0 : raysPerPath * perBatch * SortedEngine::candidatesPerRaySlot(options.lod);
   // Refused here, before the engine, the beams or the film allocate, when it would not fit the memory limit.
   checkRenderMemory(planRenderMemory(scene, options, perBatch * stats_.bytesPerPath, ThreadLimit::active()));
 

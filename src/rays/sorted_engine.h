@@ -134,35 +134,30 @@ class SortedEngine : public RayEngine {
   static constexpr size_t bytesPerCandidate() {
     return CandidateBuffer::bytesPerSlot() + CandidateSort::bytesPerSlot();
   }
-  // The candidate buffer holds this many slots per 4 ray slots of a full batch (quarters of a
-  // slot per ray slot). 4 (one per ray slot): the first iteration of the camera generation then
-  // gets N = 2 candidates per ray (2 ray slots per path, the shadow slots empty), later
-  // generations N = 1 at first and up to the clip (TraceSettings::maxCandidatesPerRay) as rays
-  // finish. 4 instead of 8 saved 12 bytes per ray slot for a few more iterations
-  // (bench/history/2026-11.md, "Compact ray slots"); the hits do not depend on N. 2 (one per
-  // path) was measured too ("... third part": the same images, callgrind -0.4 to +0.6 %), but
-  // then the camera generation's rays reach their second leaf in a second iteration, where a
-  // moving leaf (never in the grid cache) is diced again, as often as rounding sends rays there:
-  // motion-cubes scaled by 1e4 and 1e8 diced 26 and 28 leaves for its camera rays against the
-  // unmoved scene's 30, outside the 5 % that StiffTransform allows. The density rule (--lod density) dices a leaf for the rays of its run
-  // in one iteration, and fewer candidates per ray make shorter runs and coarser grids, so it
-  // keeps the 2 slots per ray slot its images were made with.
-  static constexpr size_t candidateQuartersPerRaySlot(LodRule lod) { return lod == LodRule::Density ? 8 : 4; }
-  // The candidate capacity for `raySlots` ray slots of a full batch (at least 1).
-  static constexpr size_t candidateCapacityFor(size_t raySlots, LodRule lod) {
-    return std::max<size_t>(1, (raySlots * candidateQuartersPerRaySlot(lod) + 3) / 4);
-  }
+  // The candidate buffer holds this many slots per ray slot of a full batch: the first
+  // iteration of the camera generation then gets N = 2 candidates per ray (2 ray slots per
+  // path, the shadow slots empty), later generations N = 1 at first and up to the clip
+  // (TraceSettings::maxCandidatesPerRay) as rays finish. 1 instead of 2 saved 12 bytes per ray
+  // slot for a few more iterations (bench/history/2026-11.md, "Compact ray slots"); the hits do
+  // not depend on N. One slot per path was measured too ("... third part": the same images,
+  // callgrind -0.4 to +0.6 %), but then the camera generation's rays reach their second leaf in
+  // a second iteration, where a moving leaf (never in the grid cache) is diced again, as often
+  // as rounding sends rays there: motion-cubes scaled by 1e4 and 1e8 diced 26 and 28 leaves for
+  // its camera rays against the unmoved scene's 30, outside the 5 % that StiffTransform allows.
+  // The density rule (--lod density) dices a leaf for the rays of its run in one iteration, and
+  // fewer candidates per ray make shorter runs and coarser grids, so it keeps the 2 slots per
+  // ray slot its images were made with.
+  static constexpr size_t candidatesPerRaySlot(LodRule lod) { return lod == LodRule::Density ? 2 : 1; }
   // Border-bound table entries per leaf at most (TraceSettings::borderBoundEntries caps the total).
   static constexpr size_t kBorderBoundsPerLeaf = 64;
   // The seam gaps' own table: entries per leaf at most (a leaf has at most 2 seams of its own,
   // each with a gap per level <= BottomQuery::kMaxThinLevel: 14), and at most this share of
   // TraceSettings::borderBoundEntries.
   static constexpr size_t kSeamGapsPerLeaf = 16, kSeamGapShare = 16;
-  // Per ray slot: the trace state and its share of candidate slots (candidateQuartersPerRaySlot).
-  // (bytesPerRay() of a SortedEngine; static so the budget can be set before the SortedEngine
-  // exists.)
+  // Per ray slot: the trace state and candidatesPerRaySlot candidate slots. (bytesPerRay() of a
+  // SortedEngine; static so the budget can be set before the SortedEngine exists.)
   static constexpr size_t bytesPerRaySlot(LodRule lod) {
-    return bytesPerRayState() + candidateQuartersPerRaySlot(lod) * bytesPerCandidate() / 4;
+    return bytesPerRayState() + candidatesPerRaySlot(lod) * bytesPerCandidate();
   }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;
@@ -363,8 +358,6 @@ class SortedEngine : public RayEngine {
   struct LeafTask { uint32_t rays, queries; };
   std::vector<LeafTask> tasks_;
 };
-
-static_assert(SortedEngine::bytesPerCandidate() % 4 == 0);  // bytesPerRaySlot's quarters are whole bytes
 
 // True when hit (t, leaf, quad) is nearer than `best` under the total order used everywhere:
 // distance, then leaf id, then micro-quad index.
