@@ -18,11 +18,8 @@
 namespace rayes {
 
 // The address of `symbol` in module `file` (e.g. "librayes_oiio.so"), loading the module at the
-// first call for that file. Throws InputError naming the module and every place tried, with
+// first call for that file. Throws InputError naming the module and the place tried, with
 // `what` (what the module is for), when it cannot be loaded.
 void* moduleSymbol(const char* file, const char* symbol, const std::string& what);
-
-// Whether module `file` has been loaded by this process.
-bool moduleLoaded(const char* file);
 
 }  // namespace rayes

@@ -38,6 +38,4 @@ std::shared_ptr<TextureCache> TextureCache::make(TextureCacheOptions options) {
   return std::shared_ptr<TextureCache>(cache);
 }
 
-bool TextureCache::moduleLoaded() { return rayes::moduleLoaded(kTextureModuleName); }
-
 }  // namespace rayes

@@ -123,8 +123,6 @@ class TextureCache : public std::enable_shared_from_this<TextureCache> {
   uint64_t memoryBytes() const { return memoryBytes_; }
   const std::filesystem::path& conversionDir() const { return conversionDir_; }
   virtual TextureCacheStats stats() const = 0;
-  // Whether this process has loaded the OpenImageIO module (the stats' "modules" list).
-  static bool moduleLoaded();
 
  protected:
   TextureCache() = default;
