@@ -1,6 +1,7 @@
 // The border regions of a dicing (see dice_buffer.h): the boxes of the true border curve over
 // border segments, a moving dicing's border trees, and the regions' radii about their chords.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include "dicing/dice_buffer.h"
 #include "dicing/micro_quad.h"
@@ -38,37 +39,52 @@ double farthestCorner2(const Box3& box, Vec3 a, const double axis[3], double len
 // Relative slack for the rounding of farthestCorner2 and the square root (double, on float inputs).
 double radiusFrom(double worst2) { return std::sqrt(worst2) * (1.0 + 1e-9); }
 
+// The parameter rectangle of segment j of border e at level i (a line: one side is a point).
+struct SegmentRect {
+  float u0, u1, v0, v1;
+};
+SegmentRect segmentRect(int e, int i, uint32_t j) {
+  const float inv = 1.0f / float(1u << i);  // a power of two: j * inv is exact
+  const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
+  switch (e) {
+    case 0: return {t0, t1, 0.0f, 0.0f};
+    case 1: return {1.0f, 1.0f, t0, t1};
+    case 2: return {t0, t1, 1.0f, 1.0f};
+    default: return {0.0f, 0.0f, t0, t1};
+  }
+}
+
+// A box kept in six atomic floats of a BorderSegment (lo, then hi).
+Box3 loadBox(const std::atomic<float>* six) {
+  Box3 b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = six[a].load(std::memory_order_relaxed);
+    b.hi[a] = six[3 + a].load(std::memory_order_relaxed);
+  }
+  return b;
+}
+void storeBox(std::atomic<float>* six, const Box3& b) {
+  for (int a = 0; a < 3; ++a) {
+    six[a].store(b.lo[a], std::memory_order_relaxed);
+    six[3 + a].store(b.hi[a], std::memory_order_relaxed);
+  }
+}
+
 }  // namespace
 
 Box3 DiceBuffer::curveBox(int e, int i, uint32_t j, int sample) const {
   BorderSegment* seg = !moving_ && i <= maxLevel_ ? &segments_[borderOffset(e, i, j) / 6] : nullptr;
-  if (seg && seg->boxStamp.load(std::memory_order_acquire) == stamp_) {
-    Box3 b;
-    for (int a = 0; a < 3; ++a) {
-      b.lo[a] = seg->box[a].load(std::memory_order_relaxed);
-      b.hi[a] = seg->box[3 + a].load(std::memory_order_relaxed);
-    }
-    return b;
-  }
+  if (seg && seg->boxStamp.load(std::memory_order_acquire) == stamp_) return loadBox(seg->box);
   const BorderBoundCache::Key key{shared_.leaf, BorderBoundCache::Kind::CurveBox, e, i, j};
   const bool share = seg && shared_.cache;
   Box3 b;
   if (!share || !shared_.cache->find(key, b)) {
-    const float inv = 1.0f / float(1u << i);  // a power of two: j * inv is exact
-    const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
-    switch (e) {
-      case 0: b = patch_->boundsOverAt(sample, t0, t1, 0.0f, 0.0f); break;
-      case 1: b = patch_->boundsOverAt(sample, 1.0f, 1.0f, t0, t1); break;
-      case 2: b = patch_->boundsOverAt(sample, t0, t1, 1.0f, 1.0f); break;
-      default: b = patch_->boundsOverAt(sample, 0.0f, 0.0f, t0, t1); break;
-    }
+    const SegmentRect r = segmentRect(e, i, j);
+    b = patch_->boundsOverAt(sample, r.u0, r.u1, r.v0, r.v1);
     if (share) shared_.cache->insert(key, b);
   }
   if (seg) {
-    for (int a = 0; a < 3; ++a) {
-      seg->box[a].store(b.lo[a], std::memory_order_relaxed);
-      seg->box[3 + a].store(b.hi[a], std::memory_order_relaxed);
-    }
+    storeBox(seg->box, b);
     seg->boxStamp.store(stamp_, std::memory_order_release);
   }
   return b;
@@ -79,38 +95,21 @@ bool DiceBuffer::mayEnterCoarseBox(int e, int i, uint32_t j, const RayBoxQuery& 
   BorderSegment& seg = segments_[borderOffset(e, i, j) / 6];
   Box3 c;
   if (seg.coarseStamp.load(std::memory_order_acquire) == stamp_) {
-    for (int a = 0; a < 3; ++a) {
-      c.lo[a] = seg.coarse[a].load(std::memory_order_relaxed);
-      c.hi[a] = seg.coarse[3 + a].load(std::memory_order_relaxed);
-    }
+    c = loadBox(seg.coarse);
   } else {
     // Kept across dicings in the shared table: then the box costs a look-up, not a bound.
     if (shared_.cache && shared_.cache->find({shared_.leaf, BorderBoundCache::Kind::CurveBox, e, i, j}, c)) {
-      for (int a = 0; a < 3; ++a) {
-        seg.box[a].store(c.lo[a], std::memory_order_relaxed);
-        seg.box[3 + a].store(c.hi[a], std::memory_order_relaxed);
-      }
+      storeBox(seg.box, c);
       seg.boxStamp.store(stamp_, std::memory_order_release);
       return true;
     }
-    const float inv = 1.0f / float(1u << i);  // as curveBox: the same rectangle
-    const float t0 = float(j) * inv, t1 = float(j + 1) * inv;
-    bool known;
-    switch (e) {
-      case 0: known = patch_->coarseBoundsOverAt(0, t0, t1, 0.0f, 0.0f, c); break;
-      case 1: known = patch_->coarseBoundsOverAt(0, 1.0f, 1.0f, t0, t1, c); break;
-      case 2: known = patch_->coarseBoundsOverAt(0, t0, t1, 1.0f, 1.0f, c); break;
-      default: known = patch_->coarseBoundsOverAt(0, 0.0f, 0.0f, t0, t1, c); break;
-    }
-    if (!known) return true;
+    const SegmentRect r = segmentRect(e, i, j);  // curveBox's rectangle
+    if (!patch_->coarseBoundsOverAt(0, r.u0, r.u1, r.v0, r.v1, c)) return true;
     size_t v0, v1;
     chordEnds(e, i, j, level_, v0, v1);
     c.extend(a_.positions[v0]);
     c.extend(a_.positions[v1]);
-    for (int a = 0; a < 3; ++a) {
-      seg.coarse[a].store(c.lo[a], std::memory_order_relaxed);
-      seg.coarse[3 + a].store(c.hi[a], std::memory_order_relaxed);
-    }
+    storeBox(seg.coarse, c);
     seg.coarseStamp.store(stamp_, std::memory_order_release);
   }
   // Each coordinate of c lies as far out as the region box's or farther, and intersectBox's
