@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 #include "core/octahedral.h"
 #include "core/vec.h"
@@ -163,6 +164,13 @@ struct RayBatch {
     } else {
       occluder[i >> 1] = kNoLeaf;
     }
+  }
+  // Slot i's result cleared as a trace starts (engines call it for each slot they trace); a
+  // closest ray in a slot that keeps only an occluder is a layout error of the caller.
+  void clearForTrace(size_t i) {
+    if (!keepsFullHit(i) && ray[i].kind != RayKind::Shadow)
+      throw std::logic_error("RayBatch: a closest ray in a slot of shadow pairs that keeps no hit");
+    clearHit(i);
   }
   // Adds `share` to ray i's dicings (thread-safe for distinct or equal i).
   void chargeDicing(size_t i, uint64_t share) {

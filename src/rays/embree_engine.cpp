@@ -285,9 +285,7 @@ void EmbreeEngine::trace(RayBatch& b, GenerationStats& stats, TraceTimes& times)
     uint64_t counted = 0, countedShadow = 0;
     for (size_t i = range.begin(); i != range.end(); ++i) {
       if (b.ray[i].kind == RayKind::Inactive) continue;
-      if (!b.keepsFullHit(i) && b.ray[i].kind != RayKind::Shadow)
-        throw std::logic_error("RayBatch: a closest ray in a slot of shadow pairs that keeps no hit");
-      b.clearHit(i);
+      b.clearForTrace(i);
       ++counted;
       const bool isShadow = b.ray[i].kind == RayKind::Shadow;
       countedShadow += isShadow;

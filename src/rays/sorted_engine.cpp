@@ -506,9 +506,7 @@ void SortedEngine::activeRays(RayBatch& batch, GenerationStats& stats, std::vect
   active.clear();
   for (uint32_t i = 0; i < batch.size(); ++i) {
     if (batch.ray[i].kind == RayKind::Inactive) continue;
-    if (!batch.keepsFullHit(i) && batch.ray[i].kind != RayKind::Shadow)
-      throw std::logic_error("RayBatch: a closest ray in a slot of shadow pairs that keeps no hit");
-    batch.clearHit(i);
+    batch.clearForTrace(i);
     active.push_back(i);
     ++stats.rays;
     if (batch.ray[i].kind == RayKind::Shadow) ++stats.shadowRays;
