@@ -149,11 +149,10 @@ TEST_F(TextureRender, OpenImageIOIsLoadedOnlyForASceneWithImages) {
   const fs::path out = dir() / "out-modules";
   fs::create_directories(out);
   auto run = [&](const std::string& scene) {
-    setenv("LD_DEBUG", "files", 1);
     const auto r = testing::runRayesProcess({"render", (dir() / scene).string(), "-o", (out / (scene + ".exr")).string(),
                                              "--stats", (out / (scene + ".stats.json")).string(), "--texture-cache-dir",
-                                             (dir() / "cache").string(), "-q"});
-    unsetenv("LD_DEBUG");
+                                             (dir() / "cache").string(), "-q"},
+                                            {.env = {"LD_DEBUG=files"}});
     EXPECT_EQ(r.code, 0) << r.err;
     return r.err;
   };
@@ -176,11 +175,12 @@ TEST_F(TextureRender, OpenImageIOIsLoadedOnlyForASceneWithImages) {
 TEST_F(TextureRender, AMissingOpenImageIOModuleIsRefusedNamingIt) {
   const testing::TempFolder empty;
   const fs::path image = empty.dir() / "o.exr";
-  setenv("RAYES_MODULE_DIR", empty.dir().c_str(), 1);
-  const auto refused = testing::runRayesProcess({"render", (dir() / "tiny.json").string(), "-o", image.string(), "-q"});
+  const testing::ChildSetup withoutModules{.env = {"RAYES_MODULE_DIR=" + empty.dir().string()}};
+  const auto refused =
+      testing::runRayesProcess({"render", (dir() / "tiny.json").string(), "-o", image.string(), "-q"}, withoutModules);
   const bool written = fs::exists(image);
-  const auto plain = testing::runRayesProcess({"render", (dir() / "plain.json").string(), "-o", image.string(), "-q"});
-  unsetenv("RAYES_MODULE_DIR");
+  const auto plain =
+      testing::runRayesProcess({"render", (dir() / "plain.json").string(), "-o", image.string(), "-q"}, withoutModules);
   EXPECT_EQ(refused.code, 2) << refused.err;
   EXPECT_FALSE(written);
   EXPECT_THAT(refused.err, HasSubstr(kTextureModuleName));

@@ -201,10 +201,9 @@ TEST(VolumeRender, OpenVdbIsLoadedOnlyForASceneWithAVolume) {
   "shapes": [{"type": "bilinear", "material": "m", "quads": [[[-1, -1, 0], [1, -1, 0], [-1, 1, 0], [1, 1, 0]]]}],
   "lights": [{"type": "environment", "radiance": [1, 1, 1]}]})";
   auto run = [&](const std::string& scene, const fs::path& out) {
-    setenv("LD_DEBUG", "files", 1);
     const auto r = testing::runRayesProcess({"render", (dir.dir() / scene).string(), "-o", out.string(), "--stats",
-                                             (dir.dir() / (scene + ".stats.json")).string(), "-q"});
-    unsetenv("LD_DEBUG");
+                                             (dir.dir() / (scene + ".stats.json")).string(), "-q"},
+                                            {.env = {"LD_DEBUG=files"}});
     EXPECT_EQ(r.code, 0) << r.err;
     return r.err;
   };
@@ -221,9 +220,8 @@ TEST(VolumeRender, OpenVdbIsLoadedOnlyForASceneWithAVolume) {
 
   const testing::TempFolder empty;
   const fs::path out = empty.dir() / "o.exr";
-  setenv("RAYES_MODULE_DIR", empty.dir().c_str(), 1);
-  const auto refused = testing::runRayesProcess({"render", (dir.dir() / "volume.json").string(), "-o", out.string(), "-q"});
-  unsetenv("RAYES_MODULE_DIR");
+  const auto refused = testing::runRayesProcess({"render", (dir.dir() / "volume.json").string(), "-o", out.string(), "-q"},
+                                                {.env = {"RAYES_MODULE_DIR=" + empty.dir().string()}});
   EXPECT_EQ(refused.code, 2) << refused.err;
   EXPECT_THAT(refused.err, HasSubstr((empty.dir() / kVdbModuleName).string() + ": no such file"));
   EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << "one message: " << refused.err;

@@ -8,6 +8,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -26,6 +27,7 @@ struct ChildSetup {
   bool feedStdin = false;       // give the child stdinText through a pipe (else /dev/null)
   std::string stdinText;
   std::string cwd;              // the child's working directory ("": the test's)
+  std::vector<std::string> env; // "NAME=value" set in the child's environment over the test's
 };
 
 struct ChildResult {
@@ -52,6 +54,18 @@ inline ChildResult runRayesProcess(const std::vector<std::string>& args, const C
   std::vector<char*> cargv;
   for (auto& a : argv) cargv.push_back(a.data());
   cargv.push_back(nullptr);
+  // The child's environment, made before the fork: the test's, each of setup.env replacing a
+  // variable of its name.
+  std::vector<std::string> envText(setup.env);
+  for (char** e = environ; *e; ++e) {
+    const std::string entry = *e;
+    const std::string name = entry.substr(0, entry.find('=') + 1);
+    if (std::none_of(setup.env.begin(), setup.env.end(), [&](const std::string& s) { return s.rfind(name, 0) == 0; }))
+      envText.push_back(entry);
+  }
+  std::vector<char*> cenv;
+  for (auto& e : envText) cenv.push_back(e.data());
+  cenv.push_back(nullptr);
   int go[2], in[2];
   if (::pipe(go) != 0 || ::pipe(in) != 0) return {};
   const pid_t pid = ::fork();
@@ -75,7 +89,7 @@ inline ChildResult runRayesProcess(const std::vector<std::string>& args, const C
     ::dup2(o, 1);
     ::dup2(e, 2);
     ::dup2(i, 0);
-    ::execv(cargv[0], cargv.data());
+    ::execve(cargv[0], cargv.data(), cenv.data());
     ::_exit(123);
   }
   ::close(go[0]);
