@@ -549,10 +549,11 @@ void PathTracer::inFilmOrder(uint64_t first, uint64_t end, const Add& add) const
       const uint64_t base = firstId + (p - b * l.block);  // the id of (p, sample 0)
       const uint64_t lo = std::max(first, firstId), hi = std::min(end, firstId + l.perBlock);
       const uint64_t s0 = (lo - firstId) / size, s1 = (hi - 1 - firstId) / size;
+      const uint32_t pixel = fullPixel(w, p);
       for (uint64_t s = s0; s <= s1; ++s) {
         const uint64_t id = base + s * size;
         if (id < first || id >= end) continue;
-        add(fullPixel(w, p), id);
+        add(pixel, id);
       }
     }
   });
