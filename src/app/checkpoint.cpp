@@ -87,6 +87,7 @@ std::string Checkpointer::writeNow(const Film& film, const Renderer::Position& n
   header_.pass = next.pass;
   header_.next = next.next;
   header_.blockPixels = next.blockPixels;
+  header_.firstHitsEnd = next.firstHitsEnd;
   const std::string tmp = temporaryOf(path_);
   const int slot = registerCleanupFile(tmp);
   std::string failure;

@@ -42,7 +42,8 @@ nlohmann::json headerJson(const FilmFileHeader& h) {
           {"parts", h.parts},
           {"method", h.method},
           {"light_path_ids", h.lightPathIds},
-          {"position", {{"pass", h.pass}, {"next", h.next}, {"block_pixels", h.blockPixels}}},
+          {"position",
+           {{"pass", h.pass}, {"next", h.next}, {"block_pixels", h.blockPixels}, {"first_hits_end", h.firstHitsEnd}}},
           {"complete", h.complete},
           {"stats", h.stats}};
 }
@@ -66,6 +67,7 @@ FilmFileHeader headerOf(const nlohmann::json& j) {
   h.pass = p.at("pass").get<int>();
   h.next = p.at("next").get<uint64_t>();
   h.blockPixels = p.at("block_pixels").get<uint64_t>();
+  h.firstHitsEnd = p.contains("first_hits_end") ? p.at("first_hits_end").get<uint64_t>() : h.next;
   h.complete = j.at("complete").get<bool>();
   h.stats = j.at("stats");
   return h;

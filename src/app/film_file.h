@@ -47,6 +47,7 @@ struct FilmFileHeader {
   bool lightPathIds = false;   // the parts split light path ids (lt), not rows
   int pass = 0;                // the position of the next batch (Renderer::Position)
   uint64_t next = 0, blockPixels = 0;
+  uint64_t firstHitsEnd = 0;   // Renderer::Position::firstHitsEnd (a file without it: `next`)
   bool complete = false;       // every batch of the part (or render) is in the film
   nlohmann::json stats;        // the run's statistics (docs/stats.md), or null
 };

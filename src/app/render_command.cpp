@@ -153,7 +153,8 @@ int runRender(const RenderArgs& a) {
           throw InputError(checkpointPath, "", "cannot resume from it: a " + saved.header.kind + " film, not a checkpoint");
         checkSameRender(checkpointPath, saved.header, header, "resume from", "this render");
         renderer.resume(std::move(saved.film),
-                        Renderer::Position{saved.header.pass, saved.header.next, saved.header.blockPixels});
+                        Renderer::Position{saved.header.pass, saved.header.next, saved.header.blockPixels,
+                                           saved.header.firstHitsEnd});
         checkpoint->resumed();
         resumedFrom = true;
       }

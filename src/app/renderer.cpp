@@ -192,7 +192,8 @@ void Renderer::traceLightPass(int s0, int s1, int pass, int& batch, const Contro
   liveProgress().setPhase(Phase::Rendering);
 }
 
-void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control) {
+void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control,
+                              const FirstHitPass* firstHits) {
   for (int depth = 0;; ++depth) {
     checkStop(control);
     GenerationRecord rec{pass, batch, depth, {}, {}};
@@ -216,20 +217,27 @@ void Renderer::runGenerations(int pass, int batch, RayBatch& rays, bool lightPat
     stats_.generations.push_back(std::move(rec));
     sampleMemory(false);
     if (!lightPaths) liveProgress().afterGeneration(uint32_t(depth), rays, integrator_->raysPerPath());
+    if (depth == 0 && firstHits) {  // before the next trace clears where they are kept
+      const auto tf = Clock::now();
+      integrator_->addFirstHits(rays, firstHits->film, firstHits->from);
+      position_.firstHitsEnd = std::max(position_.firstHitsEnd, firstHits->end);
+      stats_.timeFilm += secondsSince(tf);
+    }
     // Gathers posted at the last vertices still run: one more trace, with queries only.
     if (next == 0 && !(rays.queries && rays.queries->pending())) break;
   }
 }
 
-void Renderer::runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film,
-                              const Control& control) {
+void Renderer::runCameraBatch(uint64_t first, uint32_t count, uint64_t firstHitsFrom, int pass, int batch,
+                              RayBatch& rays, Film& film, const Control& control) {
   const auto t0 = Clock::now();
   liveProgress().startBatch(count);
   if (pixelCost_) pixelCost_->startBatch(count, integrator_->raysPerPath());
   for (uint32_t round = 0, rounds = integrator_->roundsPerBatch(); round < rounds; ++round) {
     integrator_->startRound(round);
     integrator_->start(first, count, rays);
-    runGenerations(pass, batch, rays, false, control);
+    const FirstHitPass firstHits{film, std::max(first, firstHitsFrom), first + count};
+    runGenerations(pass, batch, rays, false, control, round == 0 ? &firstHits : nullptr);
   }
   const auto tf = Clock::now();
   integrator_->finish(film, stats_.shade);
@@ -290,7 +298,9 @@ Film Renderer::render(const Progress& progress, const Control& control) {
         ++pass;
         continue;
       }
-      const bool resumingHere = pass == start.pass && start.next > passFirst;
+      // (A stop in the pass's first batch after its camera generation left that batch's AOVs in
+      // the film: resumed in their layout too.)
+      const bool resumingHere = pass == start.pass && std::max(start.next, start.firstHitsEnd) > passFirst;
       // A pass of every sample that needs several batches goes block by block of pixels, each
       // batch all the samples of as many pixels as fit (Integrator::setPixelBlock): its rays
       // then meet the leaves of a part of the image, each more often. A resumed pass keeps the
@@ -313,16 +323,19 @@ Film Renderer::render(const Progress& progress, const Control& control) {
         step = std::min<uint64_t>(step, std::max<uint64_t>(1, (end - passFirst + kCheckpointBatchesPerPass - 1) / kCheckpointBatchesPerPass));
       }
       uint64_t first = resumingHere ? std::min(start.next, end) : passFirst;
+      // Ids below it have their first-hit AOVs in the resumed film already.
+      const uint64_t firstHitsDone = resumingHere ? std::max(first, start.firstHitsEnd) : 0;
       done += first - passFirst;
-      position_ = {pass, first, blockPixels};
+      position_ = {pass, first, blockPixels, std::max(first, firstHitsDone)};
       if (first < end) traceLightPass(s0, s1, pass, batch, control);
       for (; first < end; first += step, ++batch) {
         checkStop(control);
         const uint32_t count = static_cast<uint32_t>(std::min<uint64_t>(step, end - first));
-        runCameraBatch(first, count, pass, batch, rays, film, control);
+        runCameraBatch(first, count, firstHitsDone, pass, batch, rays, film, control);
         ++stats_.batches;
         done += count;
-        position_ = first + count < end ? Position{pass, first + count, blockPixels} : Position{pass + 1, 0, 0};
+        position_ = first + count < end ? Position{pass, first + count, blockPixels, std::max(first + count, firstHitsDone)}
+                                        : Position{pass + 1, 0, 0, 0};
         if (control.batchDone) control.batchDone(film, position_);
         if (progress) progress(done, total, s0);
       }

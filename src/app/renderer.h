@@ -21,7 +21,8 @@
 //           camera paths, the integrator's light paths (Integrator::lightPaths), if any.
 //   batch:  for each of Integrator::roundsPerBatch rounds: startRound, start -> repeat
 //           { RayEngine::trace (one generation) -> Integrator::shade (next generation) } until
-//           no ray is left; then Integrator::finish.
+//           no ray is left, with Integrator::addFirstHits after round 0's camera generation;
+//           then Integrator::finish.
 //
 //   window: what this process renders of the frame (RenderOptions::crop, part/parts): the
 //           film holds the crop, or for part I of N of a method whose camera ids are pixels a
@@ -31,9 +32,11 @@
 //           (photons) and prepare (beams) are the whole frame's in every part.
 //   stop:   Control::stop is asked between generations; when it says stop, the batch in flight
 //           is abandoned and render() returns the film as it was after the last whole batch,
-//           with interrupted() and the Position to resume from. A Position (pass, the next
-//           batch's first id, the pass's pixel block) names a batch boundary; resume() starts
-//           there with the film a checkpoint kept, tracing the first pass's and the current
+//           but for the first-hit AOVs of the batch in flight when its camera generation was
+//           shaded, with interrupted() and the Position to resume from. A Position (pass, the
+//           next batch's first id, the pass's pixel block, and the first id whose AOVs are not
+//           in the film) names a batch boundary; resume() starts there with the film a
+//           checkpoint kept, adding no AOVs twice, tracing the first pass's and the current
 //           pass's light paths again (Integrator, "Resume").
 //
 // Determinism: the film is a pure function of (scene, settings, seed) under the default
@@ -103,7 +106,7 @@ struct RenderOptions {
   // time per pixel. Off: no shares per ray, no per-path counts, nothing measured per batch.
   bool costLayers = false;
   // Whether the outputs read the first-hit AOVs (the EXR's layers, a film's or checkpoint's
-  // sums): a render that writes only a PNG preview keeps no first hit per path
+  // sums): a render that writes only a PNG preview records and adds no first hit
   // (IntegratorSettings::firstHitAovs).
   bool firstHitAovs = true;
 };
@@ -202,11 +205,15 @@ class Renderer {
   // progress(done paths, total paths, samples finished so far)
   using Progress = std::function<void(uint64_t, uint64_t, int)>;
   // A batch boundary: the pass, the first id of the next camera batch in that pass's id layout
-  // (0: the pass's start), and the pixel block of that layout (0: sample-major ids).
+  // (0: the pass's start), the pixel block of that layout (0: sample-major ids), and the first id
+  // of the pass whose first-hit AOVs the film does not hold: `next`, or the end of the batch in
+  // flight when a stop came after its camera generation added them (exact where undoing a sum
+  // is not, and no memory per path); a resumed render adds no AOVs below it.
   struct Position {
     int pass = 0;
     uint64_t next = 0;
     uint64_t blockPixels = 0;
+    uint64_t firstHitsEnd = 0;
   };
   struct Control {
     std::function<bool()> stop;  // asked between generations and batches; true: stop (see above)
@@ -261,12 +268,20 @@ class Renderer {
   void sampleMemory(bool always);
   Position position_;
   bool interrupted_ = false;
-  // One camera batch: every round of the integrator, then its film.
-  void runCameraBatch(uint64_t first, uint32_t count, int pass, int batch, RayBatch& rays, Film& film,
-                      const Control& control);
+  // One camera batch: every round of the integrator, then its film; the first-hit AOVs of its
+  // ids >= firstHitsFrom (those a resumed film does not hold yet).
+  void runCameraBatch(uint64_t first, uint32_t count, uint64_t firstHitsFrom, int pass, int batch, RayBatch& rays,
+                      Film& film, const Control& control);
+  // Where a camera batch's round 0 adds the first-hit AOVs after its camera generation: ids
+  // [from, end) of the batch.
+  struct FirstHitPass {
+    Film& film;
+    uint64_t from, end;
+  };
   // Generations of the batch in `rays` until no path goes on (camera paths, or the
   // integrator's light paths).
-  void runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control);
+  void runGenerations(int pass, int batch, RayBatch& rays, bool lightPaths, const Control& control,
+                      const FirstHitPass* firstHits = nullptr);
 };
 
 // Root-mean-square difference of the film's mean RGB against a reference (RGB per pixel).

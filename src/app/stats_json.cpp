@@ -278,7 +278,7 @@ nlohmann::json statsToJson(const Scene& scene, const RenderOptions& options, con
     skipped["cost_layers"] = "no --cost-layers: no dicings or time per pixel";
   }
   if (!options.firstHitAovs)
-    skipped["first_hit_aovs"] = "no output reads the AOVs (a PNG preview alone): paths keep no first hit";
+    skipped["first_hit_aovs"] = "no output reads the AOVs (a PNG preview alone): no first hit recorded or added to the film";
   j["skipped"] = skipped;
   if (!s.errorCurve.empty()) {
     json curve = json::array();

@@ -48,6 +48,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
   void start(uint64_t first, uint32_t count, RayBatch& rays) override { pt_.start(first, count, rays); }
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override { return pt_.shade(bounce, rays, stats); }
   void finish(Film& film, ShadeStats& stats) override { pt_.finish(film, stats); }
+  void addFirstHits(RayBatch& rays, Film& film, uint64_t from) override { pt_.addFirstHits(rays, film, from); }
   bool setPixelWindow(const PixelWindow& window) override { return pt_.setPixelWindow(window); }
   int64_t cameraPixelOf(uint64_t id) const override { return pt_.cameraPixelOf(id); }
 

@@ -50,12 +50,17 @@ void Film::addSplat(uint32_t pixel, Rgb v) {
   addSaturating(s[2], toFixed(v.z, sums_.splatSaturations), sums_.splatSaturations);
 }
 
-void Film::add(uint32_t pixel, const PixelSample& s) {
+void Film::addRadiance(uint32_t pixel, Rgb radiance) {
   const size_t p = index(pixel);
   Sums& f = sums_;
-  f.rgb[3 * p] += s.radiance.x; f.rgb[3 * p + 1] += s.radiance.y; f.rgb[3 * p + 2] += s.radiance.z;
+  f.rgb[3 * p] += radiance.x; f.rgb[3 * p + 1] += radiance.y; f.rgb[3 * p + 2] += radiance.z;
   ++f.count[p];
+}
+
+void Film::addFirstHit(uint32_t pixel, const FirstHit& s) {
   if (!s.hitSurface) return;
+  const size_t p = index(pixel);
+  Sums& f = sums_;
   f.alpha[p] += 1.0;
   f.depth[p] += s.depth;
   f.normal[3 * p] += s.normal.x; f.normal[3 * p + 1] += s.normal.y; f.normal[3 * p + 2] += s.normal.z;

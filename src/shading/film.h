@@ -2,7 +2,10 @@
 // fixed order (pixel by pixel, samples in increasing sample index), so the image is
 // bit-identical however paths were batched or threaded (docs/design.md, invariant 2).
 // Sums are double precision. add*() for different pixels may run in parallel; one pixel's
-// samples must be added in order by one thread.
+// samples must be added in order by one thread. The radiance sums (rgb, count) and the AOV sums
+// (alpha, depth, normal, lod, albedo, material, hits) are separate arrays, each in sample order
+// on its own: a path's first hit may be added when its camera ray is shaded (addFirstHit) and its
+// radiance when the path ends (addRadiance), with the bits of adding both at once (add).
 //
 // Window: a film holds the sums of a rectangle of the full image only (--crop, a part of a
 // farm split: PixelWindow), by default the whole image. Pixels are always named by their index
@@ -38,7 +41,7 @@ struct PixelWindow {
   static PixelWindow whole(int width, int height) { return {0, 0, width, height}; }
 };
 
-// What a camera path's first hit gives the AOVs (kept per path while the path is traced).
+// What a camera path's first hit gives the AOVs (added when the camera generation is shaded).
 struct FirstHit {
   bool hitSurface = false;  // the camera ray hit something (alpha)
   float depth = 0;          // camera-ray hit distance
@@ -67,8 +70,13 @@ class Film {
   bool contains(uint32_t pixel) const {
     return window_.contains(int(pixel % uint32_t(fullWidth_)), int(pixel / uint32_t(fullWidth_)));
   }
-  // `pixel` is a full-image index inside the window.
-  void add(uint32_t pixel, const PixelSample& s);
+  // `pixel` is a full-image index inside the window. add() is addFirstHit() and addRadiance().
+  void add(uint32_t pixel, const PixelSample& s) {
+    addFirstHit(pixel, s);
+    addRadiance(pixel, s.radiance);
+  }
+  void addFirstHit(uint32_t pixel, const FirstHit& h);  // the AOV sums (nothing for a miss)
+  void addRadiance(uint32_t pixel, Rgb radiance);       // the beauty sum and the sample count
   uint32_t samples(uint32_t pixel) const { return sums_.count[index(pixel)]; }
   void addSplat(uint32_t pixel, Rgb value);
   // `paths` more light paths have been traced (whether or not they splatted anything).

@@ -14,11 +14,17 @@
 //                              batch is done, unless leaf queries are still pending in
 //                              rays.queries: then one more trace runs them, and one more shade
 //                              adds them);
+//   addFirstHits(rays, film, from)  right after round 0's shade(0) (the camera generation), before
+//                              the next trace: add the first-hit AOVs of the batch's paths with
+//                              ids >= from to the film, in finish()'s order (the film keeps AOV
+//                              sums apart from the radiance's, so their bits do not depend on
+//                              when); a method that keeps them in `rays` finds them there;
 //   finish(film, stats)        add the batch's results to the film in a fixed order.
 //
 // Rounds: an integrator whose estimate does not fit memory at once (lbt's beams in batches
 // under --beam-memory) asks for each camera batch to be traced roundsPerBatch() times;
-// startRound(r) comes before round r's start(), and finish() once after the last round.
+// startRound(r) comes before round r's start(), addFirstHits in round 0 only (the paths are
+// the same in every round), and finish() once after the last round.
 //
 // Slots: path k of a batch owns ray slots [k * raysPerPath(), (k + 1) * raysPerPath()) and
 // touches no others, so paths are shaded in parallel without locks. Path ids are sample-major
@@ -118,6 +124,7 @@ class Integrator {
   virtual void start(uint64_t first, uint32_t count, RayBatch& rays) = 0;
   virtual size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) = 0;
   virtual void finish(Film& film, ShadeStats& stats) = 0;
+  virtual void addFirstHits(RayBatch& /*rays*/, Film& /*film*/, uint64_t /*from*/) {}  // none: no camera hits
   // Orders camera path ids by blocks of n pixels, every sample of a block before the next block
   // (PathTracer::setPixelBlock), if the integrator can; false: ids stay sample-major.
   virtual bool setPixelBlock(uint32_t /*n*/) { return false; }

@@ -1,5 +1,6 @@
 #include "shading/path_tracer.h"
 #include <cstdlib>
+#include <cstring>
 #include <string_view>
 #include "shading/roulette.h"
 #include <algorithm>
@@ -56,7 +57,6 @@ void PathTracer::start(uint64_t first, uint32_t count, PathBatch& paths, RayBatc
       paths.throughput[k] = {1, 1, 1};
       paths.radiance[k] = {0, 0, 0};
       paths.shadowContribution[k] = {0, 0, 0};
-      if (paths.firstHits) paths.aov[k] = FirstHitRecord{};
       paths.bsdfPdf[k] = 0;
       paths.flags[k] = 0;
       paths.setBsdfDelta(k, true);  // the camera ray: emission it finds is counted in full
@@ -116,8 +116,7 @@ void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch&
 }
 
 // Step 3's first-hit AOVs (camera rays only).
-void recordFirstHit(const Vertex& v, PathBatch& paths) {
-  FirstHitRecord& aov = paths.aov[v.k];
+void recordFirstHit(const Vertex& v, FirstHitRecord& aov) {
   aov.flags = FirstHitRecord::kHitSurface | (v.front ? 0 : FirstHitRecord::kNormalFlipped);
   aov.depth = v.h.t;
   aov.normalCode = v.h.nsCode;
@@ -230,7 +229,8 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
 }  // namespace
 
 // The steps of one path's generation (docs/architecture.md, "Shading"); returns the rays written.
-size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const {
+size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats,
+                             FirstHitRecord* firstHit) const {
   const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
   // 1. Last generation's shadow ray: its contribution counts if nothing was in the way.
   if (rays.ray[ss].kind == RayKind::Shadow && !rays.occluded(ss)) {
@@ -305,7 +305,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     const float widthScale = bounce == 0 ? cameraFootprintScale(scene_.samplesPerPixel) : 1.0f;
     v.bsdf = v.mat->bsdfAt(textureQueryAt(scene_, rays.ray[cs], h, rays.derivativesOf(cs), widthScale));
   }
-  if (bounce == 0 && paths.firstHits) recordFirstHit(v, paths);
+  if (firstHit) recordFirstHit(v, *firstHit);
   if (int(bounce) >= scene_.integrator.maxDepth || !v.reflects) {
     return 0;
   }
@@ -462,10 +462,22 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
     rays.queries = options_.causticRadiance ? &paths.gatherQueries : nullptr;
   }
   sortByMaterial(paths, rays, stats);
+  const bool firstHits = bounce == 0 && paths.firstHits;
   std::atomic<size_t> emitted{0};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, order_.size(), 256), [&](const auto& r) {
     size_t localEmitted = 0;
-    for (size_t o = r.begin(); o != r.end(); ++o) localEmitted += shadePath(bounce, order_[o].path, paths, rays, stats);
+    for (size_t o = r.begin(); o != r.end(); ++o) {
+      const uint32_t k = order_[o].path;
+      if (!firstHits) {
+        localEmitted += shadePath(bounce, k, paths, rays, stats, nullptr);
+        continue;
+      }
+      // The hit was read, and a continuation ray written (clearing it): the record takes its
+      // bytes until addFirstHits (a miss or a medium vertex leaves no hit: an empty record).
+      FirstHitRecord first;
+      localEmitted += shadePath(bounce, k, paths, rays, stats, &first);
+      std::memcpy(static_cast<void*>(&rays.hitOf(kRaysPerPath * size_t(k))), &first, sizeof first);
+    }
     emitted.fetch_add(localEmitted, std::memory_order_relaxed);
   });
   prepareMediumTracking(bounce + 1, paths, rays);
@@ -523,11 +535,11 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
   });
 }
 
-void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) const {
-  const uint64_t first = paths.first, end = paths.first + paths.size();
-  if (first == end) return;
-  // The batch's pixels (of the window, in its row order): those of the blocks its ids fall in
-  // (idsOf's inverse below).
+template <class Add>
+void PathTracer::inFilmOrder(uint64_t first, uint64_t end, const Add& add) const {
+  if (first >= end) return;
+  // The pixels of ids [first, end) (of the window, in its row order): those of the blocks the
+  // ids fall in (idsOf's inverse below).
   const IdBlocks l = idBlocks();
   const PixelWindow w = window();
   const uint64_t p0 = first / l.perBlock * l.block, p1 = std::min(l.pixels, ((end - 1) / l.perBlock + 1) * l.block);
@@ -537,17 +549,39 @@ void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) c
       const uint64_t base = firstId + (p - b * l.block);  // the id of (p, sample 0)
       const uint64_t lo = std::max(first, firstId), hi = std::min(end, firstId + l.perBlock);
       const uint64_t s0 = (lo - firstId) / size, s1 = (hi - 1 - firstId) / size;
+      const uint32_t pixel = fullPixel(w, p);
       for (uint64_t s = s0; s <= s1; ++s) {
         const uint64_t id = base + s * size;
         if (id < first || id >= end) continue;
-        PixelSample sample{paths.firstHits ? paths.aov[id - first].unpack() : FirstHit{}, paths.radiance[id - first]};
-        if (!isFinite(sample.radiance)) {
-          sample.radiance = {0, 0, 0};
-          stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
-        }
-        film.add(fullPixel(w, p), sample);
+        add(pixel, id);
       }
     }
+  });
+}
+
+void PathTracer::finish(const PathBatch& paths, Film& film, ShadeStats& stats) const {
+  const uint64_t first = paths.first;
+  inFilmOrder(first, first + paths.size(), [&](uint32_t pixel, uint64_t id) {
+    Rgb radiance = paths.radiance[id - first];
+    if (!isFinite(radiance)) {
+      radiance = {0, 0, 0};
+      stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
+    }
+    film.addRadiance(pixel, radiance);
+  });
+}
+
+void PathTracer::addFirstHits(const PathBatch& paths, RayBatch& rays, Film& film, uint64_t from) const {
+  if (!paths.firstHits) return;
+  const uint64_t first = paths.first;
+  inFilmOrder(first, first + paths.size(), [&](uint32_t pixel, uint64_t id) {
+    RayHit& slot = rays.hitOf(kRaysPerPath * size_t(id - first));
+    if (id >= from) {
+      FirstHitRecord record;
+      std::memcpy(&record, static_cast<const void*>(&slot), sizeof record);
+      film.addFirstHit(pixel, record.unpack());
+    }
+    slot = RayHit{};
   });
 }
 

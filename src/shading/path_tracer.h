@@ -1,7 +1,9 @@
 // START HERE for shading. The path tracer as per-generation kernels (thesis §6.2.2, "group
 // rays by generation"): start() writes the camera rays of a batch of paths; after the tracer
 // has traced a generation, shade() consumes its hits and writes the next generation into the
-// same RayBatch; finish() adds the batch's samples to the film in a fixed order.
+// same RayBatch; finish() adds the batch's samples to the film in a fixed order. The first-hit
+// AOVs go to the film earlier, right after the camera generation is shaded (addFirstHits), so a
+// path keeps no first hit while it is traced.
 //
 // Slots: path k of a batch owns ray slots 2k (camera / continuation ray, closest hit) and
 // 2k+1 (next-event shadow ray, any hit). shade() reads and rewrites only a path's own slots,
@@ -39,6 +41,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <type_traits>
 #include <vector>
 #include "core/leaf_queries.h"
 #include "core/rng.h"
@@ -61,8 +64,9 @@ struct PostedGather {
   Rgb throughput, radiance;
 };
 
-// A camera path's first-hit AOVs as its batch keeps them: 28 bytes instead of FirstHit's 40
-// (the shading normal as the hit's octahedral code and a side bit, the level as a byte).
+// A camera path's first-hit AOVs between its shading and addFirstHits: 28 bytes instead of
+// FirstHit's 40 (the shading normal as the hit's octahedral code and a side bit, the level as a
+// byte), so it fits the path's closest slot's RayHit, whose hit is spent once shaded.
 // unpack() gives the FirstHit the film adds, bit for bit.
 struct FirstHitRecord {
   float depth = 0;
@@ -78,7 +82,7 @@ struct FirstHitRecord {
     return FirstHit{true, depth, (flags & kNormalFlipped) ? -n : n, float(lod), albedo, materialId};
   }
 };
-static_assert(sizeof(FirstHitRecord) == 28);
+static_assert(sizeof(FirstHitRecord) == sizeof(RayHit) && std::is_trivially_copyable_v<FirstHitRecord>);
 
 // The state of a batch of paths, structure of arrays; path k has global id first + k
 // (PathTracer::idsOf gives its pixel and sample).
@@ -95,9 +99,8 @@ struct PathBatch {
   void setCausticRun(size_t k, uint8_t run) { flags[k] = uint8_t((flags[k] & ~3) | run); }
   bool bsdfDelta(size_t k) const { return (flags[k] & 4) != 0; }
   void setBsdfDelta(size_t k, bool delta) { flags[k] = uint8_t((flags[k] & ~4) | (delta ? 4 : 0)); }
-  // The first hits for the AOVs, only when `firstHits` (set before resize(); the render's
-  // outputs read them: IntegratorSettings::firstHitAovs).
-  std::vector<FirstHitRecord> aov;
+  // Whether shade(0) records the first hits for the AOVs (the render's outputs read them:
+  // IntegratorSettings::firstHitAovs); they are kept in the ray slots, not here.
   bool firstHits = true;
   // Caustic gathers as leaf queries: slot k is path k's, at most one per generation, posted
   // by shade() and added to the radiance by the next shade(), after trace() ran it.
@@ -108,12 +111,10 @@ struct PathBatch {
   std::shared_ptr<BrickLeafTracker> media;
   size_t size() const { return flags.size(); }
   void resize(size_t n) {
-    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); flags.resize(n); aov.resize(firstHits ? n : 0);
+    throughput.resize(n); radiance.resize(n); shadowContribution.resize(n); flags.resize(n);
     bsdfPdf.resize(n); etaScale.resize(n);
   }
-  static constexpr size_t bytesPerPath(bool firstHits) {
-    return 3 * sizeof(Rgb) + 2 * sizeof(float) + 1 + (firstHits ? sizeof(FirstHitRecord) : 0);
-  }
+  static constexpr size_t bytesPerPath() { return 3 * sizeof(Rgb) + 2 * sizeof(float) + 1; }
   static constexpr size_t bytesPerGather() { return sizeof(PostedGather) + LeafQueries::bytesPerSlot(); }
 };
 
@@ -169,7 +170,7 @@ class PathTracer final : public Integrator {
   IntegratorTraits traits() const override { return {.shadowPairs = true}; }
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
-    return PathBatch::bytesPerPath(scene_.integrator.firstHitAovs) + sizeof(SortItem) +
+    return PathBatch::bytesPerPath() + sizeof(SortItem) +
            (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0) +
            (scene_.media.empty() ? 0 : sizeof(uint64_t));  // BrickLeafTracker's product
   }
@@ -179,6 +180,7 @@ class PathTracer final : public Integrator {
     return shade(bounce, paths_, rays, stats);
   }
   void finish(Film& film, ShadeStats& stats) override { finish(paths_, film, stats); }
+  void addFirstHits(RayBatch& rays, Film& film, uint64_t from) override { addFirstHits(paths_, rays, film, from); }
   // Path ids by pixel blocks: pixels [b·n, (b+1)·n) with all their samples are ids
   // [b·n·spp, (b+1)·n·spp), sample-major within a block (sample s of the block's pixel q is
   // id b·n·spp + s·(the block's pixels) + q; the last block may be smaller). n = 0, or the
@@ -212,10 +214,17 @@ class PathTracer final : public Integrator {
   // gathers the last trace() ran, and leaves rays.queries pointing at the new ones (the caller
   // traces once more, with no rays, while rays.queries->pending()).
   size_t shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, ShadeStats& stats);
-  // Adds the batch's samples to the film, pixel by pixel in sample order. A sample whose
+  // Adds the batch's radiance to the film, pixel by pixel in sample order. A sample whose
   // radiance overflowed to a non-finite value is dropped (added as black, AOVs kept) and
   // counted in stats.nonFinite.
   void finish(const PathBatch& paths, Film& film, ShadeStats& stats) const;
+  // After shade(0) and before the next trace: adds the first hits of the batch's paths with ids
+  // >= from to the film's AOV sums, in finish()'s order (those sums are apart from the radiance's,
+  // so the film gets the bits of adding both at the end). shade(0) keeps path k's FirstHitRecord
+  // in the RayHit of its slot 2k, spent once shaded (a continuation ray's hit is cleared by the
+  // next trace); this pass reads every path's and leaves the hit cleared. O(paths), pixels in
+  // parallel. Nothing when the batch records no first hits (PathBatch::firstHits).
+  void addFirstHits(const PathBatch& paths, RayBatch& rays, Film& film, uint64_t from) const;
 
  private:
   // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).
@@ -236,7 +245,12 @@ class PathTracer final : public Integrator {
   // product, or the same walked here when the engine did not run the brick leaves.
   float shadowTransmittance(uint32_t bounce, uint32_t k, const PathBatch& paths, const RayBatch& rays,
                             ShadeStats& stats) const;
-  size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
+  // firstHit: null, or (the camera generation) where the path's first hit is recorded.
+  size_t shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayBatch& rays, ShadeStats& stats,
+                   FirstHitRecord* firstHit) const;
+  // add(full-image pixel, id) for the ids [first, end), pixel by pixel in sample order: the
+  // film's order (finish, addFirstHits); pixels in parallel.
+  template <class Add> void inFilmOrder(uint64_t first, uint64_t end, const Add& add) const;
   // A real collision in a medium at t along path k's closest ray (path_tracer.cpp).
   size_t shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const Medium& m, const RngKey& key, PathBatch& paths,
                            RayBatch& rays, ShadeStats& stats) const;

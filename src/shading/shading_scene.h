@@ -22,8 +22,9 @@ struct IntegratorSettings {
   // binary estimate (true: 1 when no real collision, for comparing the two; scene key
   // integrator.transmittance).
   bool deltaTransmittance = false;
-  // Whether camera paths keep their first hit for the film's AOVs (28 bytes a path): set by the
-  // render from its outputs, not by the scene; without, the film gets no AOVs, coverage included.
+  // Whether camera paths record their first hit for the film's AOVs (added to the film when the
+  // camera rays are shaded): set by the render from its outputs, not by the scene; without, the
+  // film gets no AOVs, coverage included.
   bool firstHitAovs = true;
 };
 

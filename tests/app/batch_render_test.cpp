@@ -1,14 +1,18 @@
 // Batch jobs at the Renderer (docs/batch-and-farm.md): a crop renders the same sums as the
 // whole render in its window; the parts of a split, merged, are the whole render's sums bit for
-// bit; a render stopped at any batch boundary and resumed from its film and position is the
-// uninterrupted render's. For every method (pt, lt, pm, ppm, lbt), on a small caustic scene
+// bit; a render stopped at any batch boundary, or inside a batch after its camera rays added
+// their first-hit AOVs to the film, and resumed from its film and position (through a checkpoint
+// file) is the uninterrupted render's. For every method (pt, lt, pm, ppm, lbt), on a small caustic scene
 // (a rect light over a mirror lighting a ceiling), with row counts the parts do not divide.
+#include <algorithm>
 #include <cstring>
 #include <gtest/gtest.h>
+#include "app/film_file.h"
 #include "app/renderer.h"
 #include "scene/scene_loader.h"
 #include "support/beam_scenes.h"
 #include "support/render_fixtures.h"
+#include "support/temp_folder.h"
 
 namespace rayes::testing {
 namespace {
@@ -126,6 +130,53 @@ TEST_P(EveryMethod, ResumedAtAnyBatchIsTheUninterruptedRender) {
   }
   if (GetParam() == "ppm" || GetParam() == "pm") {
     EXPECT_GT(stoppedAt, 0) << "a stop in a later pass was tried";
+  }
+}
+
+// Stopped at the c-th stop check (c = 1, 4, 7, ...: before a batch, and between the generations
+// of one, after its camera generation added the batch's first-hit AOVs to the film too), the
+// checkpoint written and read back as --checkpoint / --resume do, and resumed: the whole
+// render's sums, AOVs included (a batch's AOVs are not added twice: Position::firstHitsEnd).
+TEST_P(EveryMethod, ResumedAfterAStopInsideABatchIsTheUninterruptedRender) {
+  const Scene scene = caustic(4);
+  RenderOptions o = optionsFor(GetParam());
+  o.frequentBatches = true;
+  const Film whole = renderWith(scene, o);
+  ThreadLimit limit(2);
+  TempFolder temp;
+  int insideABatch = 0;
+  for (int c = 1;; c += 3) {
+    Renderer first(scene, o);
+    int checks = 0;
+    Renderer::Control stopAtC;
+    stopAtC.stop = [&] { return ++checks >= c; };
+    const Film part = first.render({}, stopAtC);
+    if (!first.interrupted()) break;  // c is past the last check
+    const Renderer::Position& at = first.position();
+    if (at.firstHitsEnd > at.next) ++insideABatch;
+    FilmFileHeader h;
+    h.kind = "checkpoint";
+    h.width = kWidth;
+    h.height = kHeight;
+    h.crop = h.window = part.window();
+    h.method = GetParam();
+    h.pass = at.pass;
+    h.next = at.next;
+    h.blockPixels = at.blockPixels;
+    h.firstHitsEnd = at.firstHitsEnd;
+    writeFilmFile(temp.path("cp.film"), h, part);
+    FilmFile saved = readFilmFile(temp.path("cp.film"));
+    EXPECT_EQ(saved.header.firstHitsEnd, at.firstHitsEnd);
+    Renderer second(scene, o);
+    second.resume(std::move(saved.film), {saved.header.pass, saved.header.next, saved.header.blockPixels,
+                                          saved.header.firstHitsEnd});
+    const Film resumed = second.render();
+    ASSERT_FALSE(second.interrupted());
+    expectSameSums(whole, resumed, GetParam() + " resumed after " + std::to_string(c) + " stop checks");
+  }
+  if (GetParam() != "lt") {  // (lt sees nothing from the camera: no AOVs)
+    EXPECT_GT(insideABatch, 0) << "a stop after a camera generation was tried";
+    EXPECT_GT(*std::max_element(whole.sums().hits.begin(), whole.sums().hits.end()), 0u) << "the AOVs are compared";
   }
 }
 

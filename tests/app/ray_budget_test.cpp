@@ -29,8 +29,9 @@ TEST(DefaultRayBudget, IsTheRenderOptionsDefault) {
   EXPECT_LE(RenderOptions{}.rayMemoryBytes, 2 * kGiB);
 }
 
-// A pt path of a scene where nothing moves and no texture is read: 81 bytes of path state (28
-// of them the first hit the AOVs need, one byte of flags) and a pair of ray slots, each a
+// A pt path of a scene where nothing moves and no texture is read: 53 bytes of path state (one
+// byte of flags; no first hit: the AOVs get it when the camera rays are shaded, kept meanwhile in
+// the spent hit) with the shading sort's 8-byte item, and a pair of ray slots, each a
 // 44-byte ray, half of the pair's 28-byte hit and 4-byte occluder (the shadow slot keeps no
 // hit), 12 bytes of trace state and one 12-byte candidate slot; the candidate buffer holds one
 // slot per ray slot of the batch.
@@ -43,23 +44,24 @@ TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
   EXPECT_EQ(SortedEngine::bytesPerRayState(), 12u);
   EXPECT_EQ(RayBatch::bytesPerRay(false, false, true) + SortedEngine::bytesPerRaySlot(LodRule::PerRay),
             44u + 16u + 12u + 12u);
-  EXPECT_EQ(r.stats().bytesPerPath, 81u + 2 * (44u + 16u + 12u + 12u));
+  EXPECT_EQ(PathBatch::bytesPerPath(), 45u);
+  EXPECT_EQ(r.stats().bytesPerPath, 53u + 2 * (44u + 16u + 12u + 12u));
   EXPECT_EQ(r.stats().candidateCapacity, r.stats().pathsPerBatch * 2);
   EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * 2 * (12u + 12u));
-  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (81u + 2 * (44u + 16u)));
+  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (53u + 2 * (44u + 16u)));
 }
 
 // bytes_per_ray (the stats' memory.bytes_per_ray, per ray slot) of pt with the AOVs the EXR
 // writes, and without them (a PNG preview alone: RenderOptions::firstHitAovs), pinned so that a
-// slot growing again is caught; the image's radiance is the same either way.
-TEST(RayBudget, APtPathWithoutAovsKeepsNoFirstHit) {
+// slot growing again is caught: the same, as the first hits go to the film when the camera rays
+// are shaded; the image's radiance is the same either way, and only the first film has AOVs.
+TEST(RayBudget, APtPathKeepsNoFirstHitWithOrWithoutAovs) {
   const Scene scene = testing::smallTeapot();
   RenderOptions without;
   without.firstHitAovs = false;
   Renderer withAovs(scene, RenderOptions{}), noAovs(scene, without);
-  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 124u);
-  EXPECT_EQ(noAovs.stats().bytesPerPath / noAovs.stats().raysPerPath, 110u);
-  EXPECT_EQ(withAovs.stats().bytesPerPath - noAovs.stats().bytesPerPath, sizeof(FirstHitRecord));
+  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 110u);
+  EXPECT_EQ(noAovs.stats().bytesPerPath, withAovs.stats().bytesPerPath);
   const Film a = withAovs.render(), b = noAovs.render();
   EXPECT_EQ(a.sums().rgb, b.sums().rgb);
   EXPECT_EQ(a.sums().count, b.sums().count);

@@ -435,6 +435,11 @@ TEST(Beams, BatchesUnderTheBeamMemoryBudgetGiveTheSameImage) {
   const auto ref = renderBeauty(scene, whole, 2);
   EXPECT_EQ(renderBeauty(scene, small, 2), ref);
   EXPECT_NE(renderBeauty(scene, RenderOptions{}, 2), ref);  // the beams are in the image
+  // Every round traces the camera paths again; their first hits reach the film once (round 0).
+  const Film oneFilm = Renderer(scene, whole).render(), severalFilm = Renderer(scene, small).render();
+  EXPECT_EQ(severalFilm.sums().hits, oneFilm.sums().hits);
+  EXPECT_EQ(severalFilm.sums().depth, oneFilm.sums().depth);
+  EXPECT_EQ(severalFilm.sums().albedo, oneFilm.sums().albedo);
   // A budget the partial gathers alone fill: refused, naming both budgets' options.
   RenderOptions tiny = whole;
   tiny.method.beams.memoryBytes = several.stats().pathsPerBatch * size_t(scene.integrator.maxDepth) * sizeof(Rgb);

@@ -137,6 +137,40 @@ TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
 }
 
 
+// The first hits reach the film right after the camera generation (addFirstHits), not with the
+// radiance: each path's exactly once from `from` on, what shading saw (depth, material), with the
+// film's radiance untouched until finish(); the slots they were kept in are left cleared, so the
+// next generation reads no stale hit. 2x2 pixels, 1 sample: path k is pixel k.
+TEST(PathTracerKernels, FirstHitsReachTheFilmOnceAfterTheCameraGeneration) {
+  OneLightScene s;
+  PathTracer tracer(s.scene);
+  PathBatch paths;
+  RayBatch rays;
+  rays.shadowPairs = true;
+  tracer.start(0, 4, paths, rays);
+  for (int k = 0; k < 4; ++k) {
+    RayHit& h = rays.hitOf(2 * size_t(k));
+    h.leaf = k == 3 ? kNoLeaf : 0;  // path 3 sees nothing
+    h.t = 5.0f + float(k);
+    h.setNormals({0, 0, 1}, {0, 0, 1});
+  }
+  ShadeStats stats;
+  tracer.shade(0, paths, rays, stats);
+  Film film(2, 2);
+  tracer.addFirstHits(paths, rays, film, 1);  // path 0's first hit is in the film already
+  const Film::Sums& f = film.sums();
+  EXPECT_EQ(f.hits, (std::vector<uint32_t>{0, 1, 1, 0}));
+  EXPECT_EQ(f.depth[1], 6.0);
+  EXPECT_EQ(f.depth[2], 7.0);
+  EXPECT_EQ(f.material[1], 0);
+  EXPECT_EQ(f.material[3], -1);
+  EXPECT_EQ(f.count, (std::vector<uint32_t>{0, 0, 0, 0}));  // the radiance comes with finish()
+  for (int k = 0; k < 4; ++k) EXPECT_FALSE(rays.hitOf(2 * size_t(k)).valid()) << k;
+  tracer.finish(paths, film, stats);
+  EXPECT_EQ(f.count, (std::vector<uint32_t>{1, 1, 1, 1}));
+  EXPECT_EQ(f.hits, (std::vector<uint32_t>{0, 1, 1, 0}));
+}
+
 // Next-event shadow rays test the segment from the offset origin to the light point, which is
 // itself moved off the emitter toward the receiver: they end in front of the light, never past
 // it (where a ceiling just behind the light would block them), however large the receiver's
