@@ -10,8 +10,8 @@
 // Ownership: the batch owns the storage; take() grows it to the largest request so far and
 // never shrinks it, so a warmed-up render allocates nothing. Not thread-safe: one stage takes
 // it, then that stage's threads use the span it got. take() is O(1) unless it grows, which
-// allocates without touching the pages. A copy of a batch starts with no scratch (there is
-// nothing in it to copy between stages).
+// allocates without touching the pages. Copying a batch copies no scratch: a new copy has none,
+// an assigned-to batch keeps its own (nothing in it outlives the stage that took it).
 #pragma once
 #include <cstddef>
 #include <memory>
