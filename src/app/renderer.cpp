@@ -54,8 +54,9 @@ Renderer::Renderer(const Scene& scene, const RenderOptions& options)
   const size_t engineBytesPerRay = embree    ? EmbreeEngine::bytesPerRaySlot()
                                    : caching ? CachingEngine::bytesPerRaySlot()
                                              : SortedEngine::bytesPerRaySlot(options.lod);
-  stats_.bytesPerPath =
-      integrator_->bytesPerPath() + raysPerPath * (rayBytesPerSlot() + engineBytesPerRay);
+  const size_t engineScratchPerRay = embree || caching ? 0 : SortedEngine::sortScratchBytesPerRaySlot(options.lod);
+  stats_.bytesPerPath = integrator_->bytesPerPath() + raysPerPath * (rayBytesPerSlot() + engineBytesPerRay) +
+                        sortScratchBytesPerPath(engineScratchPerRay);
   if (options.costLayers) stats_.bytesPerPath += PixelCost::bytesPerPath(raysPerPath);
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t totalPaths = pixels * uint64_t(scene.samplesPerPixel);
@@ -136,7 +137,8 @@ MemoryByOwner Renderer::memoryAtSetup(uint64_t raysPerPath) const {
   MemoryByOwner m;
   const uint64_t slots = stats_.pathsPerBatch * raysPerPath;
   m.rayBuffers = size_t(stats_.pathsPerBatch * integrator_->bytesPerPath() + slots * rayBytesPerSlot());
-  m.candidatesAndSort = size_t(slots * engine_->bytesPerRay());
+  m.candidatesAndSort = size_t(slots * engine_->bytesPerRay() +
+                               stats_.pathsPerBatch * sortScratchBytesPerPath(engine_->sortScratchBytesPerRay()));
   m.topLevel = data_.top.bytes();
   m.leaves = scene_.leaves.size();
   m.sceneDescription = scene_.leaves.descriptionBytes() + scene_.leafMaterial.capacity() * sizeof(uint32_t) +

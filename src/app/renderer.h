@@ -45,6 +45,7 @@
 // the pixels it renders.
 // Not thread-safe; render() uses all threads allowed by the caller's ThreadLimit.
 #pragma once
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <functional>
@@ -156,7 +157,7 @@ struct ErrorSample {
 // could produce.
 struct MemoryByOwner {
   size_t rayBuffers = 0;         // the RayBatch and the integrator's path state, at the batch size
-  size_t candidatesAndSort = 0;  // the engine's per-ray-slot state: candidates, sort scratch, trace state
+  size_t candidatesAndSort = 0;  // the engine's per-ray-slot state (candidates, sort order, trace state) and the sorts' shared scratch
   size_t topLevel = 0;           // the top-level BVH's nodes
   size_t diceBuffers = 0;        // Rayes: the per-thread dice buffers; Embree: the whole tessellation
   size_t diceCache = 0;          // diced grids kept between uses (--grid-cache, --dice-cache), at their peak
@@ -246,6 +247,12 @@ class Renderer {
   // slot layout keep (a shadow slot of a pair keeps only its occluder: IntegratorTraits::shadowPairs).
   size_t rayBytesPerSlot() const {
     return RayBatch::bytesPerRay(raysTimed(), raysKeepDerivatives(), integrator_->traits().shadowPairs);
+  }
+  // The batch's sort scratch per path (RayBatch::sortScratch): the engine's candidate sort
+  // (engineScratchPerRay per ray slot) and the integrator's shading sort take it in turn, so
+  // the larger need, once.
+  size_t sortScratchBytesPerPath(size_t engineScratchPerRay) const {
+    return std::max<size_t>(integrator_->sortScratchBytesPerPath(), integrator_->raysPerPath() * engineScratchPerRay);
   }
   void traceLightPass(int s0, int s1, int pass, int& batch, const Control& control);
   struct Stopped {};  // thrown by the stop check, caught by render()

@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <vector>
 #include "core/octahedral.h"
+#include "core/sort_scratch.h"
 #include "core/vec.h"
 
 namespace rayes {
@@ -133,6 +134,9 @@ struct RayBatch {
   // The tracking the engine runs at brick leaves (core/medium_leaves.h): the poster's (not
   // owned), or none (a scene without media).
   MediumLeafTracker* media = nullptr;
+  // The memory the engine's candidate sort uses while it traces this batch and the
+  // integrator's shading sort while it shades it: never both at once (core/sort_scratch.h).
+  SortScratch sortScratch;
 
   size_t size() const { return ray.size(); }
   void resize(size_t n) {

@@ -80,6 +80,7 @@ class BeamIntegrator final : public Integrator {
   IntegratorTraits traits() const override { return {.beamsUpFront = true, .shadowPairs = true}; }
   uint32_t raysPerPath() const override { return pt_->raysPerPath(); }
   size_t bytesPerPath() const override { return pt_->bytesPerPath(); }
+  size_t sortScratchBytesPerPath() const override { return pt_->sortScratchBytesPerPath(); }
   size_t leafTableBytes() const override { return pt_->leafTableBytes(); }
   void prepare(const IntegratorSetup& setup) override;
   uint32_t roundsPerBatch() const override { return batches_ ? uint32_t(ranges_.size()) : 1; }

@@ -39,6 +39,7 @@ class PhotonMapper final : public Integrator, private CausticRadiance {
   size_t bytesPerPath() const override {
     return std::max(pt_.bytesPerPath(), lightBatchBytesPerPath());
   }
+  size_t sortScratchBytesPerPath() const override { return pt_.sortScratchBytesPerPath(); }  // light batches sort none
   static size_t lightBatchBytesPerPath() { return sizeof(Rgb) + sizeof(LightRun) + sizeof(Photon) + 1; }
   // Refuses, before any photon is traced, a map that might not fit: the worst case stores a
   // photon for every light path of the largest map (checkPhotonMemory).

@@ -1,6 +1,7 @@
 #include "rays/candidate_sort.h"
 #include <algorithm>
 #include <bit>
+#include <stdexcept>
 #include <tbb/parallel_for.h>
 
 namespace rayes {
@@ -8,11 +9,12 @@ namespace {
 constexpr int kMaxDigitBits = 11;  // 2048 counters per block stay in L1
 }
 
-void CandidateSort::sort(const std::vector<uint32_t>& leafOf) {
+void CandidateSort::sort(const std::vector<uint32_t>& leafOf, std::span<uint32_t> scratch) {
   const size_t n = order.size();
-  scratch.resize(n);
+  if (scratch.size() < n) throw std::logic_error("CandidateSort: less scratch than slots");
+  std::span<uint32_t> from(order.data(), n), to = scratch.first(n);
   uint32_t maxLeaf = 0;
-  for (size_t i = 0; i < n; ++i) maxLeaf = std::max(maxLeaf, leafOf[order[i]]);
+  for (size_t i = 0; i < n; ++i) maxLeaf = std::max(maxLeaf, leafOf[from[i]]);
   const int bits = std::max(1, 32 - std::countl_zero(maxLeaf));
   const int passes = (bits + kMaxDigitBits - 1) / kMaxDigitBits;
   const int digitBits = (bits + passes - 1) / passes;
@@ -27,7 +29,7 @@ void CandidateSort::sort(const std::vector<uint32_t>& leafOf) {
       uint32_t* count = &offsets[b * radix];
       std::fill(count, count + radix, 0u);
       const auto [lo, hi] = blockRange(b);
-      for (size_t i = lo; i < hi; ++i) ++count[(leafOf[order[i]] >> shift) & mask];
+      for (size_t i = lo; i < hi; ++i) ++count[(leafOf[from[i]] >> shift) & mask];
     });
     uint32_t sum = 0;  // digit-major exclusive scan: block b's digit d follows blocks < b (stable)
     for (size_t d = 0; d < radix; ++d)
@@ -39,13 +41,15 @@ void CandidateSort::sort(const std::vector<uint32_t>& leafOf) {
     tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
       uint32_t* next = &offsets[b * radix];
       const auto [lo, hi] = blockRange(b);
-      for (size_t i = lo; i < hi; ++i) scratch[next[(leafOf[order[i]] >> shift) & mask]++] = order[i];
+      for (size_t i = lo; i < hi; ++i) to[next[(leafOf[from[i]] >> shift) & mask]++] = from[i];
     });
-    order.swap(scratch);
+    std::swap(from, to);
   }
+  sorted = from;
+  spare = to;
   runs.clear();
   for (size_t i = 0; i < n; ++i)
-    if (i == 0 || leafOf[order[i]] != leafOf[order[i - 1]]) runs.push_back(static_cast<uint32_t>(i));
+    if (i == 0 || leafOf[from[i]] != leafOf[from[i - 1]]) runs.push_back(static_cast<uint32_t>(i));
   runs.push_back(static_cast<uint32_t>(n));
 }
 

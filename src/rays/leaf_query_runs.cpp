@@ -14,7 +14,8 @@ size_t LeafQueryRuns::group(const LeafQueries& queries) {
   if (filled.empty()) return 0;
   runner_ = queries.runner;
   leaf_ = queries.leaf;
-  sort_.sort(queries.leaf);
+  scratch_.resize(filled.size());
+  sort_.sort(queries.leaf, scratch_);
   return runs();
 }
 
@@ -44,6 +45,7 @@ void LeafQueryRuns::runAll(TimeAccumulator& time) {
 void LeafQueryRuns::clear() {
   sort_.order.clear();
   sort_.runs.clear();
+  sort_.sorted = sort_.spare = {};
   runner_ = nullptr;
   leaf_ = {};
 }

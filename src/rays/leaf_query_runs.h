@@ -20,9 +20,9 @@ class LeafQueryRuns {
   // number of runs.
   size_t group(const LeafQueries& queries);
   size_t runs() const { return sort_.runs.empty() ? 0 : sort_.runs.size() - 1; }
-  uint32_t leafOf(size_t run) const { return leaf_[sort_.order[sort_.runs[run]]]; }
+  uint32_t leafOf(size_t run) const { return leaf_[sort_.sorted[sort_.runs[run]]]; }
   std::span<const uint32_t> ids(size_t run) const {
-    return {sort_.order.data() + sort_.runs[run], size_t(sort_.runs[run + 1] - sort_.runs[run])};
+    return sort_.sorted.subspan(sort_.runs[run], size_t(sort_.runs[run + 1] - sort_.runs[run]));
   }
   // Calls the runner for run `run` (timed into `time`, summed over threads): a run of more than
   // 2 kChunk queries in chunks of kChunk that other threads may take, isolated so this thread
@@ -37,6 +37,9 @@ class LeafQueryRuns {
   std::span<const uint32_t> leaf_;
   LeafQueryRunner* runner_ = nullptr;
   CandidateSort sort_;
+  // The sort's scratch, its own: the candidate sort's (the batch's RayBatch::sortScratch) is
+  // live beside it while the first iteration runs both kinds of runs.
+  std::vector<uint32_t> scratch_;
 };
 
 }  // namespace rayes

@@ -20,6 +20,9 @@
 //
 // Memory (docs/design.md, invariant 3): bytesPerRay() is what the engine keeps per ray slot of the
 // largest batch beyond the RayBatch itself (the renderer divides its ray budget by it);
+// sortScratchBytesPerRay() what trace() takes of the batch's RayBatch::sortScratch per ray slot
+// (the renderer counts it once with the integrator's shading sort, which uses the same memory
+// while the batch is shaded: core/sort_scratch.h);
 // fixedBytes() is what it holds regardless of the batch (dice buffers, or the whole Embree
 // scene). Not thread-safe: one trace() at a time; trace() itself runs on all threads.
 #pragma once
@@ -56,6 +59,7 @@ class RayEngine {
   virtual ~RayEngine() = default;
   virtual void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) = 0;
   virtual size_t bytesPerRay() const = 0;
+  virtual size_t sortScratchBytesPerRay() const { return 0; }
   virtual size_t fixedBytes() const = 0;
   virtual EngineStats engineStats() const = 0;
   // Bounds the diced grids the engine keeps between traces (the sorted engine's --grid-cache)

@@ -217,7 +217,7 @@ void SortedEngine::traceSorted(RayBatch& b, GenerationStats& stats, TraceTimes& 
     it.activeRays = nActive;
     it.candidatesPerRay = N;
     collectCandidates(b, nNow, N, times);
-    it.candidates = sortCandidates(nNow, N, times);
+    it.candidates = sortCandidates(b, nNow, N, times);
     const uint64_t dicedBefore = stats.leavesDiced, hitsBefore = stats.gridCacheHits;
     diceAndIntersectRuns(b, stats, times);
     it.dicings = stats.leavesDiced - dicedBefore;
@@ -253,8 +253,9 @@ void SortedEngine::collectCandidates(const RayBatch& b, size_t nNow, int N, Trac
   });
 }
 
-// 2. Sort the filled slots by leaf. Returns how many slots were filled.
-size_t SortedEngine::sortCandidates(size_t nNow, int N, TraceTimes& times) {
+// 2. Sort the filled slots by leaf, with the batch's sort scratch (the shading sort's memory,
+// free while the batch is traced). Returns how many slots were filled.
+size_t SortedEngine::sortCandidates(RayBatch& b, size_t nNow, int N, TraceTimes& times) {
   ScopedTimer timer(times.sort);
   std::vector<uint32_t>& filled = sort_.order;
   filled.clear();
@@ -264,8 +265,8 @@ size_t SortedEngine::sortCandidates(size_t nNow, int N, TraceTimes& times) {
     for (size_t j = 0; j < size_t(N); ++j)
       if (cand_.leaf[base + j] != kNoLeaf) filled.push_back(static_cast<uint32_t>(base + j));
   }
-  sort_.sort(cand_.leaf);
-  return sort_.order.size();
+  sort_.sort(cand_.leaf, b.sortScratch.take<uint32_t>(filled.size()));
+  return sort_.sorted.size();
 }
 
 // 3+4. One task per leaf: dice once (or take the cached grid), intersect all of its rays; a
@@ -274,12 +275,12 @@ size_t SortedEngine::sortCandidates(size_t nNow, int N, TraceTimes& times) {
 // order, so its history does not depend on the thread count (rays/grid_cache.h).
 void SortedEngine::diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times) {
   const size_t nRuns = sort_.runs.empty() ? 0 : sort_.runs.size() - 1;
-  auto runSlots = [&](size_t run) { return sort_.order.data() + sort_.runs[run]; };
+  auto runSlots = [&](size_t run) { return sort_.sorted.data() + sort_.runs[run]; };
   auto runCount = [&](size_t run) { return size_t(sort_.runs[run + 1] - sort_.runs[run]); };
   // Each sorted slot's entry into its leaf's box (SortedEngine::leafEntry, as float bits),
-  // written by runLevel and read by the intersection, in the sort's scratch: free until the next
-  // sort, which left it as long as `order`.
-  auto runEntries = [&](size_t run) { return sort_.scratch.data() + sort_.runs[run]; };
+  // written by runLevel and read by the intersection, in the sort's spare buffer: free until the
+  // next sort, and as long as `sorted`.
+  auto runEntries = [&](size_t run) { return sort_.spare.data() + sort_.runs[run]; };
   runEntry_.assign(nRuns, nullptr);
   runPlan_.clear();
   if (cache_.enabled()) {

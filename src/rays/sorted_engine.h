@@ -33,7 +33,8 @@
 // default per-ray LOD: independent of thread count, sort order, N and batch size (the hit kept
 // is the minimum of a total order, whatever order the offers come in). Shadow rays stop at
 // their first occluder. Memory: the candidate buffer with its sort (bytesPerCandidate() per
-// slot of fixed capacity), per-ray state (bytesPerRayState() per ray of the largest batch) and
+// slot of fixed capacity, and the sort's scratch in the batch's RayBatch::sortScratch,
+// sortScratchBytesPerRaySlot()), per-ray state (bytesPerRayState() per ray of the largest batch) and
 // one DiceBuffer per thread of the resident level (residentLevel(): a run needing a leaf finer
 // dices it as sub-leaves, rays/sub_leaf_runs.cpp), allocated on first use and kept, plus the grid
 // cache of whole leaves and sub-leaves (bounded by TraceSettings::gridCacheBytes; fixedBytes()
@@ -76,6 +77,7 @@ class SortedEngine : public RayEngine {
   // Traces every ray of `batch` whose kind is not Inactive and fills its hits and occluders.
   void trace(RayBatch& batch, GenerationStats& stats, TraceTimes& times) override;
   size_t bytesPerRay() const override { return bytesPerRaySlot(settings_.lod); }
+  size_t sortScratchBytesPerRay() const override { return sortScratchBytesPerRaySlot(settings_.lod); }
   size_t fixedBytes() const override {
     return diceBufferBytes() + cache_.peakBytes() + borderBounds_.bytes() + seamGaps_.bytes();
   }
@@ -129,8 +131,9 @@ class SortedEngine : public RayEngine {
   // it is not kept apart (bench/history/2026-11.md, "Compact ray slots, third part").
   static constexpr size_t bytesPerRayState() { return sizeof(float) + 2 * sizeof(uint32_t); }
   static constexpr size_t kMaxCandidatesPerIteration = 65535;  // N per ray at most
-  // Everything one candidate slot costs: the slot itself and, when it is filled, its place in
-  // the sort's order and its scratch.
+  // What one candidate slot costs the engine: the slot itself and, when it is filled, its place
+  // in the sort's order. The sort's scratch for it (CandidateSort::scratchBytesPerSlot) is the
+  // batch's RayBatch::sortScratch, which the shading sort reuses (core/sort_scratch.h).
   static constexpr size_t bytesPerCandidate() {
     return CandidateBuffer::bytesPerSlot() + CandidateSort::bytesPerSlot();
   }
@@ -159,13 +162,21 @@ class SortedEngine : public RayEngine {
   static constexpr size_t bytesPerRaySlot(LodRule lod) {
     return bytesPerRayState() + candidatesPerRaySlot(lod) * bytesPerCandidate();
   }
+  // Per ray slot, what trace() takes of RayBatch::sortScratch: the candidate sort's scratch
+  // for candidatesPerRaySlot slots (sortScratchBytesPerRay() of a SortedEngine).
+  static constexpr size_t sortScratchBytesPerRaySlot(LodRule lod) {
+    return candidatesPerRaySlot(lod) * CandidateSort::scratchBytesPerSlot();
+  }
   // Bytes held by dice buffers (all threads so far) and the candidate buffer with its sort.
   size_t diceBufferBytes() const;
   // The finest level a dice buffer holds (TraceSettings::residentLod, raised to
   // kMinResidentLod and ceil(maxLod / 2), at most maxLod).
   int residentLevel() const { return residentLevel_; }
   static int residentLevelFor(int residentLod, int maxLod);
-  size_t candidateBufferBytes() const { return cand_.capacity() * bytesPerCandidate(); }
+  // The candidate buffer with its sort, counting the sort's scratch (the batch's) at capacity.
+  size_t candidateBufferBytes() const {
+    return cand_.capacity() * (bytesPerCandidate() + CandidateSort::scratchBytesPerSlot());
+  }
 
  private:
   struct RayState;
@@ -178,7 +189,7 @@ class SortedEngine : public RayEngine {
     std::array<std::atomic<uint64_t>, GenerationStats::kLevels> byLevel{};  // the level-of-detail histogram
   };
   void collectCandidates(const RayBatch& b, size_t nNow, int N, TraceTimes& times);       // 1
-  size_t sortCandidates(size_t nNow, int N, TraceTimes& times);                          // 2
+  size_t sortCandidates(RayBatch& b, size_t nNow, int N, TraceTimes& times);             // 2
   void diceAndIntersectRuns(RayBatch& b, GenerationStats& stats, TraceTimes& times);     // 3, 4
   void diceAndIntersectMoving(RayBatch& b, DiceBuffer& dice, const uint32_t* slots, size_t count,
                               uint32_t leaf, const PatchPtr& patch, TraceTimes& times, DicingCounters& counters);

@@ -44,6 +44,9 @@
 // passes only from the first pass (pm's one map, ppm's first radius).
 // bytesPerPath() is the integrator's own state per path (besides its ray slots), so the ray
 // memory budget can be divided into whole paths; it must not change after prepare().
+// sortScratchBytesPerPath() is what shade() takes of the batch's RayBatch::sortScratch per path
+// (the shading sort), memory the engine's trace() uses too: the budget counts the larger of the
+// two once (core/sort_scratch.h).
 //
 // Light passes (photon mapping): before the camera paths of the pass over samples [s0, s1),
 // the Renderer traces the integrator's own paths with ids lightPaths(s0, s1) = [first, end)
@@ -115,6 +118,7 @@ class Integrator {
   virtual IntegratorTraits traits() const { return {}; }
   virtual uint32_t raysPerPath() const = 0;
   virtual size_t bytesPerPath() const = 0;
+  virtual size_t sortScratchBytesPerPath() const { return 0; }
   // Bytes the integrator keeps per leaf of the scene, made once (counted in the stats' scene
   // description).
   virtual size_t leafTableBytes() const { return 0; }

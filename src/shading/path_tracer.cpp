@@ -461,13 +461,13 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
     paths.gatherQueries.runner = &gatherRunner_;
     rays.queries = options_.causticRadiance ? &paths.gatherQueries : nullptr;
   }
-  sortByMaterial(paths, rays, stats);
+  const std::span<const SortItem> order = sortByMaterial(paths, rays, stats);
   const bool firstHits = bounce == 0 && paths.firstHits;
   std::atomic<size_t> emitted{0};
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, order_.size(), 256), [&](const auto& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 256), [&](const auto& r) {
     size_t localEmitted = 0;
     for (size_t o = r.begin(); o != r.end(); ++o) {
-      const uint32_t k = order_[o].path;
+      const uint32_t k = order[o].path;
       if (!firstHits) {
         localEmitted += shadePath(bounce, k, paths, rays, stats, nullptr);
         continue;
@@ -508,10 +508,12 @@ void PathTracer::GatherRunner::run(uint32_t leaf, std::span<const uint32_t> ids)
 }
 
 // The second sorting step: live paths by (material, leaf) of their hit; misses last.
-void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats) {
+std::span<const PathTracer::SortItem> PathTracer::sortByMaterial(const PathBatch& paths, RayBatch& rays,
+                                                                 ShadeStats& stats) const {
   ScopedTimer sortTimer(stats.sort);
   const size_t n = paths.size();
-  order_.clear();
+  const std::span<SortItem> items = rays.sortScratch.take<SortItem>(n);
+  size_t live = 0;
   for (uint32_t k = 0; k < n; ++k) {
     const size_t cs = kRaysPerPath * size_t(k);
     const RayHit& h = rays.hitOf(cs);
@@ -520,8 +522,9 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
     if (!traced && !shadowed) continue;
     // A collision on a brick leaf (a medium vertex) sorts just before the misses.
     const bool brick = paths.media && paths.media->isBrick(h.leaf);
-    order_.push_back({traced && h.valid() ? (brick ? kNoHitRank - 1 : shadeRankOf(h.leaf)) : kNoHitRank, k});
+    items[live++] = {traced && h.valid() ? (brick ? kNoHitRank - 1 : shadeRankOf(h.leaf)) : kNoHitRank, k};
   }
+  const std::span<SortItem> order = items.first(live);
   // Bench only (bench/texture_cache.sh): RAYES_SHADING_SORT=off shades the paths in id order, to
   // measure what the sort is worth to the texture cache. The image is the same either way:
   // each path touches only its own ray slots.
@@ -529,10 +532,11 @@ void PathTracer::sortByMaterial(const PathBatch& paths, const RayBatch& rays, Sh
     const char* e = std::getenv("RAYES_SHADING_SORT");
     return !(e && std::string_view(e) == "off");
   }();
-  if (!sorted) return;
-  tbb::parallel_sort(order_.begin(), order_.end(), [](const SortItem& a, const SortItem& b) {
+  if (!sorted) return order;
+  tbb::parallel_sort(order.begin(), order.end(), [](const SortItem& a, const SortItem& b) {
     return a.key != b.key ? a.key < b.key : a.path < b.path;
   });
+  return order;
 }
 
 template <class Add>

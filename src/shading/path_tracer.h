@@ -170,10 +170,12 @@ class PathTracer final : public Integrator {
   IntegratorTraits traits() const override { return {.shadowPairs = true}; }
   uint32_t raysPerPath() const override { return kRaysPerPath; }
   size_t bytesPerPath() const override {
-    return PathBatch::bytesPerPath() + sizeof(SortItem) +
+    return PathBatch::bytesPerPath() +
            (options_.gathersAsLeafQueries ? PathBatch::bytesPerGather() : 0) +
            (scene_.media.empty() ? 0 : sizeof(uint64_t));  // BrickLeafTracker's product
   }
+  // The shading sort's items, in the batch's RayBatch::sortScratch (sortByMaterial).
+  size_t sortScratchBytesPerPath() const override { return sizeof(SortItem); }
   size_t leafTableBytes() const override { return shadeRank_.capacity() * sizeof(uint32_t); }
   void start(uint64_t first, uint32_t count, RayBatch& rays) override { start(first, count, paths_, rays); }
   size_t shade(uint32_t bounce, RayBatch& rays, ShadeStats& stats) override {
@@ -228,7 +230,10 @@ class PathTracer final : public Integrator {
 
  private:
   // shade()'s parts: the (material, leaf) sort, and one path's steps (returns rays written).
-  void sortByMaterial(const PathBatch& paths, const RayBatch& rays, ShadeStats& stats);
+  // The sort's items are taken from rays.sortScratch (free while shade() runs: the trace is
+  // done) and returned, valid until shade() returns.
+  struct SortItem { uint32_t key; uint32_t path; };
+  std::span<const SortItem> sortByMaterial(const PathBatch& paths, RayBatch& rays, ShadeStats& stats) const;
   void addRunGathers(PathBatch& paths, ShadeStats& stats) const;
   // Runs a leaf's posted gathers (the batch being shaded) through causticRadiance.
   class GatherRunner final : public LeafQueryRunner {
@@ -271,12 +276,10 @@ class PathTracer final : public Integrator {
   // made once), so a path's sort item is 8 bytes, not a 64-bit (material, leaf) key and the
   // path; kNoHitRank (misses, and paths without a closest ray) sorts last.
   static constexpr uint32_t kNoHitRank = 0xffffffffu;
-  struct SortItem { uint32_t key; uint32_t path; };
   std::vector<uint32_t> shadeRank_;  // empty when the scene's rows hold them (a compiled scene)
   uint32_t shadeRankOf(uint32_t leaf) const {
     return scene_.leafRows.gated() ? scene_.leafRows[leaf].shadeRank : shadeRank_[leaf];
   }
-  std::vector<SortItem> order_;
   GatherRunner gatherRunner_;
   PathBatch paths_;
   uint32_t blockPixels_ = 0;  // setPixelBlock's n

@@ -1,5 +1,7 @@
-// CandidateSort groups slots by leaf in (leaf, slot) order, with one run per leaf.
+// CandidateSort groups slots by leaf in (leaf, slot) order, with one run per leaf, in the
+// caller's `order` and the scratch it lends: the result in one, the other left free (`spare`).
 #include <algorithm>
+#include <stdexcept>
 #include <gtest/gtest.h>
 #include "core/rng.h"
 #include "rays/candidate_sort.h"
@@ -19,17 +21,23 @@ void expectSortedLikeStdSort(size_t n, uint32_t leaves, bool sparseSlots) {
   std::sort(ref.begin(), ref.end());
   CandidateSort sort;
   sort.order = slots;
-  sort.sort(leafOf);
-  ASSERT_EQ(sort.order.size(), n);
-  for (size_t i = 0; i < n; ++i) ASSERT_EQ(sort.order[i], ref[i].second) << i;
+  std::vector<uint32_t> scratch(n + 3);  // more than needed: the sort uses the first n words
+  sort.sort(leafOf, scratch);
+  ASSERT_EQ(sort.sorted.size(), n);
+  ASSERT_EQ(sort.spare.size(), n);
+  // The result and the spare words are the two buffers, one each.
+  const bool inOrder = sort.sorted.data() == sort.order.data();
+  EXPECT_TRUE(inOrder || sort.sorted.data() == scratch.data());
+  EXPECT_EQ(sort.spare.data(), inOrder ? scratch.data() : sort.order.data());
+  for (size_t i = 0; i < n; ++i) ASSERT_EQ(sort.sorted[i], ref[i].second) << i;
   ASSERT_EQ(sort.runs.back(), n);
   for (size_t r = 0; r + 1 < sort.runs.size(); ++r) {
-    const uint32_t leaf = leafOf[sort.order[sort.runs[r]]];
+    const uint32_t leaf = leafOf[sort.sorted[sort.runs[r]]];
     for (uint32_t i = sort.runs[r]; i < sort.runs[r + 1]; ++i) {
-      ASSERT_EQ(leafOf[sort.order[i]], leaf);
+      ASSERT_EQ(leafOf[sort.sorted[i]], leaf);
     }
     if (r + 2 < sort.runs.size()) {
-      ASSERT_NE(leafOf[sort.order[sort.runs[r + 1]]], leaf);
+      ASSERT_NE(leafOf[sort.sorted[sort.runs[r + 1]]], leaf);
     }
   }
 }
@@ -42,13 +50,23 @@ TEST(CandidateSort, EqualsStdSortOfLeafSlotPairs) {
 
 TEST(CandidateSort, EmptyAndSingle) {
   CandidateSort sort;
-  sort.sort({});
-  EXPECT_TRUE(sort.order.empty());
+  sort.sort({}, {});
+  EXPECT_TRUE(sort.sorted.empty());
   ASSERT_EQ(sort.runs.size(), 1u);
   sort.order = {0};
-  sort.sort({5});
-  ASSERT_EQ(sort.order.size(), 1u);
+  uint32_t scratch = 0;
+  sort.sort({5}, {&scratch, 1});
+  ASSERT_EQ(sort.sorted.size(), 1u);
+  EXPECT_EQ(sort.sorted[0], 0u);
   EXPECT_EQ(sort.runs.size(), 2u);
+}
+
+// Lent less scratch than it has slots, it refuses rather than write past the caller's memory.
+TEST(CandidateSort, RefusesTooLittleScratch) {
+  CandidateSort sort;
+  sort.order = {0, 1};
+  uint32_t scratch = 0;
+  EXPECT_THROW(sort.sort({3, 4}, {&scratch, 1}), std::logic_error);
 }
 
 }  // namespace

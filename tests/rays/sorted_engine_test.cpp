@@ -118,6 +118,27 @@ void expectMatchesBruteForce(size_t capacity, bool sorted) {
 }
 
 TEST(SortedEngine, SortedPipelineEqualsBruteForce) { expectMatchesBruteForce(1 << 16, true); }
+
+// The candidate sort's scratch is the batch's (RayBatch::sortScratch, which the shading sort
+// takes while the batch is shaded): at most one word per candidate slot, and a scratch already
+// larger than that is used where it lies, not grown.
+TEST(SortedEngine, TheCandidateSortTakesItsScratchFromTheBatch) {
+  World w;
+  RayBatch b = randomRays(3000, false);
+  traceAll(w, b, 3000, true);
+  EXPECT_GT(b.sortScratch.bytes(), 0u);
+  EXPECT_LE(b.sortScratch.bytes(), 3000 * CandidateSort::scratchBytesPerSlot());
+  RayBatch again = randomRays(3000, false);
+  const void* lent = again.sortScratch.take<uint64_t>(4000).data();  // 32 000 bytes, more than it needs
+  traceAll(w, again, 3000, true);
+  EXPECT_EQ(again.sortScratch.bytes(), 4000 * sizeof(uint64_t));
+  EXPECT_EQ(static_cast<const void*>(again.sortScratch.take<uint32_t>(1).data()), lent);
+  for (size_t i = 0; i < b.size(); ++i) ASSERT_EQ(again.hit[i].leaf, b.hit[i].leaf) << i;
+  TraceSettings s;
+  s.maxLod = kLod;
+  s.candidateCapacity = 3000;
+  EXPECT_EQ(SortedEngine(w.top, w.source, s).sortScratchBytesPerRay(), SortedEngine::sortScratchBytesPerRaySlot(s.lod));
+}
 TEST(SortedEngine, OneCandidateSlotPerRayStillEqualsBruteForce) { expectMatchesBruteForce(3000, true); }
 TEST(SortedEngine, FewerSlotsThanRaysStillEqualsBruteForce) { expectMatchesBruteForce(700, true); }
 TEST(SortedEngine, RaysTracedAloneEqualBruteForce) { expectMatchesBruteForce(1, false); }

@@ -136,6 +136,37 @@ TEST(PathTracerKernels, NonFiniteHitIsDroppedAndCounted) {
   for (float v : film.beautyRgba()) EXPECT_TRUE(std::isfinite(v));
 }
 
+// The shading sort's items live in the batch's sort scratch (RayBatch::sortScratch), which the
+// engine's candidate sort used while the batch was traced: the path tracer asks for
+// sortScratchBytesPerPath() per path of it, keeps no sort memory of its own (bytesPerPath()
+// does not count it), and uses a scratch the trace left large enough where it lies.
+TEST(PathTracerKernels, TheShadingSortTakesItsItemsFromTheBatchsScratch) {
+  OneLightScene s;
+  PathTracer tracer(s.scene);
+  EXPECT_EQ(tracer.sortScratchBytesPerPath(), 2 * sizeof(uint32_t));  // a rank and a path id
+  EXPECT_EQ(tracer.bytesPerPath(), PathBatch::bytesPerPath(s.scene.integrator.firstHitAovs));
+  for (const bool lentEnough : {false, true}) {
+    PathBatch paths;
+    RayBatch rays;
+    tracer.start(0, 4, paths, rays);
+    const void* lent = lentEnough ? rays.sortScratch.take<uint32_t>(100).data() : nullptr;
+    for (int k = 0; k < 4; ++k) {
+      RayHit& h = rays.hit[2 * k];
+      h.leaf = 0;
+      h.t = 5 / length(rays.ray[2 * k].dir);
+      h.setNormals({0, 0, 1}, {0, 0, 1});
+    }
+    ShadeStats stats;
+    tracer.shade(0, paths, rays, stats);
+    EXPECT_EQ(stats.shadedHits.load(), 4u);
+    if (lentEnough) {
+      EXPECT_EQ(rays.sortScratch.bytes(), 400u);
+      EXPECT_EQ(static_cast<const void*>(rays.sortScratch.take<uint32_t>(1).data()), lent);
+    } else {
+      EXPECT_EQ(rays.sortScratch.bytes(), 4 * tracer.sortScratchBytesPerPath());
+    }
+  }
+}
 
 // The first hits reach the film right after the camera generation (addFirstHits), not with the
 // radiance: each path's exactly once from `from` on, what shading saw (depth, material), with the
