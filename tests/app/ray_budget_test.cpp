@@ -31,7 +31,7 @@ TEST(DefaultRayBudget, IsTheRenderOptionsDefault) {
 
 // A pt path of a scene where nothing moves and no texture is read: 81 bytes of path state (28
 // of them the first hit the AOVs need, one byte of flags) and a pair of ray slots, each a
-// 44-byte ray, half of the pair's 28-byte hit and 4-byte occluder (the shadow slot keeps no
+// 36-byte ray, half of the pair's 28-byte hit and 4-byte occluder (the shadow slot keeps no
 // hit), 12 bytes of trace state and one 12-byte candidate slot; the candidate buffer holds one
 // slot per ray slot of the batch.
 TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
@@ -39,14 +39,14 @@ TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
   const Renderer r(scene, RenderOptions{});
   ASSERT_EQ(r.stats().features.movingLeaves, 0u);  // no shutter time per slot
   ASSERT_EQ(r.stats().features.texturedMaterials, 0u);  // no surface derivatives per slot
-  EXPECT_EQ(sizeof(Ray), 44u);
+  EXPECT_EQ(sizeof(Ray), 36u);
   EXPECT_EQ(SortedEngine::bytesPerRayState(), 12u);
   EXPECT_EQ(RayBatch::bytesPerRay(false, false, true) + SortedEngine::bytesPerRaySlot(LodRule::PerRay),
-            44u + 16u + 12u + 12u);
-  EXPECT_EQ(r.stats().bytesPerPath, 81u + 2 * (44u + 16u + 12u + 12u));
+            36u + 16u + 12u + 12u);
+  EXPECT_EQ(r.stats().bytesPerPath, 81u + 2 * (36u + 16u + 12u + 12u));
   EXPECT_EQ(r.stats().candidateCapacity, r.stats().pathsPerBatch * 2);
   EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * 2 * (12u + 12u));
-  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (81u + 2 * (44u + 16u)));
+  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (81u + 2 * (36u + 16u)));
 }
 
 // bytes_per_ray (the stats' memory.bytes_per_ray, per ray slot) of pt with the AOVs the EXR
@@ -57,8 +57,8 @@ TEST(RayBudget, APtPathWithoutAovsKeepsNoFirstHit) {
   RenderOptions without;
   without.firstHitAovs = false;
   Renderer withAovs(scene, RenderOptions{}), noAovs(scene, without);
-  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 124u);
-  EXPECT_EQ(noAovs.stats().bytesPerPath / noAovs.stats().raysPerPath, 110u);
+  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 116u);
+  EXPECT_EQ(noAovs.stats().bytesPerPath / noAovs.stats().raysPerPath, 102u);
   EXPECT_EQ(withAovs.stats().bytesPerPath - noAovs.stats().bytesPerPath, sizeof(FirstHitRecord));
   const Film a = withAovs.render(), b = noAovs.render();
   EXPECT_EQ(a.sums().rgb, b.sums().rgb);

@@ -83,9 +83,9 @@ GenerationStats traceEmbree(const World& w, RayBatch& b) {
 // point| over |dir| (t is in units of |dir|), and Embree's quotient amplifies them by
 // 1 / |cos| of the angle between the ray and the triangle's normal. Two tests: 16 eps / |cos|.
 float tBound(const RayBatch& b, int i, const RayHit& h) {
-  const Vec3 p = b.ray[i].org + b.ray[i].dir * h.t;
-  const float cosine = std::fabs(dot(h.ng(), b.ray[i].dir)) / length(b.ray[i].dir);
-  return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir) / std::max(cosine, 1e-6f);
+  const Vec3 p = b.ray[i].org + b.ray[i].dir() * h.t;
+  const float cosine = std::fabs(dot(h.ng(), b.ray[i].dir())) / length(b.ray[i].dir());
+  return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir()) / std::max(cosine, 1e-6f);
 }
 
 void expectSameClosestHits(bool moving) {
@@ -95,7 +95,7 @@ void expectSameClosestHits(bool moving) {
   if (moving) {
     const RayBatch at = randomRays(10000, RayKind::Closest, 3, w.leaves.back()->bounds());
     for (int i = 0; i < 10000; ++i)
-      rayes.set(i, RayKind::Closest, at.ray[i].org, at.ray[i].dir, kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
+      rayes.set(i, RayKind::Closest, at.ray[i].org, at.ray[i].dir(), kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
     embree = rayes;
   }
   traceRayes(w, rayes);
