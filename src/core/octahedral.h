@@ -75,8 +75,11 @@ inline OctahedralCode48 encodeOctahedral48(Vec3 n) {
     x = ax / l1; y = ay / l1;
     if (az < 0) foldOctahedral(x, y);
   }
+  // Rounded half away from zero, by hand: std::llround and std::fmin / fmax are library calls here,
+  // 0.9 % of a forest-1 render's instructions (bench/history/2026-11.md, "a compact Ray").
   auto q = [](double f) {
-    return static_cast<int32_t>(std::llround(std::fmax(-1.0, std::fmin(1.0, f)) * kOctahedral48Scale));
+    const double c = (f < -1.0 ? -1.0 : f > 1.0 ? 1.0 : f) * kOctahedral48Scale;
+    return static_cast<int32_t>(c < 0 ? c - 0.5 : c + 0.5);
   };
   const int32_t qx = q(x);
   int32_t qy = q(y);

@@ -4,6 +4,7 @@
 // decodes within kOctahedral48MaxError of itself; a direction in a coordinate plane stays in it.
 // The halves keep core/half.h's bound and clamp at its ends. Ray::aim rescales tmax and the
 // spread by |d|, finite for |d| from 1e-20 to 1e20.
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -130,6 +131,16 @@ TEST(Half, KeepsItsRelativeBoundInRangeAndItsAbsoluteBoundBelow) {
     for (float s : {1.0f, -1.0f}) EXPECT_LE(std::fabs(decodeHalf(encodeHalf(s * v)) - s * v), std::ldexp(v, -11)) << v;
   for (float v = 1e-12f; v < 6.103515625e-05f; v *= 1.001f)
     EXPECT_LE(std::fabs(decodeHalf(encodeHalf(v)) - v), std::ldexp(1.0f, -25)) << v;
+}
+
+TEST(Half, EveryCodeDecodesAsTheCompilersHalfDoes) {
+  for (uint32_t c = 0; c < 65536; ++c) {
+    const float mine = decodeHalf(uint16_t(c)), ref = static_cast<float>(std::bit_cast<_Float16>(uint16_t(c)));
+    if (std::isnan(ref))
+      EXPECT_TRUE(std::isnan(mine)) << c;
+    else
+      EXPECT_EQ(std::bit_cast<uint32_t>(mine), std::bit_cast<uint32_t>(ref)) << c;
+  }
 }
 
 TEST(Half, RangeEndsAreExactOrClampedAndNeverInfinite) {
