@@ -12,10 +12,12 @@
 // distinct indices may be written from distinct threads.
 #pragma once
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <vector>
+#include "core/half.h"
 #include "core/octahedral.h"
 #include "core/sort_scratch.h"
 #include "core/vec.h"
@@ -66,15 +68,27 @@ inline constexpr uint32_t kRayLeafBits = 26;
 inline constexpr uint32_t kMaxRayLeaves = (uint32_t(1) << kRayLeafBits) - 1;
 static_assert(kMaxHitLevel < 16);  // an origin level fits 4 bits
 
-// What to trace, one record per ray (44 bytes): the engine reads most of these fields together
+// What to trace, one record per ray (36 bytes): the engine reads most of these fields together
 // for every (ray, leaf) pair of the bottom level and the top level, in an order set by the sort, so
 // one record is one cache miss where separate arrays cost one each (bench/history/2026-11.md). A
 // ray spans t in [0, tmax] from org: it leaves a surface by its origin leaf, not by an offset tmin.
+//
+// The direction is kept as a 48-bit octahedral code of the unit direction and the cone's spread
+// as a half (8 bytes saved against four floats; bench/history/2026-11.md, "a compact Ray"). The
+// code is set once, by aim(), and dir() decodes it: the decoded direction is the ray, the one the
+// engines trace and the one shading reads back (its hit point, its incoming direction, its
+// footprint), so every use agrees on one direction. Because dir() is unit, t is a distance:
+// aim() takes a direction of any length and rescales tmax and the spread by it.
+// Bounds: the direction within kOctahedral48MaxError (3.1e-7 rad) of the one aimed, exactly in a
+// coordinate plane when aimed in one; the spread within core/half.h's (relative 2^-11, absolute
+// 2^-25 below 2^-14, clamped to ±65504). The width stays a float: it is a length, whose range is
+// the scene's (a half would clamp a scene scaled by 10^4 and flush one scaled by 10^-6), while the
+// spread is an angle's tangent, the same at every scale. Decode once per ray per use, not per
+// node: a decode is a square root and a division.
 struct Ray {
-  Vec3 org, dir;                // dir need not be unit; t is in units of |dir|
-  float tmax = 0;
-  float coneWidth = 0;          // footprint width at the origin
-  float coneSpread = 0;         // footprint growth per unit t (2 tan(half angle) * |dir|)
+  Vec3 org;
+  float tmax = 0;                 // a distance along dir()
+  float coneWidth = 0;            // footprint width at the origin
   uint32_t ignoreLeaf = kNoLeaf;  // a leaf this ray must not hit (a shadow ray's light)
   // The leaf the ray leaves from (originLeaf(); kNoLeaf for camera rays) and the level it was hit
   // at: the ray sees that leaf at exactly that level, the same micro-grid it left, so a coarser
@@ -83,13 +97,36 @@ struct Ray {
   uint32_t originLeafBits : kRayLeafBits = kMaxRayLeaves;  // kMaxRayLeaves: none
   uint32_t originLevel : 4 = 0;
   RayKind kind : 2 = RayKind::Inactive;
+  OctahedralCode48 dirCode;       // the unit direction ((0, 0): +z)
+  uint16_t coneSpreadCode = 0;    // half: footprint growth per unit t (2 tan(half angle))
   uint32_t originLeaf() const { return originLeafBits == kMaxRayLeaves ? kNoLeaf : uint32_t(originLeafBits); }
   void setOrigin(uint32_t leaf, uint8_t level) {
     originLeafBits = leaf == kNoLeaf ? kMaxRayLeaves : leaf;
     originLevel = level;
   }
+  Vec3 dir() const { return decodeOctahedral48(dirCode); }  // unit
+  float coneSpread() const { return decodeHalf(coneSpreadCode); }
+  // The direction a ray aimed along d traces (dir() after aim(d, ...)); zero for a d that traces
+  // nothing. A producer that checks a direction before it writes the ray (which side of the
+  // surface, the origin's offset) checks this one, the one the engines will trace.
+  static Vec3 traced(Vec3 d) {
+    const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+    return len > 0 && std::isfinite(len) ? decodeOctahedral48(encodeOctahedral48(d)) : Vec3{};
+  }
+  // Aims the ray along d, which need not be unit: t1 and spread are per unit of |d| and are
+  // stored per unit of distance (tmax times |d|, the spread over |d|, in double so that |d| from
+  // 1e-20 to 1e20 stays finite; a spread beyond the half's range clamps). A zero or non-finite d
+  // traces nothing (tmax 0, dir() +z).
+  void aim(Vec3 d, float t1, float width, float spread) {
+    const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+    const bool usable = len > 0 && std::isfinite(len);
+    dirCode = usable ? encodeOctahedral48(d) : OctahedralCode48{};
+    tmax = usable ? float(double(t1) * len) : 0.0f;
+    coneWidth = width;
+    coneSpreadCode = encodeHalf(usable ? float(double(spread) / len) : spread);
+  }
 };
-static_assert(sizeof(Ray) == 44);
+static_assert(sizeof(Ray) == 36);
 
 // The surface's partial derivatives at a hit, world space per unit of the patch parameters: what
 // turns the ray's footprint into one in (u, v) for texture filtering (shading/footprint.h). The
@@ -189,7 +226,9 @@ struct RayBatch {
   void set(size_t i, RayKind k, Vec3 o, Vec3 d, float t1, float width, float spread,
            uint32_t ignore, uint32_t fromLeaf, uint8_t fromLevel, float shutterTime) {
     Ray& r = ray[i];
-    r.org = o; r.dir = d; r.tmax = t1; r.coneWidth = width; r.coneSpread = spread; r.ignoreLeaf = ignore;
+    r.org = o;
+    r.aim(d, t1, width, spread);
+    r.ignoreLeaf = ignore;
     r.setOrigin(fromLeaf, fromLevel);
     r.kind = k;
     if (timed) time[i] = shutterTime;

@@ -263,7 +263,8 @@ void tracePass(const ShadingScene& scene, const Pass& pass, const BeamTraceOptio
       const size_t count = std::min(o.raysPerTrace, live.size() - first);
       rays.resize(count);
       for (size_t k = 0; k < count; ++k) {
-        const Corner& c = corners[live[first + k]];
+        Corner& c = corners[live[first + k]];
+        c.dir = Ray::traced(c.dir);  // the direction traced: the hit point and the beam's shape use it
         rays.set(k, RayKind::Closest, c.org, c.dir, std::numeric_limits<float>::infinity(), c.width, c.spread,
                  kNoLeaf, c.fromLeaf, c.fromLevel, /*shutterTime=*/0.0f);  // beams see the shutter's opening
       }

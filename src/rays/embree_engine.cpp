@@ -53,18 +53,19 @@ void rejectIgnoredLeaf(const RTCFilterFunctionNArguments* a) {
   }
 }
 
-// A ray Embree may see: finite origin, a finite non-zero direction, a non-empty interval. The
-// SortedEngine gives the others no hit; so does this engine, without asking Embree.
+// A ray Embree may see: finite origin, a non-empty interval (the decoded direction is always a
+// finite unit vector; a zero or non-finite one was aimed with tmax 0). The SortedEngine gives the
+// others no hit; so does this engine, without asking Embree.
 bool traceable(const RayBatch& b, uint32_t i) {
-  const Vec3 o = b.ray[i].org, d = b.ray[i].dir;
-  const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) && std::isfinite(d.x) &&
-                      std::isfinite(d.y) && std::isfinite(d.z);
-  return finite && (d.x != 0 || d.y != 0 || d.z != 0) && 0.0f < b.ray[i].tmax;
+  const Vec3 o = b.ray[i].org;
+  const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z);
+  return finite && 0.0f < b.ray[i].tmax;
 }
 
 void setRay(const RayBatch& b, uint32_t i, RTCRay& r) {
+  const Vec3 d = b.ray[i].dir();
   r.org_x = b.ray[i].org.x; r.org_y = b.ray[i].org.y; r.org_z = b.ray[i].org.z;
-  r.dir_x = b.ray[i].dir.x; r.dir_y = b.ray[i].dir.y; r.dir_z = b.ray[i].dir.z;
+  r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
   r.tnear = 0.0f;
   r.tfar = b.ray[i].tmax;
   r.time = std::clamp(b.timeOf(i), 0.0f, 1.0f);

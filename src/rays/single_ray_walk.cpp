@@ -54,7 +54,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
   Candidate local[16];
   for (;;) {
     float next = kInf;
-    const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
+    const int got = top_.collect(b.ray[i].org, b.ray[i].dir(), 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
                                  next, scratch);
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
@@ -71,7 +71,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
       query.closeBorders = closeBordersFor(b, i, leaf);
       if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, dice, query);
       if (b.ray[i].kind == RayKind::Shadow) {
-        if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) {
+        if (dice.occluded(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
           b.occluderOf(i) = leaf;
           break;
@@ -79,7 +79,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query) &&
+      if (dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, h, query) &&
           nearerHit(keptDistance(h.t, entry), leaf, h.quad, best)) {
         best = hitRecord(h, leaf, level, entry);
         if (HitDerivatives* kept = b.derivativesOf(i)) *kept = keptDerivatives(h);

@@ -68,7 +68,7 @@ bool SortedEngine::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& en
 
 float SortedEngine::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
   float entry;
-  return crossesLeafBox(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir), leaf, entry) ? entry : 0.0f;
+  return crossesLeafBox(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir()), leaf, entry) ? entry : 0.0f;
 }
 
 size_t SortedEngine::diceBufferBytes() const {
@@ -105,7 +105,7 @@ int SortedEngine::levelFor(const RayBatch& b, uint32_t ray, uint32_t leaf, float
   } else if (leaf == b.ray[ray].originLeaf()) {
     level = std::min<int>(b.ray[ray].originLevel, settings_.maxLod);  // carries the bias already
   } else {
-    const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread;
+    const float width = b.ray[ray].coneWidth + std::max(entry, 0.0f) * b.ray[ray].coneSpread();
     // No coarser than the patch's dicing error allows at this distance (docs/design.md, "Level of
     // detail and energy").
     const int floor = floorAtDistance(leafFloor_[leaf], leafSize_[leaf], entry);
@@ -159,11 +159,11 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, dice, query);
   if (shadow) {
-    if (dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, query)) offerOccluder(b, i, leaf, level);
+    if (dice.occluded(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, query)) offerOccluder(b, i, leaf, level);
     return;
   }
   GridHit h;
-  if (dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, level, h, query)) {
+  if (dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, h, query)) {
     const HitDerivatives d = keptDerivatives(h);
     offerHit(b, i, hitRecord(h, leaf, level, entry), &d);
   }
@@ -242,7 +242,7 @@ void SortedEngine::collectCandidates(const RayBatch& b, size_t nNow, int N, Trac
       float resumeEntry;
       uint32_t resumeLeaf;
       TopLevelBvh::resumeBefore(nextEntry_[i], nextLeaf_[i], resumeEntry, resumeLeaf);
-      const int got = top_.collect(b.ray[i].org, b.ray[i].dir, 0.0f, searchLimit(b, i, best), resumeEntry,
+      const int got = top_.collect(b.ray[i].org, b.ray[i].dir(), 0.0f, searchLimit(b, i, best), resumeEntry,
                                    resumeLeaf, local, N, next, scratch, &nextLeaf_[i]);
       const size_t base = a * size_t(N);
       for (int j = 0; j < got; ++j) cand_.leaf[base + j] = local[j].leaf == b.ray[i].ignoreLeaf ? kNoLeaf : local[j].leaf;

@@ -115,7 +115,7 @@ void SortedEngine::planSplitRun(const RayBatch& b, const uint32_t* slots, size_t
           const uint32_t i = rayOfSlot(slots[k]);
           // levelFor > resident >= depth (residentLevelFor): each level on a sub-leaf is >= 0.
           const int needs = int(p.level[k]) - p.depth;
-          if (needs > level && reach.crosses(b.ray[i].org, b.ray[i].dir, box, searchLimit(b, i, kInf))) {
+          if (needs > level && reach.crosses(b.ray[i].org, b.ray[i].dir(), box, searchLimit(b, i, kInf))) {
             level = needs;
             if (level == finest) break;
           }
@@ -179,7 +179,7 @@ void SortedEngine::runSplitPlan(RayBatch& b, DiceBuffer* dice, const uint32_t* s
       for (size_t f = f0; f < f1; ++f) {
         const uint32_t i = rayOfSlot(slots[p.fine[f]]);
         // best < 0: a shadow ray already occluded.
-        sc.reaches[f] = sc.best[f] >= 0 && reach.crosses(b.ray[i].org, b.ray[i].dir, box, searchLimit(b, i, sc.best[f]));
+        sc.reaches[f] = sc.best[f] >= 0 && reach.crosses(b.ray[i].org, b.ray[i].dir(), box, searchLimit(b, i, sc.best[f]));
       }
     });
     sc.sub.clear();
@@ -236,12 +236,12 @@ float SortedEngine::intersectSubLeafSlot(RayBatch& b, const DiceBuffer& dice, ui
   const int subLevel = level - sub.depth();
   const float limit = searchLimit(b, i, best);
   if (shadow) {
-    if (!dice.occluded(b.ray[i].org, b.ray[i].dir, 0.0f, limit, subLevel, query)) return kInf;
+    if (!dice.occluded(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, subLevel, query)) return kInf;
     offerOccluder(b, i, leaf, level);
     return -1.0f;  // done: no later sub-leaf can matter
   }
   GridHit h;
-  if (!dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, limit, subLevel, h, query)) return kInf;
+  if (!dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, subLevel, h, query)) return kInf;
   const HitDerivatives d = keptDerivatives(h);
   const RayHit r = hitRecord(h, leaf, level, entry);
   offerHit(b, i, r, &d);

@@ -34,8 +34,9 @@ void writeLightPathStart(const LightPathStart& s, uint32_t path, size_t cs, RayB
 bool lightPathHit(const ShadingScene& scene, const RayBatch& rays, size_t cs, ShadeStats& stats, LightPathHit& out) {
   const RayHit h = rays.hitOf(cs);
   if (!h.valid()) return false;  // left the scene
-  const Vec3 p = rays.ray[cs].org + rays.ray[cs].dir * h.t;
-  const Vec3 wi = -normalize(rays.ray[cs].dir);
+  const Vec3 d = rays.ray[cs].dir();  // unit: the decoded direction is the ray
+  const Vec3 p = rays.ray[cs].org + d * h.t;
+  const Vec3 wi = -d;
   if (!isFinite(p) || !isFinite(wi)) {  // the normals are finite: decoded from their codes
     stats.nonFinite.fetch_add(1, std::memory_order_relaxed);
     return false;
@@ -62,15 +63,15 @@ bool continueLightPath(const ShadingScene& scene, const LightPathHit& hit, const
   BsdfSample bs;
   const Sample2D bu = sample2D(key, kBsdf);
   if (!bsdf.sampleAdjoint(wiL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) return false;
-  const Vec3 wo = normalize(frame.toWorld(bs.wi));
+  const Vec3 wo = Ray::traced(frame.toWorld(bs.wi));  // the direction the ray will trace
   const float woNs = std::fabs(bs.wi.z);
   if (!hit.at.consistent(hit.wi, wiL, wo, bs.wi) || wo == Vec3{} || !(woNs > 0)) return false;
   T *= bs.weight * (bs.etaRel * bs.etaRel * hit.arrival * std::fabs(dot(hit.at.ng, wo)) / woNs);
   if (!throughputSurvives(T, int(vertex) >= scene.integrator.rouletteDepth, 1.0f, key, kRoulette, stats))
     return false;
-  const float width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
+  const float spread = rays.ray[cs].coneSpread(), width = rays.ray[cs].coneWidth + h.t * spread;
   rays.set(cs, RayKind::Closest, hit.at.originToward(wo), wo, kInf, width,
-           spreadAfterBounce(rays.ray[cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
+           spreadAfterBounce(spread, bs.pdf, bs.delta), kNoLeaf, h.leaf, h.level,
            rays.timeOf(cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;

@@ -37,7 +37,7 @@ void BrickLeafTracker::track(uint32_t leaf, const RayBatch& b, std::span<const u
     for (size_t k = 0; k < rays.size(); ++k) {
       const uint32_t i = rays[k];
       const Ray& ray = b.ray[i];
-      const IndexRay r = toIndex(m, ray.org, ray.dir);
+      const IndexRay r = toIndex(m, ray.org, ray.dir());
       if (ray.kind == RayKind::Shadow) {
         const float T = brickTransmittance(m, brick, r, limits[k], delta,
                                            brickStream(keyOf_(i), kTransmittanceDimensions, global), counts, reader);

@@ -108,7 +108,7 @@ void gatherEmission(const LightSampler& lights, const Vertex& v, const RayBatch&
   if (!mat.emits() || !(v.front || mat.twoSided)) return;
   float w = 1;
   if (!paths.bsdfDelta(v.k)) {
-    const float dist = v.h.t * length(rays.ray[v.cs].dir);
+    const float dist = v.h.t;  // t is a distance: the ray's direction is unit
     w = powerHeuristic(paths.bsdfPdf[v.k],
                        lights.patchPdf(lights.patchLightOfLeaf(v.h.leaf), v.h.u, v.h.v, -v.wo, dist));
   }
@@ -206,7 +206,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
   BsdfSample bs;
   const Sample2D bu = sample2D(key, kBsdf);
   if (!v.bsdf.sample(woL, bu.u, bu.v, sample1D(key, kBsdfLobe), bs)) return false;
-  const Vec3 wi = normalize(frame.toWorld(bs.wi));
+  const Vec3 wi = Ray::traced(frame.toWorld(bs.wi));  // the direction the ray will trace
   if (!v.at.consistent(wi, bs.wi, v.wo, woL) || wi == Vec3{}) return false;
   const uint32_t k = v.k;
   Rgb& T = paths.throughput[k];
@@ -220,7 +220,7 @@ bool writeContinuation(const ShadingScene& scene, uint32_t bounce, const Vertex&
                           stats))
     return false;
   rays.set(v.cs, RayKind::Closest, v.at.originToward(wi), wi, kInf, v.width,
-           spreadAfterBounce(rays.ray[v.cs].coneSpread, bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
+           spreadAfterBounce(rays.ray[v.cs].coneSpread(), bs.pdf, bs.delta), kNoLeaf, v.h.leaf, v.h.level,
            rays.timeOf(v.cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return true;
@@ -243,7 +243,8 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
 
   // 2. What the ray found: the lights at infinity, or a surface and its emission.
   const RayHit h = rays.hitOf(cs);
-  const Vec3 wo = -normalize(rays.ray[cs].dir);
+  const Vec3 d = rays.ray[cs].dir();  // unit: the decoded direction is the ray
+  const Vec3 wo = -d;
   // Light found now arrives along a caustic path when the path stands in a diffuse -> caustic chain.
   const uint8_t countedNow = countedLights(paths.causticRun(k) == kInCausticChain);
   // 2a. In a scene with media, the ray's free flight (delta tracking) up to the surface it found:
@@ -260,7 +261,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
       ScopedTimer timer(stats.volume);
       TrackingRng rng{key, kFreeFlightDimensions};
       TrackingCounts counts;
-      c = sampleCollision(scene_.media, rays.ray[cs].org, rays.ray[cs].dir, h.valid() ? h.t : kInf, rng, counts,
+      c = sampleCollision(scene_.media, rays.ray[cs].org, d, h.valid() ? h.t : kInf, rng, counts,
                           scene_.volumeCache.get());
       stats.densityLookups.fetch_add(counts.lookups, std::memory_order_relaxed);
       stats.brickCellsWalked.fetch_add(counts.cells, std::memory_order_relaxed);
@@ -273,7 +274,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
       TrackingCounts counts;
       const float tEnd = c.medium >= 0 ? c.t : h.valid() ? h.t : kInf;
       addFinite(paths.radiance[k],
-                paths.throughput[k] * emissionAlong(scene_.media, rays.ray[cs].org, rays.ray[cs].dir, tEnd, rng, counts,
+                paths.throughput[k] * emissionAlong(scene_.media, rays.ray[cs].org, d, tEnd, rng, counts,
                                                     scene_.volumeCache.get()),
                 stats);
       stats.emissionLookups.fetch_add(counts.lookups, std::memory_order_relaxed);
@@ -284,7 +285,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
     if (countedNow) gatherEscaped(scene_.lights, k, wo, countedNow, paths, stats);
     return 0;
   }
-  const Vec3 p = rays.ray[cs].org + rays.ray[cs].dir * h.t;
+  const Vec3 p = rays.ray[cs].org + d * h.t;
   // A broken hit (non-finite point) ends the path here, before it can reach the film or the
   // AOVs (docs/design.md, invariant 5). The normals are finite: decoded from their codes.
   if (!isFinite(p) || !isFinite(wo)) {
@@ -312,7 +313,7 @@ size_t PathTracer::shadePath(uint32_t bounce, uint32_t k, PathBatch& paths, RayB
   const PathIds ids = idsOf(paths.first + k);
   const RngKey key{ids.pixel, ids.sample, bounce + 1, scene_.integrator.seed};
   v.at.offset = originOffset(scene_.sideOf(h.leaf), scene_.dicingErrorOf(h.leaf), h.level, p, rays.ray[cs].org);
-  v.width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread;
+  v.width = rays.ray[cs].coneWidth + h.t * rays.ray[cs].coneSpread();
   // Reflection-only models see the side the viewer is on; a transmitting one keeps the
   // patch normal as "outside".
   const ShadingFrame frame(v.bsdf.transmits() ? ns : (v.front ? ns : -ns));
@@ -360,7 +361,7 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
   const size_t cs = kRaysPerPath * size_t(k), ss = cs + 1;
   stats.mediumCollisions.fetch_add(1, std::memory_order_relaxed);
   const Ray ray = rays.ray[cs];
-  const Vec3 p = ray.org + ray.dir * t, in = normalize(ray.dir);
+  const Vec3 in = ray.dir(), p = ray.org + in * t;  // unit: the decoded direction is the ray
   if (int(bounce) >= scene_.integrator.maxDepth || !isFinite(p) || !isFinite(in)) {
     return 0;
   }
@@ -372,7 +373,7 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
   }
   paths.setCausticRun(k, kAfterDiffuse);
   const uint8_t kinds = countedLights(false);
-  const float width = ray.coneWidth + t * ray.coneSpread;
+  const float width = ray.coneWidth + t * ray.coneSpread();
   size_t written = 0;
 
   // Next-event estimation.
@@ -410,7 +411,7 @@ size_t PathTracer::shadeMediumVertex(uint32_t bounce, uint32_t k, float t, const
                           stats)) {
     return written;
   }
-  rays.set(cs, RayKind::Closest, p, wi, kInf, width, spreadAfterBounce(ray.coneSpread, pdf, false), kNoLeaf, kNoLeaf, 0,
+  rays.set(cs, RayKind::Closest, p, wi, kInf, width, spreadAfterBounce(ray.coneSpread(), pdf, false), kNoLeaf, kNoLeaf, 0,
            rays.timeOf(cs));
   stats.continuationRays.fetch_add(1, std::memory_order_relaxed);
   return written + 1;
@@ -441,7 +442,7 @@ float PathTracer::shadowTransmittance(uint32_t bounce, uint32_t k, const PathBat
   }
   const PathIds ids = idsOf(paths.first + k);
   const Ray& r = rays.ray[kRaysPerPath * size_t(k) + 1];
-  return mediumTransmittance(scene_, r.org, r.dir, r.tmax, RngKey{ids.pixel, ids.sample, bounce, scene_.integrator.seed},
+  return mediumTransmittance(scene_, r.org, r.dir(), r.tmax, RngKey{ids.pixel, ids.sample, bounce, scene_.integrator.seed},
                              stats);
 }
 

@@ -36,8 +36,8 @@ TextureQuery textureQueryAt(const ShadingScene& scene, const Ray& ray, const Ray
   TexCoordSample st;
   const bool hasUv = uvAt(scene, h, st);
   // The cone may narrow toward a focus (negative spread): its width is never below zero.
-  const float width = std::max(0.0f, ray.coneWidth + h.t * ray.coneSpread) * widthScale;
-  return footprintQuery(h.u, h.v, ray.dir, h.ng(), width, dpd, hasUv ? &st : nullptr);
+  const float width = std::max(0.0f, ray.coneWidth + h.t * ray.coneSpread()) * widthScale;
+  return footprintQuery(h.u, h.v, ray.dir(), h.ng(), width, dpd, hasUv ? &st : nullptr);
 }
 
 TextureQuery textureQueryAt(const ShadingScene& scene, const RayHit& h) {

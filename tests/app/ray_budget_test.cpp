@@ -31,7 +31,7 @@ TEST(DefaultRayBudget, IsTheRenderOptionsDefault) {
 
 // A pt path of a scene where nothing moves and no texture is read: 45 bytes of path state (one
 // byte of flags; no first hit: the AOVs get it when the camera rays are shaded, kept meanwhile in
-// the spent hit), a pair of ray slots, each a 44-byte ray, half of the pair's 28-byte hit and
+// the spent hit), a pair of ray slots, each a 36-byte ray, half of the pair's 28-byte hit and
 // 4-byte occluder (the shadow slot keeps no hit), 12 bytes of trace state and one candidate slot
 // (its leaf and its place in the sort's order, 8 bytes); and the batch's sort scratch, 8 bytes:
 // the candidate sort's 4 per candidate slot and the shading sort's 8-byte item per path are one
@@ -42,16 +42,16 @@ TEST(RayBudget, APathCostsItsStateAndTwoCompactRaySlots) {
   const Renderer r(scene, RenderOptions{});
   ASSERT_EQ(r.stats().features.movingLeaves, 0u);  // no shutter time per slot
   ASSERT_EQ(r.stats().features.texturedMaterials, 0u);  // no surface derivatives per slot
-  EXPECT_EQ(sizeof(Ray), 44u);
+  EXPECT_EQ(sizeof(Ray), 36u);
   EXPECT_EQ(SortedEngine::bytesPerRayState(), 12u);
   EXPECT_EQ(RayBatch::bytesPerRay(false, false, true) + SortedEngine::bytesPerRaySlot(LodRule::PerRay),
-            44u + 16u + 12u + 8u);
+            36u + 16u + 12u + 8u);
   EXPECT_EQ(PathBatch::bytesPerPath(), 45u);
   EXPECT_EQ(SortedEngine::sortScratchBytesPerRaySlot(LodRule::PerRay), 4u);
-  EXPECT_EQ(r.stats().bytesPerPath, 45u + 2 * (44u + 16u + 12u + 8u) + 8u);
+  EXPECT_EQ(r.stats().bytesPerPath, 45u + 2 * (36u + 16u + 12u + 8u) + 8u);
   EXPECT_EQ(r.stats().candidateCapacity, r.stats().pathsPerBatch * 2);
   EXPECT_EQ(r.stats().memory.candidatesAndSort, r.stats().pathsPerBatch * (2 * (12u + 8u) + 8u));
-  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (45u + 2 * (44u + 16u)));
+  EXPECT_EQ(r.stats().memory.rayBuffers, r.stats().pathsPerBatch * (45u + 2 * (36u + 16u)));
   EXPECT_EQ(r.stats().memory.rayBuffers + r.stats().memory.candidatesAndSort,
             r.stats().pathsPerBatch * r.stats().bytesPerPath);
 }
@@ -66,8 +66,8 @@ TEST(RayBudget, TheCandidateSortAndTheShadingSortShareOneScratch) {
   caching.diceCacheEntries = 16;
   const Renderer sorted(scene, RenderOptions{}), e(scene, embree), c(scene, caching);
   const uint64_t shadingSort = 8, slots = 2;
-  EXPECT_EQ(e.stats().bytesPerPath, 45u + slots * (44u + 16u) + shadingSort);
-  EXPECT_EQ(c.stats().bytesPerPath, 45u + slots * (44u + 16u + 4u) + shadingSort);  // the active list
+  EXPECT_EQ(e.stats().bytesPerPath, 45u + slots * (36u + 16u) + shadingSort);
+  EXPECT_EQ(c.stats().bytesPerPath, 45u + slots * (36u + 16u + 4u) + shadingSort);  // the active list
   EXPECT_EQ(sorted.stats().bytesPerPath - e.stats().bytesPerPath, slots * SortedEngine::bytesPerRaySlot(LodRule::PerRay));
   EXPECT_EQ(e.stats().memory.candidatesAndSort, e.stats().pathsPerBatch * shadingSort);
 }
@@ -81,7 +81,7 @@ TEST(RayBudget, APtPathKeepsNoFirstHitWithOrWithoutAovs) {
   RenderOptions without;
   without.firstHitAovs = false;
   Renderer withAovs(scene, RenderOptions{}), noAovs(scene, without);
-  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 106u);
+  EXPECT_EQ(withAovs.stats().bytesPerPath / withAovs.stats().raysPerPath, 98u);
   EXPECT_EQ(noAovs.stats().bytesPerPath, withAovs.stats().bytesPerPath);
   const Film a = withAovs.render(), b = noAovs.render();
   EXPECT_EQ(a.sums().rgb, b.sums().rgb);

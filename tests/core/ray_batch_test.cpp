@@ -154,19 +154,19 @@ TEST(RayBatch, ShadowPairsKeepAFullHitInEvenSlotsAndAnOccluderLeafInOddSlots) {
   EXPECT_FALSE(b.occluded(7)) << "a shadow slot a resize adds has no occluder";
 }
 
-// What a slot costs: the 44-byte ray and, per slot of a pair, half of one 28-byte hit and one
+// What a slot costs: the 36-byte ray and, per slot of a pair, half of one 28-byte hit and one
 // 4-byte occluder (half of the 24-byte derivatives too, when kept); a full slot its own hit.
 TEST(RayBatch, AShadowPairCostsOneHitAndOneOccluderLeaf) {
-  EXPECT_EQ(RayBatch::bytesPerRay(false, false, false), 44u + 28u);
-  EXPECT_EQ(RayBatch::bytesPerRay(false, false, true), 44u + (28u + 4u) / 2);
-  EXPECT_EQ(RayBatch::bytesPerRay(false, true, true), 44u + (28u + 24u + 4u) / 2);
+  EXPECT_EQ(RayBatch::bytesPerRay(false, false, false), 36u + 28u);
+  EXPECT_EQ(RayBatch::bytesPerRay(false, false, true), 36u + (28u + 4u) / 2);
+  EXPECT_EQ(RayBatch::bytesPerRay(false, true, true), 36u + (28u + 24u + 4u) / 2);
   EXPECT_EQ(RayBatch::bytesPerRay(true, false, true) - RayBatch::bytesPerRay(false, false, true), sizeof(float));
 }
 
-// The origin leaf, its level and the kind share one word of the 44-byte record: each keeps its
+// The origin leaf, its level and the kind share one word of the 36-byte record: each keeps its
 // extremes (the last leaf id a ray can name, the finest level, every kind) beside the others.
 TEST(Ray, KeepsItsOriginLeafLevelAndKindInOneWord) {
-  EXPECT_EQ(sizeof(Ray), 44u);
+  EXPECT_EQ(sizeof(Ray), 36u);
   RayBatch b;
   b.resize(1);
   const uint32_t lastLeaf = kMaxRayLeaves - 1;

@@ -40,12 +40,16 @@ struct World : test::TracedWorld {
 };
 
 // Rays from a circle around the scene toward random points of `target` (default: the middle of
-// the scene).
+// the scene). Embree's triangle test is not watertight (the scene is built without
+// RTC_SCENE_FLAG_ROBUST): a ray through a shared micro-triangle edge can slip between both
+// triangles, which the comparison would report as a different hit. Stream 23 had such a ray
+// once directions became 48-bit codes (ray 17519: Embree's hit 0.32 farther, on the leaf's far
+// side, and both engines agree for its direction tilted by ±1e-6 rad); stream 24 has none.
 RayBatch randomRays(int n, RayKind kind, uint32_t seed, Box3 target = {{-3, -3, 0}, {3, 3, 3}}) {
   RayBatch b;
   b.resize(n);
   for (int i = 0; i < n; ++i) {
-    const RngKey k{uint32_t(i), seed, 0, 23};
+    const RngKey k{uint32_t(i), seed, 0, 24};
     const float a = 6.2831853f * sampleUniform(k, 0);
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 e = target.extent();
@@ -80,12 +84,12 @@ GenerationStats traceEmbree(const World& w, RayBatch& b) {
 // Both engines intersect the same float triangle. Rayes's watertight test computes t from the
 // vertices translated to the ray origin; Embree's as (N . (v0 - o)) / (N . d) with N a cross
 // product. Each carries a few roundings (< 8 eps) of the magnitudes involved, |origin| + |hit
-// point| over |dir| (t is in units of |dir|), and Embree's quotient amplifies them by
+// point| over |dir| (1: the decoded direction is unit, t a distance), and Embree's quotient amplifies them by
 // 1 / |cos| of the angle between the ray and the triangle's normal. Two tests: 16 eps / |cos|.
 float tBound(const RayBatch& b, int i, const RayHit& h) {
-  const Vec3 p = b.ray[i].org + b.ray[i].dir * h.t;
-  const float cosine = std::fabs(dot(h.ng(), b.ray[i].dir)) / length(b.ray[i].dir);
-  return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir) / std::max(cosine, 1e-6f);
+  const Vec3 p = b.ray[i].org + b.ray[i].dir() * h.t;
+  const float cosine = std::fabs(dot(h.ng(), b.ray[i].dir())) / length(b.ray[i].dir());
+  return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir()) / std::max(cosine, 1e-6f);
 }
 
 void expectSameClosestHits(bool moving) {
@@ -95,7 +99,7 @@ void expectSameClosestHits(bool moving) {
   if (moving) {
     const RayBatch at = randomRays(10000, RayKind::Closest, 3, w.leaves.back()->bounds());
     for (int i = 0; i < 10000; ++i)
-      rayes.set(i, RayKind::Closest, at.ray[i].org, at.ray[i].dir, kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
+      rayes.set(i, RayKind::Closest, at.ray[i].org, at.ray[i].dir(), kInf, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0, at.time[i]);
     embree = rayes;
   }
   traceRayes(w, rayes);

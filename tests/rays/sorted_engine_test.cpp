@@ -46,7 +46,7 @@ uint8_t skippedBorders(const Leaves& w, const RayBatch& b, int i, uint32_t leaf)
     const uint32_t nb = neighbours[leaf][e];
     float t0, t1;
     if (nb == SortedEngine::kFreeBorder) skip |= uint8_t(1u << e);
-    else if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir), w.boxes[nb].lo, w.boxes[nb].hi, 0.0f,
+    else if (nb != kNoLeaf && intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir()), w.boxes[nb].lo, w.boxes[nb].hi, 0.0f,
                                       std::numeric_limits<float>::infinity(), t0, t1))
       skip |= uint8_t(1u << e);
   }
@@ -56,7 +56,7 @@ uint8_t skippedBorders(const Leaves& w, const RayBatch& b, int i, uint32_t leaf)
 // The distance a hit is kept at: at least the ray's entry into the leaf's box.
 float keptDistance(const Box3& box, const RayBatch& b, int i, float t) {
   float t0, t1;
-  if (!intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir), box.lo, box.hi, 0.0f, kInf, t0, t1)) t0 = 0.0f;
+  if (!intersectBox(RayBoxQuery(b.ray[i].org, b.ray[i].dir()), box.lo, box.hi, 0.0f, kInf, t0, t1)) t0 = 0.0f;
   return std::max(t, t0);
 }
 
@@ -69,7 +69,7 @@ RayHit bruteForce(const Leaves& w, const RayBatch& b, int i, DiceBuffer& dice) {
     BottomQuery q;
     q.closeBorders = true;  // as the engine does for rays that do not leave from this leaf
     q.skipBorders = skippedBorders(w, b, i, leaf);
-    if (!dice.intersect(b.ray[i].org, b.ray[i].dir, 0.0f, b.ray[i].tmax, kLod, h, q)) continue;
+    if (!dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, b.ray[i].tmax, kLod, h, q)) continue;
     const float t = keptDistance(w.boxes[leaf], b, i, h.t);
     if (nearerHit(t, leaf, h.quad, best)) {
       best.t = t;
@@ -197,7 +197,7 @@ TEST(SortedEngine, HitsDoNotDependOnCandidatesPerIteration) {
     BottomQuery q;
     q.closeBorders = true;
     q.skipBorders = skippedBorders(w, rays, i, ref.leaf);
-    ASSERT_TRUE(dice.intersect(rays.ray[i].org, rays.ray[i].dir, 0.0f, rays.ray[i].tmax, kLod, h, q));
+    ASSERT_TRUE(dice.intersect(rays.ray[i].org, rays.ray[i].dir(), 0.0f, rays.ray[i].tmax, kLod, h, q));
     beforeEntry += h.t < ref.t;
   }
   EXPECT_GT(beforeEntry, 0);  // the case the clamp exists for does occur here

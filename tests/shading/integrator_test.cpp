@@ -105,7 +105,7 @@ struct TestScene {
         if (l == rays.ray[i].ignoreLeaf) continue;
         RayHit h;
         const float tmax = std::min(rays.ray[i].tmax, best.t);
-        if (intersect(shapes[l], rays.ray[i].org, rays.ray[i].dir, std::max(0.0f, 0.0f), tmax, h, l)) best = h;
+        if (intersect(shapes[l], rays.ray[i].org, rays.ray[i].dir(), std::max(0.0f, 0.0f), tmax, h, l)) best = h;
       }
       rays.hit[i] = best;
     }

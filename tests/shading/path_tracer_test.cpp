@@ -228,7 +228,7 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
     RayHit& h = rays.hit[2 * k];
     h.leaf = 0;
     h.level = 0;
-    h.t = 5 / length(rays.ray[2 * k].dir);  // 5 from the camera: below the light
+    h.t = 5 / length(rays.ray[2 * k].dir());  // 5 from the camera: below the light
     h.setNormals({0, 0, 1}, {0, 0, 1});
   }
   ShadeStats stats;
@@ -238,7 +238,7 @@ TEST(PathTracerKernels, ShadowRayEndsInFrontOfTheLightPoint) {
     const size_t ss = 2 * size_t(k) + 1;
     if (rays.ray[ss].kind != RayKind::Shadow) continue;
     ++shadowRays;
-    const Vec3 end = rays.ray[ss].org + rays.ray[ss].dir * rays.ray[ss].tmax;
+    const Vec3 end = rays.ray[ss].org + rays.ray[ss].dir() * rays.ray[ss].tmax;
     EXPECT_LT(end.z, lightZ) << k;
     EXPECT_GT(end.z, lightZ - 1e-3f) << k;  // and not short of it by more than the offsets
     EXPECT_EQ(rays.ray[ss].ignoreLeaf, 1u) << k;
