@@ -40,16 +40,12 @@ struct World : test::TracedWorld {
 };
 
 // Rays from a circle around the scene toward random points of `target` (default: the middle of
-// the scene). Embree's triangle test is not watertight (the scene is built without
-// RTC_SCENE_FLAG_ROBUST): a ray through a shared micro-triangle edge can slip between both
-// triangles, which the comparison would report as a different hit. Stream 23 had such a ray
-// once directions became 48-bit codes (ray 17519: Embree's hit 0.32 farther, on the leaf's far
-// side, and both engines agree for its direction tilted by ±1e-6 rad); stream 24 has none.
+// the scene).
 RayBatch randomRays(int n, RayKind kind, uint32_t seed, Box3 target = {{-3, -3, 0}, {3, 3, 3}}) {
   RayBatch b;
   b.resize(n);
   for (int i = 0; i < n; ++i) {
-    const RngKey k{uint32_t(i), seed, 0, 24};
+    const RngKey k{uint32_t(i), seed, 0, 23};
     const float a = 6.2831853f * sampleUniform(k, 0);
     const Vec3 o{7 * std::cos(a), 7 * std::sin(a), 0.5f + 5 * sampleUniform(k, 1)};
     const Vec3 e = target.extent();
@@ -92,6 +88,35 @@ float tBound(const RayBatch& b, int i, const RayHit& h) {
   return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir()) / std::max(cosine, 1e-6f);
 }
 
+// Embree's triangle test is not watertight (the peer scene is built without
+// RTC_SCENE_FLAG_ROBUST): a ray through an edge two micro-triangles share can slip between them
+// and hit what lies behind. Such a ray is told from a real disagreement by its neighbours: the
+// ray tilted by +-1e-6 rad (about 100 times the direction code's error, and far below a
+// micro-quad's angle from the camera circle) hits, with Embree, what Rayes found for the ray
+// itself, on both sides: the same leaf at the same t (within tBound and the tilt's own move of
+// the hit, t * 1e-6 / cos), or a miss where Rayes missed.
+bool embreeSlipsThroughAnEdge(const World& w, const RayBatch& rayes, int i) {
+  const Ray& r = rayes.ray[i];
+  const Vec3 d = r.dir();
+  const Vec3 side = normalize(std::fabs(d.z) < 0.9f ? cross(d, Vec3{0, 0, 1}) : cross(d, Vec3{1, 0, 0}));
+  RayBatch tilted;
+  tilted.timed = rayes.timed;
+  tilted.resize(2);
+  for (int s = 0; s < 2; ++s)
+    tilted.set(s, r.kind, r.org, normalize(d + side * (s ? 1e-6f : -1e-6f)), r.tmax, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0,
+               rayes.timeOf(i));
+  traceEmbree(w, tilted);
+  const RayHit& h = rayes.hit[i];
+  for (int s = 0; s < 2; ++s) {
+    const RayHit& t = tilted.hit[s];
+    if (t.valid() != h.valid()) return false;
+    if (!h.valid()) continue;
+    const float cosine = std::max(std::fabs(dot(h.ng(), d)), 1e-6f);
+    if (t.leaf != h.leaf || std::fabs(t.t - h.t) > tBound(rayes, i, h) + 2e-6f * h.t / cosine) return false;
+  }
+  return true;
+}
+
 void expectSameClosestHits(bool moving) {
   const World w(moving);
   // With motion, half the rays aim at the moving patch's box.
@@ -104,16 +129,19 @@ void expectSameClosestHits(bool moving) {
   }
   traceRayes(w, rayes);
   EXPECT_EQ(traceEmbree(w, embree).rays, embree.size());
-  int hits = 0, movingHits = 0;
+  int hits = 0, movingHits = 0, slips = 0;
   const float quad = 1.0f / float(1 << kLod);
   for (int i = 0; i < int(rayes.size()); ++i) {
     const RayHit &r = rayes.hit[i], &e = embree.hit[i];
-    ASSERT_EQ(r.valid(), e.valid()) << "ray " << i;
+    if (r.valid() != e.valid() || (r.valid() && (r.leaf != e.leaf || std::fabs(r.t - e.t) > tBound(rayes, i, r)))) {
+      ASSERT_TRUE(embreeSlipsThroughAnEdge(w, rayes, i))
+          << "ray " << i << ": Rayes " << (r.valid() ? int(r.leaf) : -1) << ", Embree " << (e.valid() ? int(e.leaf) : -1);
+      ++slips;
+      continue;
+    }
     if (!r.valid()) continue;
     ++hits;
     movingHits += r.leaf == w.leaves.size() - 1 && moving;
-    ASSERT_EQ(r.leaf, e.leaf) << "ray " << i;
-    EXPECT_NEAR(r.t, e.t, tBound(rayes, i, r)) << "ray " << i;
     EXPECT_NEAR(r.u, e.u, quad) << "ray " << i;
     EXPECT_NEAR(r.v, e.v, quad) << "ray " << i;
     EXPECT_EQ(e.level, kLod);
@@ -124,6 +152,7 @@ void expectSameClosestHits(bool moving) {
     EXPECT_GT(dot(r.ns(), e.ns()), 0.99f) << "ray " << i;
   }
   EXPECT_GT(hits, 10000);
+  ::testing::Test::RecordProperty("embree_edge_slips", slips);
   if (moving) {
     EXPECT_GT(movingHits, 2000);
   }

@@ -144,7 +144,7 @@ TEST(PathTracerKernels, TheShadingSortTakesItsItemsFromTheBatchsScratch) {
   OneLightScene s;
   PathTracer tracer(s.scene);
   EXPECT_EQ(tracer.sortScratchBytesPerPath(), 2 * sizeof(uint32_t));  // a rank and a path id
-  EXPECT_EQ(tracer.bytesPerPath(), PathBatch::bytesPerPath(s.scene.integrator.firstHitAovs));
+  EXPECT_EQ(tracer.bytesPerPath(), PathBatch::bytesPerPath());
   for (const bool lentEnough : {false, true}) {
     PathBatch paths;
     RayBatch rays;
@@ -153,7 +153,7 @@ TEST(PathTracerKernels, TheShadingSortTakesItsItemsFromTheBatchsScratch) {
     for (int k = 0; k < 4; ++k) {
       RayHit& h = rays.hit[2 * k];
       h.leaf = 0;
-      h.t = 5 / length(rays.ray[2 * k].dir);
+      h.t = 5 / length(rays.ray[2 * k].dir());
       h.setNormals({0, 0, 1}, {0, 0, 1});
     }
     ShadeStats stats;
