@@ -8,52 +8,19 @@
 #include <cmath>
 #include <string>
 #include <gtest/gtest.h>
+#include "support/furnace_scene.h"
 #include "support/render_fixtures.h"
 
 namespace rayes {
 namespace {
 
-Scene furnace(int seed) {
-  const std::string text = R"({
-    "camera": {"position": [0.1, -0.6, 0.2], "look_at": [-0.2, 1, -0.1], "up": [0, 0, 1], "fov": 100},
-    "film": {"resolution": [24, 24], "spp": 16},
-    "integrator": {"max_depth": 1000, "seed": )" + std::to_string(seed) + R"(},
-    "materials": {"wall": {"type": "emissive", "radiance": 1, "albedo": 0.7, "two_sided": true}},
-    "shapes": [{"type": "bilinear", "material": "wall", "quads": [
-      [[-1,-1,-1],[1,-1,-1],[-1,1,-1],[1,1,-1]],
-      [[-1,-1,1],[1,-1,1],[-1,1,1],[1,1,1]],
-      [[-1,-1,-1],[1,-1,-1],[-1,-1,1],[1,-1,1]],
-      [[-1,1,-1],[1,1,-1],[-1,1,1],[1,1,1]],
-      [[-1,-1,-1],[-1,1,-1],[-1,-1,1],[-1,1,1]],
-      [[1,-1,-1],[1,1,-1],[1,-1,1],[1,1,1]]
-    ]}]
-  })";
-  return parseScene(text, "furnace.json");
-}
-
-// Pixels are i.i.d. estimates of Le / (1 - rho) here: the standard error is the pixels' sample
-// standard deviation over sqrt(n).
-void expectFurnaceMean(const std::vector<float>& rgba, const std::string& what) {
-  const size_t n = rgba.size() / 4;
-  double sum = 0, sum2 = 0;
-  for (size_t p = 0; p < n; ++p) {
-    ASSERT_TRUE(std::isfinite(rgba[4 * p])) << what;
-    sum += rgba[4 * p];
-    sum2 += double(rgba[4 * p]) * rgba[4 * p];
-  }
-  const double mean = sum / double(n);
-  const double standardError = std::sqrt((sum2 - double(n) * mean * mean) / double(n - 1) / double(n));
-  EXPECT_GT(standardError, 0.0) << what;
-  EXPECT_NEAR(mean, 1.0 / (1.0 - 0.7), 4 * standardError) << what;
-}
-
 TEST(CompactRays, AFurnaceMatchesItsClosedFormAtTwoSeedsWithAndWithoutAovs) {
   RenderOptions noAovs;
   noAovs.firstHitAovs = false;
   for (int seed : {11, 12}) {
-    const Scene s = furnace(seed);
+    const Scene s = testing::furnaceScene(0.7f, 1.0f, uint64_t(seed));
     const auto withAovs = testing::renderBeauty(s, RenderOptions{}, 2);
-    expectFurnaceMean(withAovs, "seed " + std::to_string(seed));
+    testing::expectFurnaceMean(withAovs, 0.7f, 1.0f, "seed " + std::to_string(seed));
     // The radiance, not the alpha: alpha is a first-hit AOV, not kept without them.
     const auto without = testing::renderBeauty(s, noAovs, 2);
     ASSERT_EQ(without.size(), withAovs.size());
