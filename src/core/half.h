@@ -12,9 +12,22 @@ namespace rayes {
 
 inline constexpr float kHalfMax = 65504.0f;
 
+// Rounds to nearest even, as _Float16's conversion does (tests/core/octahedral_test.cpp checks
+// every rounding case against it), by hand: without F16C the compiler's conversion and
+// std::fmin / fmax are library calls, 0.7 % of a forest-1 render's instructions (bench/history/
+// 2026-11.md, "session 9, lead"). The float's own rounding does the work: below 2^-14 adding 0.5
+// leaves the half's subnormal step (2^-24) as the last bit; above, the exponent is rebiased and
+// the 13 dropped bits rounded by adding 0xfff plus the kept mantissa's lowest bit.
 inline uint16_t encodeHalf(float v) {
-  const float c = std::isnan(v) ? 0.0f : std::fmax(-kHalfMax, std::fmin(kHalfMax, v));
-  return std::bit_cast<uint16_t>(static_cast<_Float16>(c));
+  const float c = v != v ? 0.0f : v < -kHalfMax ? -kHalfMax : v > kHalfMax ? kHalfMax : v;
+  const uint32_t f = std::bit_cast<uint32_t>(c), sign = (f >> 16) & 0x8000u, magnitude = f & 0x7fffffffu;
+  uint32_t h;
+  if (magnitude < 0x38800000u) {  // below 2^-14: a subnormal half or zero
+    h = std::bit_cast<uint32_t>(std::bit_cast<float>(magnitude) + 0.5f) - 0x3f000000u;
+  } else {
+    h = (magnitude + 0xc8000fffu + ((magnitude >> 13) & 1u)) >> 13;  // 0xc8000000: (15 - 127) << 23
+  }
+  return uint16_t(h | sign);
 }
 
 // Exact (every half is a float), by hand: without F16C the compiler's conversion is a library call

@@ -143,6 +143,21 @@ TEST(Half, EveryCodeDecodesAsTheCompilersHalfDoes) {
   }
 }
 
+// Every rounding case of encodeHalf against the compiler's conversion: each float in the half's
+// range (every sign, exponent and upper mantissa) with the 13 bits a half drops at their edges
+// (exact, just above, just below, exactly and around a tie) and a pseudo-random middle.
+TEST(Half, EncodesEveryRoundingCaseAsTheCompilersHalfDoes) {
+  uint32_t lcg = 12345;
+  for (uint32_t upper = 0; upper < (1u << 19); ++upper) {
+    lcg = lcg * 1664525u + 1013904223u;
+    for (uint32_t low : {0u, 1u, 0xfffu, 0x1000u, 0x1001u, 0x1fffu, lcg >> 19}) {
+      const float v = std::bit_cast<float>((upper << 13) | low);
+      if (!(std::fabs(v) <= kHalfMax)) continue;
+      ASSERT_EQ(encodeHalf(v), std::bit_cast<uint16_t>(static_cast<_Float16>(v))) << std::hexfloat << v;
+    }
+  }
+}
+
 TEST(Half, RangeEndsAreExactOrClampedAndNeverInfinite) {
   EXPECT_EQ(decodeHalf(encodeHalf(0.0f)), 0.0f);
   EXPECT_TRUE(std::signbit(decodeHalf(encodeHalf(-0.0f))));
