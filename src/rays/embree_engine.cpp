@@ -139,7 +139,7 @@ EmbreeEngine::EmbreeEngine(const LeafSource& patches, const EmbreeSettings& s) {
   checkMemoryFits(stats_.estimatedBytes, "--memory-limit", "the Embree engine's full tessellation" + perVertex,
                   "--memory-limit cannot raise the memory limit that applies: lower --max-lod or use --embree-lod auto");
   tessellate(patches);
-  build();
+  build(s.robust);
 }
 
 EmbreeEngine::~EmbreeEngine() = default;
@@ -189,7 +189,7 @@ void EmbreeEngine::tessellate(const LeafSource& patches) {
   stats_.tessellateSeconds = secondsSince(t0);
 }
 
-void EmbreeEngine::build() {
+void EmbreeEngine::build(bool robust) {
   device_ = std::make_unique<Device>();
   Device& d = *device_;
   d.device = rtcNewDevice(nullptr);
@@ -197,7 +197,8 @@ void EmbreeEngine::build() {
   rtcSetDeviceMemoryMonitorFunction(d.device, &MemoryMonitor::callback, &d.memory);
   const auto t0 = Clock::now();
   d.scene = rtcNewScene(d.device);
-  rtcSetSceneFlags(d.scene, RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+  rtcSetSceneFlags(d.scene, RTCSceneFlags(RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
+                                           (robust ? RTC_SCENE_FLAG_ROBUST : RTC_SCENE_FLAG_NONE)));
   d.grids.resize(leaves_.size());
   for (size_t i = 0; i < leaves_.size(); ++i) {
     const Leaf& leaf = leaves_[i];

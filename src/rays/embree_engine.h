@@ -56,6 +56,10 @@ struct EmbreeSettings {
   bool autoLod = false;          // false: every patch at maxLod
   CameraFootprint camera;        // for autoLod
   size_t memoryLimit = 0;        // 0: no limit
+  // RTC_SCENE_FLAG_ROBUST: Embree's watertight triangle test. Off for renders (the peer as it is
+  // fastest); on where hits are compared ray for ray with ours, where Embree's default test can
+  // let a ray through an edge two micro-triangles share.
+  bool robust = false;
 };
 
 class EmbreeEngine : public RayEngine {
@@ -96,7 +100,7 @@ class EmbreeEngine : public RayEngine {
   };
   struct Device;
   void tessellate(const LeafSource& leaves);
-  void build();
+  void build(bool robust);
   // With dpd, also the hit quad's partials (quadPartials, as DiceBuffer gives them).
   void closestHit(const RayBatch& b, uint32_t i, uint32_t leaf, float t, float eu, float ev, RayHit& hit,
                   HitDerivatives* dpd) const;

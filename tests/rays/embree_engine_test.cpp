@@ -66,10 +66,14 @@ void traceRayes(const World& w, RayBatch& b) {
   engine.trace(b, stats, times);
 }
 
-// Traces `b` with every patch of `w` at kLod.
+// Traces `b` with every patch of `w` at kLod, with Embree's watertight triangle test
+// (EmbreeSettings::robust): its default test can let a ray through an edge two micro-triangles
+// share (with 48-bit ray directions, ray 17519 of stream 23 met one: a hit 0.32 farther, on the
+// leaf's far side), which a ray-for-ray comparison would report as a different hit.
 GenerationStats traceEmbree(const World& w, RayBatch& b) {
   EmbreeSettings s;
   s.maxLod = kLod;
+  s.robust = true;
   EmbreeEngine engine(w.source, s);
   GenerationStats stats;
   TraceTimes times;
@@ -80,41 +84,13 @@ GenerationStats traceEmbree(const World& w, RayBatch& b) {
 // Both engines intersect the same float triangle. Rayes's watertight test computes t from the
 // vertices translated to the ray origin; Embree's as (N . (v0 - o)) / (N . d) with N a cross
 // product. Each carries a few roundings (< 8 eps) of the magnitudes involved, |origin| + |hit
-// point| over |dir| (1: the decoded direction is unit, t a distance), and Embree's quotient amplifies them by
+// point| over |dir| (1: the decoded direction is unit, t a distance), and Embree's quotient
+// amplifies them by
 // 1 / |cos| of the angle between the ray and the triangle's normal. Two tests: 16 eps / |cos|.
 float tBound(const RayBatch& b, int i, const RayHit& h) {
   const Vec3 p = b.ray[i].org + b.ray[i].dir() * h.t;
   const float cosine = std::fabs(dot(h.ng(), b.ray[i].dir())) / length(b.ray[i].dir());
   return 16 * FLT_EPSILON * (length(b.ray[i].org) + length(p)) / length(b.ray[i].dir()) / std::max(cosine, 1e-6f);
-}
-
-// Embree's triangle test is not watertight (the peer scene is built without
-// RTC_SCENE_FLAG_ROBUST): a ray through an edge two micro-triangles share can slip between them
-// and hit what lies behind. Such a ray is told from a real disagreement by its neighbours: the
-// ray tilted by +-1e-6 rad (about 100 times the direction code's error, and far below a
-// micro-quad's angle from the camera circle) hits, with Embree, what Rayes found for the ray
-// itself, on both sides: the same leaf at the same t (within tBound and the tilt's own move of
-// the hit, t * 1e-6 / cos), or a miss where Rayes missed.
-bool embreeSlipsThroughAnEdge(const World& w, const RayBatch& rayes, int i) {
-  const Ray& r = rayes.ray[i];
-  const Vec3 d = r.dir();
-  const Vec3 side = normalize(std::fabs(d.z) < 0.9f ? cross(d, Vec3{0, 0, 1}) : cross(d, Vec3{1, 0, 0}));
-  RayBatch tilted;
-  tilted.timed = rayes.timed;
-  tilted.resize(2);
-  for (int s = 0; s < 2; ++s)
-    tilted.set(s, r.kind, r.org, normalize(d + side * (s ? 1e-6f : -1e-6f)), r.tmax, 0.0f, 0.0f, kNoLeaf, kNoLeaf, 0,
-               rayes.timeOf(i));
-  traceEmbree(w, tilted);
-  const RayHit& h = rayes.hit[i];
-  for (int s = 0; s < 2; ++s) {
-    const RayHit& t = tilted.hit[s];
-    if (t.valid() != h.valid()) return false;
-    if (!h.valid()) continue;
-    const float cosine = std::max(std::fabs(dot(h.ng(), d)), 1e-6f);
-    if (t.leaf != h.leaf || std::fabs(t.t - h.t) > tBound(rayes, i, h) + 2e-6f * h.t / cosine) return false;
-  }
-  return true;
 }
 
 void expectSameClosestHits(bool moving) {
@@ -129,19 +105,16 @@ void expectSameClosestHits(bool moving) {
   }
   traceRayes(w, rayes);
   EXPECT_EQ(traceEmbree(w, embree).rays, embree.size());
-  int hits = 0, movingHits = 0, slips = 0;
+  int hits = 0, movingHits = 0;
   const float quad = 1.0f / float(1 << kLod);
   for (int i = 0; i < int(rayes.size()); ++i) {
     const RayHit &r = rayes.hit[i], &e = embree.hit[i];
-    if (r.valid() != e.valid() || (r.valid() && (r.leaf != e.leaf || std::fabs(r.t - e.t) > tBound(rayes, i, r)))) {
-      ASSERT_TRUE(embreeSlipsThroughAnEdge(w, rayes, i))
-          << "ray " << i << ": Rayes " << (r.valid() ? int(r.leaf) : -1) << ", Embree " << (e.valid() ? int(e.leaf) : -1);
-      ++slips;
-      continue;
-    }
+    ASSERT_EQ(r.valid(), e.valid()) << "ray " << i;
     if (!r.valid()) continue;
     ++hits;
     movingHits += r.leaf == w.leaves.size() - 1 && moving;
+    ASSERT_EQ(r.leaf, e.leaf) << "ray " << i;
+    EXPECT_NEAR(r.t, e.t, tBound(rayes, i, r)) << "ray " << i;
     EXPECT_NEAR(r.u, e.u, quad) << "ray " << i;
     EXPECT_NEAR(r.v, e.v, quad) << "ray " << i;
     EXPECT_EQ(e.level, kLod);
@@ -152,7 +125,6 @@ void expectSameClosestHits(bool moving) {
     EXPECT_GT(dot(r.ns(), e.ns()), 0.99f) << "ray " << i;
   }
   EXPECT_GT(hits, 10000);
-  ::testing::Test::RecordProperty("embree_edge_slips", slips);
   if (moving) {
     EXPECT_GT(movingHits, 2000);
   }
