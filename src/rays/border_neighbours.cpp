@@ -95,10 +95,10 @@ std::vector<std::array<uint32_t, 4>> SortedEngine::borderNeighbours(const LeafSo
   return out;
 }
 
-void SortedEngine::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
-                                             const DiceBuffer& dice, BottomQuery& query) const {
+void SortedEngine::bordersClosedByNeighbours(const RayBatch& b, uint32_t i, const RayBoxQuery& q, uint32_t leaf,
+                                             int level, const Patch& patch, const DiceBuffer& dice,
+                                             BottomQuery& query) const {
   if (borderNeighbour_.empty()) return;
-  const RayBoxQuery q(b.ray[i].org, b.ray[i].dir());
   for (int e = 0; e < 4; ++e) {
     const uint32_t nb = borderNeighbour_[leaf][e];
     if (nb == kFreeBorder) {

@@ -52,15 +52,17 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
   float resumeEntry = -kInf;
   uint32_t resumeLeaf = 0;
   Candidate local[16];
+  const Vec3 dir = b.ray[i].dir();  // decoded once for the walk
+  const RayBoxQuery q(b.ray[i].org, dir);
   for (;;) {
     float next = kInf;
-    const int got = top_.collect(b.ray[i].org, b.ray[i].dir(), 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
+    const int got = top_.collect(b.ray[i].org, dir, 0.0f, searchLimit(b, i, best.t), resumeEntry, resumeLeaf, local, 16,
                                  next, scratch);
     for (int j = 0; j < got; ++j) {
       const uint32_t leaf = local[j].leaf;
       // Brick leaves are the sorted pipeline's; a ray walked alone is tracked by its owner.
       if (leaf == b.ray[i].ignoreLeaf || isBrickLeaf(leaf)) continue;
-      const float entry = leafEntry(b, i, leaf);  // the level's footprint distance and the hit's floor
+      const float entry = leafEntry(q, leaf);  // the level's footprint distance and the hit's floor
       const int level = levelFor(b, i, leaf, entry);
       const PatchPtr made = leaves_.patch(leaf);  // generated leaves: made here, dropped after
       const TimeInterval when = timeInterval(*made, b.timeOf(i));
@@ -69,9 +71,9 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
       BottomQuery query;
       query.alpha = when.alpha;
       query.closeBorders = closeBordersFor(b, i, leaf);
-      if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, *made, dice, query);
+      if (query.closeBorders) bordersClosedByNeighbours(b, i, q, leaf, level, *made, dice, query);
       if (b.ray[i].kind == RayKind::Shadow) {
-        if (dice.occluded(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, query)) {
+        if (dice.occluded(b.ray[i].org, dir, 0.0f, limit, level, query)) {
           best.t = 0; best.leaf = leaf; best.level = static_cast<uint8_t>(level);
           b.occluderOf(i) = leaf;
           break;
@@ -79,7 +81,7 @@ void SortedEngine::traceRayAlone(RayBatch& b, uint32_t i, const GridSource& grid
         continue;
       }
       GridHit h;
-      if (dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, h, query) &&
+      if (dice.intersect(b.ray[i].org, dir, 0.0f, limit, level, h, query) &&
           nearerHit(keptDistance(h.t, entry), leaf, h.quad, best)) {
         best = hitRecord(h, leaf, level, entry);
         if (HitDerivatives* kept = b.derivativesOf(i)) *kept = keptDerivatives(h);

@@ -67,8 +67,12 @@ bool SortedEngine::crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& en
 }
 
 float SortedEngine::leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const {
+  return leafEntry(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir()), leaf);
+}
+
+float SortedEngine::leafEntry(const RayBoxQuery& q, uint32_t leaf) const {
   float entry;
-  return crossesLeafBox(RayBoxQuery(b.ray[ray].org, b.ray[ray].dir()), leaf, entry) ? entry : 0.0f;
+  return crossesLeafBox(q, leaf, entry) ? entry : 0.0f;
 }
 
 size_t SortedEngine::diceBufferBytes() const {
@@ -156,14 +160,15 @@ void SortedEngine::intersectSlot(RayBatch& b, const DiceBuffer& dice, uint32_t s
   const float limit = searchLimit(b, i, offered);
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
+  const Vec3 dir = b.ray[i].dir();  // decoded once for the slot
   query.closeBorders = closeBordersFor(b, i, leaf);
-  if (query.closeBorders) bordersClosedByNeighbours(b, i, leaf, level, patch, dice, query);
+  if (query.closeBorders) bordersClosedByNeighbours(b, i, RayBoxQuery(b.ray[i].org, dir), leaf, level, patch, dice, query);
   if (shadow) {
-    if (dice.occluded(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, query)) offerOccluder(b, i, leaf, level);
+    if (dice.occluded(b.ray[i].org, dir, 0.0f, limit, level, query)) offerOccluder(b, i, leaf, level);
     return;
   }
   GridHit h;
-  if (dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, level, h, query)) {
+  if (dice.intersect(b.ray[i].org, dir, 0.0f, limit, level, h, query)) {
     const HitDerivatives d = keptDerivatives(h);
     offerHit(b, i, hitRecord(h, leaf, level, entry), &d);
   }

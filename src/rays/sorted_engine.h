@@ -267,6 +267,8 @@ class SortedEngine : public RayEngine {
   // level on a leaf is levelFor at this entry, one function of (ray, leaf) whichever leaf
   // asks, so two neighbours agree on each other's level (see bordersClosedByNeighbours).
   float leafEntry(const RayBatch& b, uint32_t ray, uint32_t leaf) const;
+  // The same for a ray whose box query is made already (its direction decoded once: Ray::dir).
+  float leafEntry(const RayBoxQuery& q, uint32_t leaf) const;
   // Whether the ray of `q` crosses the leaf's box, and then its entry: leafEntry's slab test.
   bool crossesLeafBox(const RayBoxQuery& q, uint32_t leaf, float& entry) const;
   // Borders of `leaf` whose regions ray i need not test at `level` (BottomQuery::skipBorders),
@@ -278,8 +280,9 @@ class SortedEngine : public RayEngine {
   // (P and h agree across it, the normal N of P + N h does not, and the forest's rings are only
   // nearly G1). A border is treated so only when its neighbour is known (borderNeighbour_),
   // reachable by the ray and tests its own regions (not the ray's origin or ignored leaf).
-  void bordersClosedByNeighbours(const RayBatch& b, uint32_t i, uint32_t leaf, int level, const Patch& patch,
-                                 const DiceBuffer& dice, BottomQuery& query) const;
+  // q: ray i's box query (made by the caller, which decodes the ray's direction once per slot).
+  void bordersClosedByNeighbours(const RayBatch& b, uint32_t i, const RayBoxQuery& q, uint32_t leaf, int level,
+                                 const Patch& patch, const DiceBuffer& dice, BottomQuery& query) const;
   // The largest distance between the level-k vertices of border e of `leaf` (its `patch`, diced
   // in `dice`) and those of its displaced neighbour across it at the same parameters, from both
   // patches' evaluate(), which their dicings equal bit for bit (Patch contract): this side's are

@@ -223,25 +223,26 @@ float SortedEngine::intersectSubLeafSlot(RayBatch& b, const DiceBuffer& dice, ui
                                          const Patch& patch, const SubPatch& sub, int level, float entry, float best) {
   const uint32_t i = rayOfSlot(s);
   const bool shadow = b.ray[i].kind == RayKind::Shadow;
+  const Vec3 dir = b.ray[i].dir();  // decoded once for the slot
   BottomQuery query;
   query.alpha = dice.moving() ? timeInterval(patch, b.timeOf(i)).alpha : 0.0f;
   query.closeBorders = closeBordersFor(b, i, leaf);
   if (query.closeBorders) {
     // The leaf's borders as for the whole leaf (level > the thin levels: `dice` is not read);
     // the seams between sub-leaves need no region.
-    bordersClosedByNeighbours(b, i, leaf, level, patch, dice, query);
+    bordersClosedByNeighbours(b, i, RayBoxQuery(b.ray[i].org, dir), leaf, level, patch, dice, query);
     for (int e = 0; e < 4; ++e)
       if (!sub.onParentBorder(e)) query.skipBorders |= uint8_t(1u << e);
   }
   const int subLevel = level - sub.depth();
   const float limit = searchLimit(b, i, best);
   if (shadow) {
-    if (!dice.occluded(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, subLevel, query)) return kInf;
+    if (!dice.occluded(b.ray[i].org, dir, 0.0f, limit, subLevel, query)) return kInf;
     offerOccluder(b, i, leaf, level);
     return -1.0f;  // done: no later sub-leaf can matter
   }
   GridHit h;
-  if (!dice.intersect(b.ray[i].org, b.ray[i].dir(), 0.0f, limit, subLevel, h, query)) return kInf;
+  if (!dice.intersect(b.ray[i].org, dir, 0.0f, limit, subLevel, h, query)) return kInf;
   const HitDerivatives d = keptDerivatives(h);
   const RayHit r = hitRecord(h, leaf, level, entry);
   offerHit(b, i, r, &d);
