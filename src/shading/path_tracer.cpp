@@ -469,15 +469,11 @@ size_t PathTracer::shade(uint32_t bounce, PathBatch& paths, RayBatch& rays, Shad
     size_t localEmitted = 0;
     for (size_t o = r.begin(); o != r.end(); ++o) {
       const uint32_t k = order[o].path;
-      if (!firstHits) {
-        localEmitted += shadePath(bounce, k, paths, rays, stats, nullptr);
-        continue;
-      }
+      FirstHitRecord first;
+      localEmitted += shadePath(bounce, k, paths, rays, stats, firstHits ? &first : nullptr);
       // The hit was read, and a continuation ray written (clearing it): the record takes its
       // bytes until addFirstHits (a miss or a medium vertex leaves no hit: an empty record).
-      FirstHitRecord first;
-      localEmitted += shadePath(bounce, k, paths, rays, stats, &first);
-      std::memcpy(static_cast<void*>(&rays.hitOf(kRaysPerPath * size_t(k))), &first, sizeof first);
+      if (firstHits) std::memcpy(static_cast<void*>(&rays.hitOf(kRaysPerPath * size_t(k))), &first, sizeof first);
     }
     emitted.fetch_add(localEmitted, std::memory_order_relaxed);
   });
