@@ -109,21 +109,26 @@ struct Ray {
   // The direction a ray aimed along d traces (dir() after aim(d, ...)); zero for a d that traces
   // nothing. A producer that checks a direction before it writes the ray (which side of the
   // surface, the origin's offset) checks this one, the one the engines will trace.
-  static Vec3 traced(Vec3 d) {
-    const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
-    return len > 0 && std::isfinite(len) ? decodeOctahedral48(encodeOctahedral48(d)) : Vec3{};
-  }
+  static Vec3 traced(Vec3 d) { return aimedLength(d) > 0 ? decodeOctahedral48(encodeOctahedral48(d)) : Vec3{}; }
   // Aims the ray along d, which need not be unit: t1 and spread are per unit of |d| and are
   // stored per unit of distance (tmax times |d|, the spread over |d|, in double so that |d| from
   // 1e-20 to 1e20 stays finite; a spread beyond the half's range clamps). A zero or non-finite d
   // traces nothing (tmax 0, dir() +z).
   void aim(Vec3 d, float t1, float width, float spread) {
-    const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
-    const bool usable = len > 0 && std::isfinite(len);
+    const double len = aimedLength(d);
+    const bool usable = len > 0;
     dirCode = usable ? encodeOctahedral48(d) : OctahedralCode48{};
     tmax = usable ? float(double(t1) * len) : 0.0f;
     coneWidth = width;
     coneSpreadCode = encodeHalf(usable ? float(double(spread) / len) : spread);
+  }
+
+ private:
+  // |d| in double (finite for every finite float d), or 0 for a d that traces nothing: zero,
+  // infinite or NaN.
+  static double aimedLength(Vec3 d) {
+    const double len = std::sqrt(double(d.x) * d.x + double(d.y) * d.y + double(d.z) * d.z);
+    return len > 0 && std::isfinite(len) ? len : 0.0;
   }
 };
 static_assert(sizeof(Ray) == 36);
